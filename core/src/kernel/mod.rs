@@ -1,0 +1,3 @@
+//! Points and robust geometric predicates.
+
+pub use glam::DVec3 as Point3;

@@ -1,0 +1,4 @@
+//! delamesh-core: robust geometric kernel, Delaunay triangulations and the Delaunay-refinement
+//! engine. No file formats and no command line live here (see `delamesh-formats`, `delamesh-cli`).
+
+pub mod kernel;

@@ -1,0 +1,1 @@
+//! Oracle over closed triangle surfaces: AABB tree, segment hits, inside test.
