@@ -2,3 +2,7 @@
 //! engine. No file formats and no command line live here (see `delamesh-formats`, `delamesh-cli`).
 
 pub mod kernel;
+pub mod mesh;
+pub mod oracle;
+pub mod refine;
+pub mod triangulation;

@@ -1,0 +1,1 @@
+//! Mesh data model shared by formats, plugins and the mesher: surfaces, tet meshes, images.

@@ -1,0 +1,1 @@
+//! The `Oracle` trait: everything a mesher may ask of a domain.

@@ -1,0 +1,1 @@
+//! Delaunay refinement: the `MesherLevel` trait, the engine that stacks levels, criteria.

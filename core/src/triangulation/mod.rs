@@ -1,0 +1,1 @@
+//! Triangulations: the `Triangulation` trait, Delaunay 3D and 2D, validity checking.
