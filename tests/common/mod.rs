@@ -113,3 +113,24 @@ pub fn cuboid(min: DVec3, max: DVec3) -> Surface {
 pub fn flipped(s: Surface) -> Surface {
     Surface { points: s.points, triangles: s.triangles.into_iter().map(|[a, b, c]| [a, c, b]).collect() }
 }
+
+use delamesh::core::complex::MeshComplex;
+use delamesh::core::refine::criteria::{CellCriteria, FacetCriteria, MeshCriteria, Sizing};
+use delamesh::core::refine::{Limits, MeshOptions, mesh_domain};
+use delamesh::polyhedral::PolyhedralOracle;
+
+/// CGAL-style criteria with constant sizes.
+pub fn criteria(angle: f64, size: f64, distance: f64, ratio: f64, cell_size: f64) -> MeshCriteria {
+    MeshCriteria {
+        facet: FacetCriteria { angle_deg: angle, size: Sizing::Constant(size), distance: Sizing::Constant(distance) },
+        cell: CellCriteria { radius_edge_ratio: ratio, size: Sizing::Constant(cell_size) },
+    }
+}
+
+/// Mesh a surface; panics (this is a test) when the oracle or the mesher fails.
+pub fn mesh(surface: &Surface, criteria: MeshCriteria) -> (PolyhedralOracle, MeshComplex) {
+    let oracle = PolyhedralOracle::new(&surface.points, &surface.triangles, None).expect("valid test surface");
+    let options = MeshOptions { criteria, limits: Limits { max_vertices: 200_000, ..Limits::default() }, keep_partial: false };
+    let outcome = mesh_domain(&oracle, &options, &mut |_| {}).expect("refinement terminates");
+    (oracle, outcome.complex)
+}

@@ -4,7 +4,7 @@
 
 use super::criteria::CellCriteria;
 use super::engine::{Candidate, Check, MesherLevel};
-use super::geometry::{cell_vertices, is_same_cell, shortest_edge};
+use super::geometry::{cell_vertices, crowds_a_vertex, is_same_cell, shortest_edge};
 use super::queue::RefineQueue;
 use crate::kernel::Point3;
 use crate::oracle::{OUTSIDE, Oracle, SubdomainId};
@@ -23,11 +23,13 @@ pub struct CellLevel<'o> {
     /// Subdomain of each cell's circumcentre, indexed by `CellId` ([`OUTSIDE`] for infinite cells).
     subdomain: Vec<SubdomainId>,
     queue: RefineQueue<QueuedCell>,
+    /// Squared circumradius of the cell whose circumcentre was last proposed.
+    proposed_radius2: f64,
 }
 
 impl<'o> CellLevel<'o> {
     pub fn new(oracle: &'o dyn Oracle, criteria: CellCriteria) -> Self {
-        CellLevel { oracle, criteria, subdomain: Vec::new(), queue: RefineQueue::default() }
+        CellLevel { oracle, criteria, subdomain: Vec::new(), queue: RefineQueue::default(), proposed_radius2: 0.0 }
     }
 
     /// The subdomain a cell belongs to: the one containing its circumcentre.
@@ -45,7 +47,8 @@ impl<'o> CellLevel<'o> {
             return;
         }
         let center = tr.circumcenter(c);
-        let sub = self.oracle.subdomain(center);
+        // A flat cell has no circumcentre; it lies on a planar patch and is left outside.
+        let sub = if center.is_finite() { self.oracle.subdomain(center) } else { OUTSIDE };
         self.subdomain[i] = sub;
         if sub == OUTSIDE {
             return;
@@ -107,11 +110,13 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for CellLevel<'o> {
     }
 
     fn refinement_point(&mut self, tr: &T, q: &QueuedCell) -> Option<Candidate<Point3>> {
-        Some(Candidate { point: tr.circumcenter(q.cell), hint: Some(q.cell) })
+        let center = tr.circumcenter(q.cell);
+        self.proposed_radius2 = center.distance_squared(tr.point(q.vertices[0]));
+        Some(Candidate { point: center, hint: Some(q.cell) })
     }
 
-    fn check(&mut self, _tr: &T, _c: &Candidate<Point3>, _own: bool) -> Check {
-        Check::Accepted
+    fn check(&mut self, tr: &T, c: &Candidate<Point3>, _own: bool) -> Check {
+        if crowds_a_vertex(tr, c, self.proposed_radius2) { Check::RejectedForever } else { Check::Accepted }
     }
 
     fn after_insertion(&mut self, tr: &T, _v: VertexId, report: &InsertReport, _own: bool) {

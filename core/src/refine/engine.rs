@@ -176,16 +176,16 @@ impl<'a, T: Triangulation> Engine<'a, T> {
                     if tr.num_vertices() >= self.limits.max_vertices {
                         return Err(RefineError::TooManyVertices { limit: self.limits.max_vertices });
                     }
-                    rejections_in_a_row = 0;
                     self.levels[i].pop();
                     match tr.insert_reporting(candidate.point, candidate.hint, &mut self.report)? {
                         InsertOutcome::Inserted(v) => {
+                            rejections_in_a_row = 0;
                             stats.insertions[i] += 1;
                             total += 1;
                             for (j, level) in self.levels.iter_mut().enumerate() {
                                 level.after_insertion(tr, v, &self.report, j == i);
                             }
-                            if total % 1024 == 0 {
+                            if total % 256 == 0 {
                                 progress(&self.progress(tr, total));
                             }
                         }

@@ -9,7 +9,9 @@
 
 use super::criteria::FacetCriteria;
 use super::engine::{Candidate, Check, MesherLevel};
-use super::geometry::{cell_vertices, facet_vertices, is_same_cell, triangle_circumcenter, triangle_min_angle_deg};
+use super::geometry::{
+    cell_vertices, crowds_a_vertex, facet_vertices, is_same_cell, triangle_circumcenter, triangle_min_angle_deg,
+};
 use super::queue::RefineQueue;
 use crate::kernel::Point3;
 use crate::oracle::{Oracle, PatchId, SurfaceHit};
@@ -51,6 +53,8 @@ pub struct SurfaceLevel<'o> {
     stamp: u64,
     hits: Vec<SurfaceHit>,
     zone: ConflictZone,
+    /// Squared radius of the ball whose centre was last proposed.
+    proposed_radius2: f64,
 }
 
 impl<'o> SurfaceLevel<'o> {
@@ -65,6 +69,7 @@ impl<'o> SurfaceLevel<'o> {
             stamp: 0,
             hits: Vec::new(),
             zone: ConflictZone::default(),
+            proposed_radius2: 0.0,
         }
     }
 
@@ -96,25 +101,35 @@ impl<'o> SurfaceLevel<'o> {
     /// The surface ball of facet `(c, i)`, computed from its dual Voronoi edge. When the edge
     /// crosses the boundary several times, the largest ball wins (thesis: the centre with the
     /// largest r/σ is inserted).
+    ///
+    /// A flat cell (four coplanar vertices, which exact degeneracies on planar patches create)
+    /// has its circumcentre at infinity: its side of the edge is then a ray, like an infinite
+    /// cell's, pointing away from the other cell.
     fn compute_ball<T: Triangulation<Point = Point3>>(&mut self, tr: &T, c: CellId, i: usize) -> Option<SurfaceBall> {
         let n = tr.neighbor(c, i);
-        let cc = tr.circumcenter(c);
+        let here = tr.circumcenter(c);
+        let there = (!tr.is_infinite_cell(n)).then(|| tr.circumcenter(n)).filter(|p| p.is_finite());
+        let (c, i, here, there) = match (here.is_finite(), there) {
+            (true, _) => (c, i, here, there),
+            (false, Some(p)) => (n, tr.mirror_index(c, i), p, None),
+            (false, None) => return None,
+        };
+        let cell = cell_vertices(tr, c);
+        let [a, b, d] = facet_vertices(&cell, i).map(|v| tr.point(v));
         self.hits.clear();
-        if tr.is_infinite_cell(n) {
-            let cell = cell_vertices(tr, c);
-            let [a, b, d] = facet_vertices(&cell, i).map(|v| tr.point(v));
-            let mut normal = (b - a).cross(d - a);
-            if normal.dot(tr.point(cell[i]) - a) > 0.0 {
-                normal = -normal;
+        match there {
+            Some(p) => self.oracle.segment_hits(here, p, &mut self.hits),
+            None => {
+                let mut normal = (b - a).cross(d - a);
+                if normal.dot(tr.point(cell[i]) - a) > 0.0 {
+                    normal = -normal;
+                }
+                if normal.length_squared() == 0.0 {
+                    return None;
+                }
+                self.oracle.ray_hits(here, normal, &mut self.hits);
             }
-            if normal.length_squared() == 0.0 {
-                return None;
-            }
-            self.oracle.ray_hits(cc, normal, &mut self.hits);
-        } else {
-            self.oracle.segment_hits(cc, tr.circumcenter(n), &mut self.hits);
         }
-        let a = tr.point(facet_vertices(&cell_vertices(tr, c), i)[0]);
         self.hits
             .iter()
             .map(|h| SurfaceBall { center: h.point, radius2: h.point.distance_squared(a), patch: h.patch })
@@ -225,13 +240,14 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for SurfaceLevel<'o> {
 
     fn refinement_point(&mut self, _tr: &T, f: &QueuedFacet) -> Option<Candidate<Point3>> {
         let ball = self.balls[f.cell.0 as usize][f.index as usize]?;
+        self.proposed_radius2 = ball.radius2;
         Some(Candidate { point: ball.center, hint: Some(f.cell) })
     }
 
     /// R3.2: a point of a lower level inside a surface ball is refused, and the facet queued.
     fn check(&mut self, tr: &T, c: &Candidate<Point3>, own: bool) -> Check {
         if own {
-            return Check::Accepted;
+            return if crowds_a_vertex(tr, c, self.proposed_radius2) { Check::RejectedForever } else { Check::Accepted };
         }
         let mut zone = std::mem::take(&mut self.zone);
         tr.conflict_zone(c.point, c.hint, &mut zone);

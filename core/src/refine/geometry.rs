@@ -1,6 +1,7 @@
 //! Small constructions the 3D levels need on triangles and tetrahedra.
 
 use crate::kernel::Point3;
+use super::engine::Candidate;
 use crate::triangulation::{CellId, Triangulation, VertexId};
 
 /// The four vertex ids of a cell of a 3D triangulation.
@@ -13,6 +14,20 @@ pub(crate) fn cell_vertices<T: Triangulation>(tr: &T, c: CellId) -> [VertexId; 4
 /// Is `c` still the cell with vertices `stored`? Cell ids are recycled by the triangulation.
 pub(crate) fn is_same_cell<T: Triangulation>(tr: &T, c: CellId, stored: &[VertexId; 4]) -> bool {
     tr.is_live(c) && tr.cell(c).as_ref() == stored.as_slice()
+}
+
+/// Is a vertex much closer to the centre of an empty ball (squared radius `radius2`) than the
+/// ball's radius? In exact arithmetic no vertex is; one is when the centre was constructed from
+/// nearly degenerate cells, and inserting it would create a near-duplicate vertex that no
+/// amount of refinement can separate. The nearest vertex of a point that close is a vertex of
+/// the cell containing it.
+pub(crate) fn crowds_a_vertex<T: Triangulation<Point = Point3>>(tr: &T, c: &Candidate<Point3>, radius2: f64) -> bool {
+    let Some(cell) = tr.locate(c.point, c.hint) else { return false };
+    tr.cell(cell)
+        .as_ref()
+        .iter()
+        .filter(|&&v| !tr.is_infinite_vertex(v))
+        .any(|&v| tr.point(v).distance_squared(c.point) < 0.25 * radius2)
 }
 
 /// The three vertices of the facet of a cell opposite its vertex `i`.

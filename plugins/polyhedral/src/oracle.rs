@@ -43,6 +43,7 @@ pub struct PolyhedralOracle {
     /// Subdomain of the region just inside each component ([`OUTSIDE`] for a hollow).
     inner_label: Vec<SubdomainId>,
     initial: Vec<SurfacePoint>,
+    domain_volume: f64,
 }
 
 /// Directions tried in turn by the inside test until a ray misses every edge and vertex.
@@ -110,6 +111,7 @@ impl PolyhedralOracle {
             depth: vec![0; num_components],
             inner_label: vec![OUTSIDE; num_components],
             initial: Vec::new(),
+            domain_volume: 0.0,
         };
         oracle.label_components(num_components)?;
         oracle.initial = oracle.sample_initial_points(num_components);
@@ -117,7 +119,7 @@ impl PolyhedralOracle {
     }
 
     /// Nesting depth and subdomain of every component, from the winding numbers of one vertex of
-    /// each component with respect to all the others.
+    /// each component with respect to all the others; and the volume of the domain.
     fn label_components(&mut self, n: usize) -> Result<(), PolyhedralError> {
         let mut volume = vec![0.0f64; n];
         let mut probe = vec![None; n];
@@ -126,20 +128,32 @@ impl PolyhedralOracle {
             volume[k] += tri[0].dot(tri[1].cross(tri[2])) / 6.0;
             probe[k].get_or_insert(tri[0]);
         }
-        let mut next_label = 1;
+        if let Some(k) = volume.iter().position(|&v| v == 0.0) {
+            return Err(PolyhedralError::FlatComponent(k));
+        }
+        // around[k]: winding number of every component around component k.
+        let around: Vec<Vec<i32>> =
+            (0..n).map(|k| self.windings(probe[k].unwrap_or(DVec3::ZERO), Some(k as u32), n)).collect();
         for k in 0..n {
-            if volume[k] == 0.0 {
-                return Err(PolyhedralError::FlatComponent(k));
-            }
+            self.depth[k] = around[k].iter().filter(|&&x| x != 0).count() as u32;
+        }
+        let mut next_label = 1;
+        let mut inside_volume = vec![0.0f64; n];
+        for k in 0..n {
             let own = if volume[k] > 0.0 { 1 } else { -1 };
-            let p = probe[k].unwrap_or(DVec3::ZERO);
-            let w = self.windings(p, Some(k as u32), n);
-            self.depth[k] = w.iter().filter(|&&x| x != 0).count() as u32;
-            if own + w.iter().sum::<i32>() != 0 {
+            if own + around[k].iter().sum::<i32>() != 0 {
                 self.inner_label[k] = next_label;
                 next_label += 1;
+                inside_volume[k] += volume[k].abs();
+            }
+            // The region inside the parent (the innermost component around k) loses k's volume.
+            let parent = (0..n).filter(|&j| around[k][j] != 0).max_by_key(|&j| self.depth[j]);
+            if let Some(j) = parent {
+                inside_volume[j] -= volume[k].abs();
             }
         }
+        // The region between a component and its children is in the domain when labelled.
+        self.domain_volume = (0..n).filter(|&k| self.inner_label[k] != OUTSIDE).map(|k| inside_volume[k]).sum();
         Ok(())
     }
 
@@ -185,22 +199,41 @@ impl PolyhedralOracle {
         let mut hits = Vec::new();
         for (k, &(sum, area)) in centre.iter().enumerate() {
             let origin = if area > 0.0 { sum / area } else { sum };
-            let first = out.len();
             for attempt in 0..24 {
                 hits.clear();
                 self.ray_hits_filtered(origin, ray_direction(attempt), Some(k as u32), &mut hits);
                 out.extend(hits.iter().map(|h| SurfacePoint { point: h.point, patch: h.patch }));
             }
-            if out.len() - first < 8 {
-                // Rays found too little: add vertices of the component, spread along it.
-                let tris: Vec<usize> = (0..self.triangles.len()).filter(|&t| self.component[t] == k as u32).collect();
-                let step = (tris.len() / 8).max(1);
-                for &t in tris.iter().step_by(step) {
-                    out.push(SurfacePoint { point: self.triangles[t][0], patch: self.patch[t] });
-                }
-            }
+            // Rays from the centre miss parts of non-convex components (and give nearly coplanar
+            // points on flat ones): add vertices of the component spread by farthest-point sampling.
+            self.spread_vertices(k as u32, 16, &mut out);
         }
         out
+    }
+
+    /// Appends `count` corners of the triangles of component `k`, each the farthest from the
+    /// ones chosen before (starting from the corner of lowest index).
+    fn spread_vertices(&self, k: u32, count: usize, out: &mut Vec<SurfacePoint>) {
+        let corners: Vec<(DVec3, PatchId)> = (0..self.triangles.len())
+            .filter(|&t| self.component[t] == k)
+            .flat_map(|t| self.triangles[t].map(|p| (p, self.patch[t])))
+            .collect();
+        let Some(&(start, _)) = corners.first() else { return };
+        let mut nearest: Vec<f64> = corners.iter().map(|(p, _)| p.distance_squared(start)).collect();
+        out.push(SurfacePoint { point: start, patch: corners[0].1 });
+        for _ in 1..count {
+            let Some((i, _)) = nearest.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1).then(b.0.cmp(&a.0))) else {
+                break;
+            };
+            let (p, patch) = corners[i];
+            if nearest[i] == 0.0 {
+                break;
+            }
+            out.push(SurfacePoint { point: p, patch });
+            for (d, (q, _)) in nearest.iter_mut().zip(&corners) {
+                *d = d.min(q.distance_squared(p));
+            }
+        }
     }
 
     fn ray_hits_filtered(&self, origin: DVec3, dir: DVec3, only: Option<u32>, out: &mut Vec<SurfaceHit>) {
@@ -250,6 +283,11 @@ impl PolyhedralOracle {
     /// Distance from `p` to the surface, for approximation measurements.
     pub fn distance_to_surface(&self, p: DVec3) -> f64 {
         self.tree.distance(p, &self.triangles)
+    }
+
+    /// Volume of the domain (the union of the subdomains).
+    pub fn domain_volume(&self) -> f64 {
+        self.domain_volume
     }
 
     /// The input triangles, as points.
