@@ -18,7 +18,7 @@
 //! all cells at once.
 
 pub mod delaunay3;
-mod spatial_sort;
+pub mod spatial_sort;
 pub mod validity;
 
 pub use delaunay3::Delaunay3;

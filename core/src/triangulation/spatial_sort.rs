@@ -5,6 +5,7 @@
 //! expected cavity sizes of a random order, which a purely sorted order would lose.
 
 use crate::kernel::Point3;
+use crate::kernel::perturbation::lex_cmp;
 
 /// Bits per axis of the Hilbert grid (3 × 21 = 63-bit keys).
 const BITS: u32 = 21;
@@ -38,13 +39,13 @@ fn hilbert_key(mut x: [u32; 3]) -> u64 {
     while q > 1 {
         let p = q - 1;
         for i in 0..3 {
-            if x[i] & q != 0 {
-                x[0] ^= p;
-            } else {
-                let t = (x[0] ^ x[i]) & p;
-                x[0] ^= t;
-                x[i] ^= t;
-            }
+            // Branch-free form of: if bit q of x[i] is set, invert the low bits of x[0];
+            // otherwise exchange the low bits of x[0] and x[i].
+            let set = ((x[i] & q) != 0) as u32;
+            let invert = p & set.wrapping_neg();
+            let t = (x[0] ^ x[i]) & p & !invert;
+            x[0] ^= t ^ invert;
+            x[i] ^= t;
         }
         q >>= 1;
     }
@@ -72,41 +73,61 @@ fn hilbert_key(mut x: [u32; 3]) -> u64 {
     key
 }
 
-/// Sorts `indices` along the Hilbert curve of the grid over `[lo, lo + extent]`.
-fn hilbert_sort(points: &[Point3], indices: &mut [u32], lo: Point3, scale: Point3) {
-    let max = f64::from((1u32 << BITS) - 1);
-    let mut keyed: Vec<(u64, u32)> = indices
-        .iter()
-        .map(|&i| {
-            let g = ((points[i as usize] - lo) * scale).clamp(Point3::ZERO, Point3::splat(max));
-            (hilbert_key([g.x as u32, g.y as u32, g.z as u32]), i)
-        })
-        .collect();
-    keyed.sort_unstable();
-    for (slot, (_, i)) in indices.iter_mut().zip(keyed) {
-        *slot = i;
+/// The Hilbert grid over the bounding box of a point set.
+struct HilbertGrid {
+    lo: Point3,
+    scale: Point3,
+}
+
+impl HilbertGrid {
+    fn new(points: &[Point3]) -> Self {
+        let (mut lo, mut hi) = (
+            Point3::splat(f64::INFINITY),
+            Point3::splat(f64::NEG_INFINITY),
+        );
+        for p in points {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        let extent = (hi - lo).max(Point3::splat(f64::MIN_POSITIVE));
+        HilbertGrid {
+            lo,
+            scale: Point3::splat(f64::from((1u32 << BITS) - 1)) / extent,
+        }
+    }
+
+    fn key(&self, p: Point3) -> u64 {
+        let max = f64::from((1u32 << BITS) - 1);
+        let g = ((p - self.lo) * self.scale).clamp(Point3::ZERO, Point3::splat(max));
+        hilbert_key([g.x as u32, g.y as u32, g.z as u32])
     }
 }
 
-/// A BRIO insertion order of `points` (indices into it): a seeded shuffle split into rounds of
-/// geometrically growing size, each round Hilbert-sorted. Points must be finite.
-pub fn brio_order(points: &[Point3], seed: u64) -> Vec<u32> {
-    let n = points.len();
-    let mut order: Vec<u32> = (0..n as u32).collect();
+/// Indices of `points` in Hilbert-curve order. Ties (points in one grid cell) are broken by the
+/// lexicographic order of coordinates, then by index, so equal points end up adjacent.
+pub fn hilbert_order(points: &[Point3]) -> Vec<u32> {
+    let grid = HilbertGrid::new(points);
+    let mut keyed: Vec<(u64, u32)> = points
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| (grid.key(p), i as u32))
+        .collect();
+    keyed.sort_unstable_by(|a, b| {
+        a.0.cmp(&b.0)
+            .then_with(|| lex_cmp(points[a.1 as usize], points[b.1 as usize]))
+            .then(a.1.cmp(&b.1))
+    });
+    keyed.into_iter().map(|(_, i)| i).collect()
+}
+
+/// Reorders `ranks` — positions along a space-filling curve — into a BRIO order: a seeded shuffle
+/// split into rounds of geometrically growing size, each round sorted back along the curve.
+pub fn brio_rounds(ranks: &mut [u32], seed: u64) {
+    let n = ranks.len();
     let mut rng = SplitMix(seed);
     for i in (1..n).rev() {
-        order.swap(i, rng.below(i + 1));
+        ranks.swap(i, rng.below(i + 1));
     }
-    let (mut lo, mut hi) = (
-        Point3::splat(f64::INFINITY),
-        Point3::splat(f64::NEG_INFINITY),
-    );
-    for p in points {
-        lo = lo.min(*p);
-        hi = hi.max(*p);
-    }
-    let extent = (hi - lo).max(Point3::splat(f64::MIN_POSITIVE));
-    let scale = Point3::splat(f64::from((1u32 << BITS) - 1)) / extent;
     let mut end = n;
     while end > 0 {
         let start = if end <= MIN_ROUND {
@@ -114,10 +135,18 @@ pub fn brio_order(points: &[Point3], seed: u64) -> Vec<u32> {
         } else {
             (end as f64 * ROUND_RATIO) as usize
         };
-        hilbert_sort(points, &mut order[start..end], lo, scale);
+        ranks[start..end].sort_unstable();
         end = start;
     }
-    order
+}
+
+/// A BRIO insertion order of `points` (indices into it), each round in Hilbert order.
+/// Points must be finite.
+pub fn brio_order(points: &[Point3], seed: u64) -> Vec<u32> {
+    let curve = hilbert_order(points);
+    let mut ranks: Vec<u32> = (0..points.len() as u32).collect();
+    brio_rounds(&mut ranks, seed);
+    ranks.into_iter().map(|r| curve[r as usize]).collect()
 }
 
 #[cfg(test)]

@@ -10,51 +10,38 @@ pub(super) trait CavityMarks {
     fn set_out(&mut self, c: u32);
 }
 
-/// Marks as generation stamps in a per-cell array: `stamp` means inside, `stamp + 1` outside.
-/// Starting a search bumps the stamp, which forgets every earlier mark in O(1).
-pub(super) struct StampMarks<'a> {
-    mark: &'a mut Vec<u32>,
-    stamp: u32,
-}
+/// Marks as one byte per cell slot (0 untested, 1 in the cavity, 2 outside). A byte keeps the
+/// array small enough to stay in cache; the insertion clears the marks it set (cavity cells and
+/// their outside neighbours) once done, so a search starts from a clean array.
+pub(super) struct ByteMarks<'a>(&'a mut [u8]);
 
-impl<'a> StampMarks<'a> {
-    pub(super) fn new(mark: &'a mut Vec<u32>, stamp: &mut u32, num_cells: usize) -> Self {
+impl<'a> ByteMarks<'a> {
+    pub(super) fn new(mark: &'a mut Vec<u8>, num_cells: usize) -> Self {
         if mark.len() < num_cells {
             mark.resize(num_cells, 0);
         }
-        if *stamp >= u32::MAX - 2 {
-            mark.iter_mut().for_each(|m| *m = 0);
-            *stamp = 0;
-        }
-        *stamp += 2;
-        StampMarks {
-            mark,
-            stamp: *stamp,
-        }
+        ByteMarks(mark)
     }
 }
 
-impl CavityMarks for StampMarks<'_> {
+impl CavityMarks for ByteMarks<'_> {
     #[inline]
     fn get(&self, c: u32) -> Option<bool> {
-        let m = self.mark[c as usize];
-        if m == self.stamp {
-            Some(true)
-        } else if m == self.stamp + 1 {
-            Some(false)
-        } else {
-            None
+        match self.0[c as usize] {
+            0 => None,
+            1 => Some(true),
+            _ => Some(false),
         }
     }
 
     #[inline]
     fn set_in(&mut self, c: u32) {
-        self.mark[c as usize] = self.stamp;
+        self.0[c as usize] = 1;
     }
 
     #[inline]
     fn set_out(&mut self, c: u32) {
-        self.mark[c as usize] = self.stamp + 1;
+        self.0[c as usize] = 2;
     }
 }
 
@@ -134,8 +121,7 @@ impl EdgeTable {
 /// Buffers reused by every insertion.
 #[derive(Clone, Debug, Default)]
 pub(super) struct Scratch {
-    pub(super) mark: Vec<u32>,
-    pub(super) stamp: u32,
+    pub(super) mark: Vec<u8>,
     pub(super) stack: Vec<u32>,
     pub(super) cavity: Vec<u32>,
     pub(super) boundary: Vec<(u32, u8)>,
