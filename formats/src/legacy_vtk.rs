@@ -69,25 +69,25 @@ pub(crate) fn write(w: &mut dyn Write, m: &TetMesh, ascii: bool) -> Result<(), P
         writeln!(w)?;
     }
 
+    // One active SCALARS array (what every VTK reader keeps), the rest as FIELD arrays, which VTK's
+    // reader keeps all of (it drops extra SCALARS unless told to read them).
     writeln!(w, "CELL_DATA {n}")?;
-    for a in &cells.ints {
-        writeln!(w, "SCALARS {} int 1\nLOOKUP_TABLE default", a.name)?;
-        if ascii {
-            for v in &a.values {
-                writeln!(w, "{v}")?;
-            }
-        } else {
-            a.values
-                .iter()
-                .try_for_each(|v| w.write_all(&v.to_be_bytes()))?;
-            writeln!(w)?;
-        }
+    let (first, rest) = cells
+        .ints
+        .split_first()
+        .ok_or_else(|| Problem::bad("no cell data"))?;
+    writeln!(w, "SCALARS {} int 1\nLOOKUP_TABLE default", first.name)?;
+    write_ints(w, &first.values, ascii)?;
+    writeln!(w, "FIELD FieldData {}", rest.len() + cells.floats.len())?;
+    for a in rest {
+        writeln!(w, "{} 1 {n} int", a.name)?;
+        write_ints(w, &a.values, ascii)?;
     }
     for a in &cells.floats {
-        writeln!(w, "SCALARS {} double 1\nLOOKUP_TABLE default", a.name)?;
+        writeln!(w, "{} 1 {n} double", a.name)?;
         if ascii {
             for &v in &a.values {
-                // VTK's ASCII reader parses "nan" through strtod.
+                // Spelled the way C's strtod and VTK's reader accept.
                 writeln!(
                     w,
                     "{}",
@@ -106,4 +106,15 @@ pub(crate) fn write(w: &mut dyn Write, m: &TetMesh, ascii: bool) -> Result<(), P
         }
     }
     Ok(())
+}
+
+fn write_ints(w: &mut dyn Write, values: &[i32], ascii: bool) -> std::io::Result<()> {
+    if ascii {
+        values.iter().try_for_each(|v| writeln!(w, "{v}"))
+    } else {
+        values
+            .iter()
+            .try_for_each(|v| w.write_all(&v.to_be_bytes()))?;
+        writeln!(w)
+    }
 }

@@ -13,6 +13,7 @@ mod medit;
 mod off;
 mod stl;
 mod text;
+mod vtk;
 mod vtk_cells;
 mod vtu;
 
@@ -99,6 +100,11 @@ pub fn read_bytes(bytes: &[u8], format: Format, _dir: Option<&Path>) -> Result<M
             let (m, w) = medit::read(bytes)?;
             warnings = w;
             (AnyMesh::Volume(m), false)
+        }
+        Format::Vtk | Format::Vtu | Format::Vtp => {
+            let (m, w) = vtk::read(bytes, format)?;
+            warnings = w;
+            (m, false)
         }
         other => {
             return Err(Problem::Unsupported(format!(

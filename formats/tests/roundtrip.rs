@@ -116,3 +116,36 @@ fn atomic_write_replaces_whole_files_and_leaves_nothing_on_failure() {
     let s = read_surface(&path, None).unwrap();
     assert!(s.mesh.patches.iter().all(|&p| p > PatchId(0)));
 }
+
+#[test]
+fn vtu_and_legacy_vtk_round_trips_are_exact_with_cell_data() {
+    let m = cube_tets();
+    for (format, ascii) in [
+        (Format::Vtu, false),
+        (Format::Vtu, true),
+        (Format::Vtk, false),
+        (Format::Vtk, true),
+    ] {
+        let mut out = Vec::new();
+        let opts = WriteOptions {
+            ascii,
+            ..WriteOptions::default()
+        };
+        write_tet_mesh_to(&mut out, &m, format, &opts).unwrap();
+        let read = read_bytes(&out, format, None)
+            .unwrap_or_else(|e| panic!("{format} ascii={ascii}: {e}"));
+        let AnyMesh::Volume(back) = read.mesh else {
+            panic!("{format} holds volumes")
+        };
+        assert_eq!(back, m, "{format} ascii={ascii}");
+        assert!(read.warnings.is_empty(), "{:?}", read.warnings);
+    }
+}
+
+#[test]
+fn test_mesh_is_positively_oriented() {
+    let m = cube_tets();
+    assert!((0..m.tets.len()).all(|t| m.tet_volume(t) > 0.0));
+    let total: f64 = (0..m.tets.len()).map(|t| m.tet_volume(t)).sum();
+    assert!((total - cube_surface(false).topology().signed_volume).abs() < 1e-12);
+}

@@ -57,9 +57,7 @@ pub fn cube_tets() -> TetMesh {
         [0, 4, 5, 7],
         [0, 5, 1, 7],
     ]
-    .into_iter()
-    .map(|[a, b, c, d]| [a, c, b, d])
-    .collect();
+    .to_vec();
     let mut m = TetMesh {
         positions: s.positions,
         subdomains: (0..6).map(|t| SubdomainId(1 + t / 3)).collect(),
