@@ -10,7 +10,9 @@ mod error;
 mod format;
 mod legacy_vtk;
 mod medit;
+mod obj;
 mod off;
+mod ply;
 mod stl;
 mod text;
 mod vtk;
@@ -96,6 +98,8 @@ pub fn read_bytes(bytes: &[u8], format: Format, _dir: Option<&Path>) -> Result<M
     let (mesh, soup) = match format {
         Format::Stl => (AnyMesh::Surface(stl::read(bytes)?), true),
         Format::Off => (AnyMesh::Surface(off::read(bytes)?), false),
+        Format::Obj => (AnyMesh::Surface(obj::read(bytes)?), true),
+        Format::Ply => (AnyMesh::Surface(ply::read(bytes)?), false),
         Format::Medit => {
             let (m, w) = medit::read(bytes)?;
             warnings = w;
@@ -201,6 +205,8 @@ pub fn write_surface_to(
     match format {
         Format::Off => off::write(w, mesh),
         Format::Stl => stl::write(w, mesh),
+        Format::Obj => obj::write(w, mesh),
+        Format::Ply => ply::write(w, mesh),
         f if f.is_volume() => write_tet_mesh_to(w, &TetMesh::from(mesh.clone()), f, options),
         f => Err(Problem::Unsupported(format!(
             "writing {f} files is not supported"

@@ -149,3 +149,47 @@ fn test_mesh_is_positively_oriented() {
     let total: f64 = (0..m.tets.len()).map(|t| m.tet_volume(t)).sum();
     assert!((total - cube_surface(false).topology().signed_volume).abs() < 1e-12);
 }
+
+#[test]
+fn ply_round_trip_is_exact_with_patches() {
+    let m = cube_surface(false);
+    let back = read_surface_back(&surface_bytes(&m, Format::Ply), Format::Ply);
+    assert_eq!(bits(&back), bits(&m));
+    assert_eq!(back.triangles, m.triangles);
+    assert_eq!(back.patches, m.patches);
+}
+
+#[test]
+fn obj_round_trip_keeps_geometry_and_named_groups() {
+    let m = cube_surface(false);
+    let read = read_bytes(&surface_bytes(&m, Format::Obj), Format::Obj, None).unwrap();
+    let AnyMesh::Surface(back) = read.mesh else {
+        panic!("OBJ is a surface")
+    };
+    same_geometry(&back, &m);
+    assert_eq!(back.positions.len(), 8, "groups are welded back together");
+    assert_eq!(back.patch_names, m.patch_names);
+    let names = |s: &SurfaceMesh| -> Vec<String> {
+        s.patches
+            .iter()
+            .map(|p| s.patch_names[p.0 as usize].clone())
+            .collect()
+    };
+    // Same patch name per triangle, compared through the triangles' sorted corner positions.
+    let keyed = |s: &SurfaceMesh| {
+        let mut v: Vec<_> = s
+            .triangles
+            .iter()
+            .zip(names(s))
+            .map(|(t, n)| {
+                let mut c = t.map(|v| s.positions[v as usize].to_array().map(f64::to_bits));
+                c.sort_unstable();
+                (c, n)
+            })
+            .collect();
+        v.sort();
+        v
+    };
+    assert_eq!(keyed(&back), keyed(&m));
+    assert!(back.topology().closed);
+}
