@@ -16,10 +16,12 @@ pub(crate) fn write_atomic(
     if path.is_dir() {
         return Err(Problem::Unsupported("is a directory".into()));
     }
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".delamesh-")
-        .suffix(".tmp")
-        .tempfile_in(dir)?;
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".delamesh-").suffix(".tmp");
+    // tempfile creates private (0600) files; a mesh is an ordinary document (0666 less the umask).
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    let mut tmp = builder.tempfile_in(dir)?;
     {
         let mut w = BufWriter::new(tmp.as_file_mut());
         body(&mut w)?;

@@ -10,6 +10,7 @@ mod error;
 mod format;
 mod legacy_vtk;
 mod medit;
+mod msh;
 mod obj;
 mod off;
 mod ply;
@@ -225,6 +226,7 @@ pub fn write_tet_mesh_to(
         Format::Vtu => vtu::write(w, mesh, options.ascii),
         Format::Vtk => legacy_vtk::write(w, mesh, options.ascii),
         Format::Medit => medit::write(w, mesh),
+        Format::Msh => msh::write(w, mesh, options.msh22),
         f if !f.is_volume() => write_surface_to(w, &surface_of(mesh.clone()), f, options),
         f => Err(Problem::Unsupported(format!(
             "writing {f} files is not supported"

@@ -193,3 +193,20 @@ fn obj_round_trip_keeps_geometry_and_named_groups() {
     assert_eq!(keyed(&back), keyed(&m));
     assert!(back.topology().closed);
 }
+
+#[cfg(target_os = "linux")]
+#[test]
+fn written_files_get_ordinary_permissions() {
+    use std::os::unix::fs::PermissionsExt;
+    let status = std::fs::read_to_string("/proc/self/status").unwrap();
+    let umask = status
+        .lines()
+        .find_map(|l| l.strip_prefix("Umask:"))
+        .map(|u| u32::from_str_radix(u.trim(), 8).unwrap())
+        .unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("c.off");
+    delamesh_formats::write_surface(&path, &cube_surface(false), &WriteOptions::default()).unwrap();
+    let mode = std::fs::metadata(&path).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode, 0o666 & !umask);
+}
