@@ -8,6 +8,7 @@
 mod atomic;
 mod error;
 mod format;
+mod gltf;
 mod legacy_vtk;
 mod medit;
 mod msh;
@@ -91,7 +92,7 @@ pub fn read(path: &Path, format: Option<Format>) -> Result<MeshRead> {
 
 /// Parses file contents already in memory (the fuzz targets' entry point). `dir` is where a glTF's
 /// external buffers are looked up; `None` forbids external references.
-pub fn read_bytes(bytes: &[u8], format: Format, _dir: Option<&Path>) -> Result<MeshRead, Problem> {
+pub fn read_bytes(bytes: &[u8], format: Format, dir: Option<&Path>) -> Result<MeshRead, Problem> {
     if bytes.is_empty() {
         return Err(Problem::bad("the file is empty"));
     }
@@ -100,6 +101,11 @@ pub fn read_bytes(bytes: &[u8], format: Format, _dir: Option<&Path>) -> Result<M
         Format::Stl => (AnyMesh::Surface(stl::read(bytes)?), true),
         Format::Off => (AnyMesh::Surface(off::read(bytes)?), false),
         Format::Obj => (AnyMesh::Surface(obj::read(bytes)?), true),
+        Format::Gltf => {
+            let (m, w) = gltf::read(bytes, dir)?;
+            warnings = w;
+            (AnyMesh::Surface(m), true)
+        }
         Format::Ply => (AnyMesh::Surface(ply::read(bytes)?), false),
         Format::Medit => {
             let (m, w) = medit::read(bytes)?;

@@ -36,7 +36,13 @@ impl<'a> Dimension<'a> {
             by_label.entry(l).or_default().push(c.as_slice());
         }
         let shift = u32::from(by_label.contains_key(&0));
-        Dimension { dim, kind, element_type, groups: by_label.into_iter().collect(), shift }
+        Dimension {
+            dim,
+            kind,
+            element_type,
+            groups: by_label.into_iter().collect(),
+            shift,
+        }
     }
 
     fn tag(&self, label: u32) -> u64 {
@@ -46,9 +52,27 @@ impl<'a> Dimension<'a> {
 
 fn dimensions(m: &TetMesh) -> [Dimension<'_>; 3] {
     [
-        Dimension::new(1, "curve", GMSH_LINE, &m.feature_edges, m.feature_curves.iter().map(|c| c.0)),
-        Dimension::new(2, "patch", GMSH_TRIANGLE, &m.boundary, m.boundary_patches.iter().map(|p| p.0)),
-        Dimension::new(3, "subdomain", GMSH_TETRA, &m.tets, m.subdomains.iter().map(|s| s.0)),
+        Dimension::new(
+            1,
+            "curve",
+            GMSH_LINE,
+            &m.feature_edges,
+            m.feature_curves.iter().map(|c| c.0),
+        ),
+        Dimension::new(
+            2,
+            "patch",
+            GMSH_TRIANGLE,
+            &m.boundary,
+            m.boundary_patches.iter().map(|p| p.0),
+        ),
+        Dimension::new(
+            3,
+            "subdomain",
+            GMSH_TETRA,
+            &m.tets,
+            m.subdomains.iter().map(|s| s.0),
+        ),
     ]
 }
 
@@ -65,7 +89,11 @@ fn physical_names(w: &mut dyn Write, dims: &[Dimension]) -> std::io::Result<()> 
 
 pub(crate) fn write(w: &mut dyn Write, m: &TetMesh, v22: bool) -> Result<(), Problem> {
     let dims = dimensions(m);
-    if v22 { write22(w, m, &dims) } else { write41(w, m, &dims) }?;
+    if v22 {
+        write22(w, m, &dims)
+    } else {
+        write41(w, m, &dims)
+    }?;
     Ok(())
 }
 
@@ -99,10 +127,19 @@ fn write41(w: &mut dyn Write, m: &TetMesh, dims: &[Dimension]) -> std::io::Resul
     physical_names(w, dims)?;
     // One geometric entity per label and dimension, tagged like its physical group.
     let bbox = |cells: &[&[u32]]| {
-        let pts: Vec<_> = cells.iter().flat_map(|c| c.iter().map(|&v| m.positions[v as usize])).collect();
+        let pts: Vec<_> = cells
+            .iter()
+            .flat_map(|c| c.iter().map(|&v| m.positions[v as usize]))
+            .collect();
         Aabb::of(&pts)
     };
-    writeln!(w, "$Entities\n0 {} {} {}", dims[0].groups.len(), dims[1].groups.len(), dims[2].groups.len())?;
+    writeln!(
+        w,
+        "$Entities\n0 {} {} {}",
+        dims[0].groups.len(),
+        dims[1].groups.len(),
+        dims[2].groups.len()
+    )?;
     for d in dims {
         for (label, cells) in &d.groups {
             let Some(b) = bbox(cells) else { continue };
@@ -146,7 +183,14 @@ fn write41(w: &mut dyn Write, m: &TetMesh, dims: &[Dimension]) -> std::io::Resul
     let mut id = 0u64;
     for d in dims {
         for (label, cells) in &d.groups {
-            writeln!(w, "{} {} {} {}", d.dim, d.tag(*label), d.element_type, cells.len())?;
+            writeln!(
+                w,
+                "{} {} {} {}",
+                d.dim,
+                d.tag(*label),
+                d.element_type,
+                cells.len()
+            )?;
             for c in cells {
                 id += 1;
                 write!(w, "{id}")?;
