@@ -16,19 +16,37 @@ fn assert_restricted_tets(oracle: &PolyhedralOracle, c: &MeshComplex, ratio: f64
     assert!(!c.tets.is_empty());
     for t in 0..c.tets.len() {
         let p = c.tet_points(t);
-        assert!(signed_volume(&p) > 0.0, "tet {t} is not positively oriented");
+        assert!(
+            signed_volume(&p) > 0.0,
+            "tet {t} is not positively oriented"
+        );
         let centre = tet_circumcenter(&p).expect("non-flat tet");
-        assert_eq!(oracle.subdomain(centre), c.tet_subdomain[t], "tet {t}: circumcentre outside its subdomain");
-        assert!(radius_edge_ratio(&p) <= ratio * (1.0 + 1e-9), "tet {t} has radius-edge {}", radius_edge_ratio(&p));
+        assert_eq!(
+            oracle.subdomain(centre),
+            c.tet_subdomain[t],
+            "tet {t}: circumcentre outside its subdomain"
+        );
+        assert!(
+            radius_edge_ratio(&p) <= ratio * (1.0 + 1e-9),
+            "tet {t} has radius-edge {}",
+            radius_edge_ratio(&p)
+        );
     }
 }
 
 /// Every boundary facet is restricted (has a surface ball) and has its three vertices on the surface.
 fn assert_restricted_facets(c: &MeshComplex) {
     for (f, tri) in c.facets.iter().enumerate() {
-        assert_ne!(c.facet_patch[f], 0, "boundary facet {f} is not a restricted facet");
+        assert_ne!(
+            c.facet_patch[f], 0,
+            "boundary facet {f} is not a restricted facet"
+        );
         for &v in tri {
-            assert_eq!(c.vertex_dimension[v as usize], VertexDimension::Surface, "facet {f} has a volume vertex");
+            assert_eq!(
+                c.vertex_dimension[v as usize],
+                VertexDimension::Surface,
+                "facet {f} has a volume vertex"
+            );
         }
     }
 }
@@ -36,18 +54,22 @@ fn assert_restricted_facets(c: &MeshComplex) {
 /// Largest sampled distance from the mesh boundary to the input and back.
 fn hausdorff(oracle: &PolyhedralOracle, c: &MeshComplex, spacing: f64) -> f64 {
     let boundary: Vec<[DVec3; 3]> = (0..c.facets.len()).map(|f| c.facet_points(f)).collect();
-    let there = quality::one_sided_distance(&quality::sample_triangles(boundary.iter().copied(), spacing), |p| {
-        oracle.distance_to_surface(p)
-    });
+    let there = quality::one_sided_distance(
+        &quality::sample_triangles(boundary.iter().copied(), spacing),
+        |p| oracle.distance_to_surface(p),
+    );
     let tree = TriangleTree::new(&boundary);
-    let back = quality::one_sided_distance(&quality::sample_triangles(oracle.triangles().iter().copied(), spacing), |p| {
-        tree.distance(p, &boundary)
-    });
+    let back = quality::one_sided_distance(
+        &quality::sample_triangles(oracle.triangles().iter().copied(), spacing),
+        |p| tree.distance(p, &boundary),
+    );
     there.max(back)
 }
 
 fn mesh_volume(c: &MeshComplex) -> f64 {
-    (0..c.tets.len()).map(|t| quality::tet_volume(&c.tet_points(t))).sum()
+    (0..c.tets.len())
+        .map(|t| quality::tet_volume(&c.tet_points(t)))
+        .sum()
 }
 
 #[test]
@@ -106,11 +128,18 @@ fn nested_spheres_give_two_subdomains_and_an_interface() {
         .collect();
     for part in [&interface, &outer] {
         let t = surface_topology(part);
-        assert!(t.is_closed_manifold() && t.euler_characteristic == 2, "{t:?}");
+        assert!(
+            t.is_closed_manifold() && t.euler_characteristic == 2,
+            "{t:?}"
+        );
     }
     let radius = |tris: &[[u32; 3]]| {
         let n = tris.len() as f64 * 3.0;
-        tris.iter().flatten().map(|&v| c.points[v as usize].length()).sum::<f64>() / n
+        tris.iter()
+            .flatten()
+            .map(|&v| c.points[v as usize].length())
+            .sum::<f64>()
+            / n
     };
     assert!((radius(&interface) - 0.5).abs() < 0.02 && (radius(&outer) - 1.0).abs() < 0.02);
 }
@@ -121,7 +150,10 @@ fn cube_without_features_terminates_and_approximates_its_edges() {
     let (oracle, c) = mesh(&s, criteria(25.0, 0.1, 0.01, 3.0, 0.15));
     assert_restricted_tets(&oracle, &c, 3.0);
     let topology = surface_topology(&c.facets);
-    assert!(topology.is_closed_manifold() && topology.euler_characteristic == 2, "{topology:?}");
+    assert!(
+        topology.is_closed_manifold() && topology.euler_characteristic == 2,
+        "{topology:?}"
+    );
     // Edges and corners are rounded, by at most a few facet sizes.
     assert!(hausdorff(&oracle, &c, 0.02) < 0.1);
     assert!((mesh_volume(&c) - 1.0).abs() < 0.1);

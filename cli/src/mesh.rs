@@ -66,53 +66,87 @@ pub fn run(args: &MeshArgs) -> Result<()> {
 
     let t = Instant::now();
     let patches: Vec<u32> = surface.patches.iter().map(|p| p.0 + 1).collect();
-    let oracle = PolyhedralOracle::new(&surface.positions, &surface.triangles, Some(&patches)).map_err(|e| {
-        anyhow::anyhow!(
-            "{}: cannot mesh this surface: {e}\n(run `delamesh info {}` for a full diagnosis)",
-            args.input.display(),
-            args.input.display()
-        )
-    })?;
+    let oracle = PolyhedralOracle::new(&surface.positions, &surface.triangles, Some(&patches))
+        .map_err(|e| {
+            anyhow::anyhow!(
+                "{}: cannot mesh this surface: {e}\n(run `delamesh info {}` for a full diagnosis)",
+                args.input.display(),
+                args.input.display()
+            )
+        })?;
     times.oracle = t.elapsed();
 
     let criteria = criteria(args, &oracle)?;
     let options = MeshOptions {
         criteria: criteria.clone(),
-        limits: Limits { max_vertices: args.max_vertices, ..Limits::default() },
+        limits: Limits {
+            max_vertices: args.max_vertices,
+            ..Limits::default()
+        },
         keep_partial: args.keep_partial,
     };
     let bar = progress_bar(args.quiet);
     let mut on_progress = |p: &Progress| {
-        let queues: Vec<String> = p.pending.iter().map(|(name, n)| format!("{name} {n}")).collect();
-        bar.set_message(format!("{} vertices; queued: {}", p.vertices, queues.join(", ")));
+        let queues: Vec<String> = p
+            .pending
+            .iter()
+            .map(|(name, n)| format!("{name} {n}"))
+            .collect();
+        bar.set_message(format!(
+            "{} vertices; queued: {}",
+            p.vertices,
+            queues.join(", ")
+        ));
         bar.tick();
     };
     let outcome = mesh_domain(&oracle, &options, &mut on_progress);
     bar.finish_and_clear();
     let (outcome, partial_error) = match outcome {
         Ok(o) => (o, None),
-        Err(MeshError::Refinement { source, partial: Some(complex) }) => {
-            let outcome = MeshOutcome { complex: *complex, stats: Default::default(), times: Default::default() };
+        Err(MeshError::Refinement {
+            source,
+            partial: Some(complex),
+        }) => {
+            let outcome = MeshOutcome {
+                complex: *complex,
+                stats: Default::default(),
+                times: Default::default(),
+            };
             (outcome, Some(source))
         }
-        Err(e) => return Err(anyhow::Error::new(e).context(format!("meshing {}", args.input.display()))),
+        Err(e) => {
+            return Err(anyhow::Error::new(e).context(format!("meshing {}", args.input.display())));
+        }
     };
     times.initial_points = outcome.times.initial_points;
     times.refinement = outcome.times.refinement;
     times.complex = outcome.times.complex;
     if outcome.complex.tets.is_empty() {
-        bail!("{}: the mesh has no tetrahedron inside the surface (criteria too coarse?)", args.input.display());
+        bail!(
+            "{}: the mesh has no tetrahedron inside the surface (criteria too coarse?)",
+            args.input.display()
+        );
     }
 
     let t = Instant::now();
     let tet_mesh = outcome.complex.to_tet_mesh();
-    let write_options = WriteOptions { ascii: args.ascii, ..WriteOptions::default() };
+    let write_options = WriteOptions {
+        ascii: args.ascii,
+        ..WriteOptions::default()
+    };
     write_tet_mesh(&args.output, &tet_mesh, &write_options)?;
     times.write = t.elapsed();
 
     if let Some(path) = &args.report {
         let t = Instant::now();
-        let mut report = Report::new(args, &surface.positions, &surface.triangles, &oracle, &criteria, &outcome);
+        let mut report = Report::new(
+            args,
+            &surface.positions,
+            &surface.triangles,
+            &oracle,
+            &criteria,
+            &outcome,
+        );
         times.quality = t.elapsed();
         times.total = started.elapsed();
         report.times_s = times.seconds();
@@ -132,10 +166,18 @@ pub fn run(args: &MeshArgs) -> Result<()> {
 fn criteria(args: &MeshArgs, oracle: &PolyhedralOracle) -> Result<MeshCriteria> {
     let mut c = MeshCriteria::default_for(&oracle.bounding_box());
     let positive = |name: &str, v: f64| -> Result<f64> {
-        if v.is_finite() && v > 0.0 { Ok(v) } else { bail!("--{name} must be a positive number, got {v}") }
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            bail!("--{name} must be a positive number, got {v}")
+        }
     };
     let non_negative = |name: &str, v: f64| -> Result<f64> {
-        if v.is_finite() && v >= 0.0 { Ok(v) } else { bail!("--{name} must be a number ≥ 0, got {v}") }
+        if v.is_finite() && v >= 0.0 {
+            Ok(v)
+        } else {
+            bail!("--{name} must be a number ≥ 0, got {v}")
+        }
     };
     if let Some(v) = args.facet_angle {
         c.facet.angle_deg = non_negative("facet-angle", v)?;
@@ -152,7 +194,9 @@ fn criteria(args: &MeshArgs, oracle: &PolyhedralOracle) -> Result<MeshCriteria> 
     if let Some(v) = args.cell_radius_edge_ratio {
         c.cell.radius_edge_ratio = non_negative("cell-radius-edge-ratio", v)?;
         if v > 0.0 && v < 2.0 {
-            eprintln!("warning: --cell-radius-edge-ratio below 2 may not terminate before --max-vertices");
+            eprintln!(
+                "warning: --cell-radius-edge-ratio below 2 may not terminate before --max-vertices"
+            );
         }
     }
     if let Some(v) = args.cell_size {
@@ -166,7 +210,10 @@ fn progress_bar(quiet: bool) -> ProgressBar {
         return ProgressBar::hidden();
     }
     let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
-    bar.set_style(ProgressStyle::with_template("{spinner} {elapsed} {msg}").unwrap_or_else(|_| ProgressStyle::default_spinner()));
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {elapsed} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
     bar.enable_steady_tick(Duration::from_millis(200));
     bar
 }
@@ -326,7 +373,11 @@ impl Report {
                 input_vertices: input_points.len(),
                 input_triangles: input_triangles.len(),
                 vertices: c.num_vertices(),
-                surface_vertices: c.vertex_dimension.iter().filter(|d| **d == delamesh_core::complex::VertexDimension::Surface).count(),
+                surface_vertices: c
+                    .vertex_dimension
+                    .iter()
+                    .filter(|d| **d == delamesh_core::complex::VertexDimension::Surface)
+                    .count(),
                 tets: c.tets.len(),
                 boundary_facets: c.facets.len(),
                 subdomains: subdomains.len(),
@@ -380,10 +431,16 @@ fn hausdorff(c: &MeshComplex, oracle: &PolyhedralOracle) -> (f64, f64) {
 
 /// Write JSON next to its destination, then rename: readers never see half a report.
 fn write_json_atomically(path: &Path, value: &impl Serialize) -> Result<()> {
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let mut tmp = tempfile::NamedTempFile::new_in(dir).with_context(|| format!("{}: cannot create the report", path.display()))?;
-    serde_json::to_writer_pretty(&mut tmp, value).with_context(|| format!("{}: cannot write the report", path.display()))?;
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let mut tmp = tempfile::NamedTempFile::new_in(dir)
+        .with_context(|| format!("{}: cannot create the report", path.display()))?;
+    serde_json::to_writer_pretty(&mut tmp, value)
+        .with_context(|| format!("{}: cannot write the report", path.display()))?;
     tmp.write_all(b"\n")?;
-    tmp.persist(path).with_context(|| format!("{}: cannot write the report", path.display()))?;
+    tmp.persist(path)
+        .with_context(|| format!("{}: cannot write the report", path.display()))?;
     Ok(())
 }

@@ -2,7 +2,9 @@
 //! subdomains, the boundary facets with their surface patches, and each vertex's dimension.
 
 use crate::kernel::Point3;
+use crate::mesh::{self, CellField, TetMesh};
 use crate::oracle::{OUTSIDE, PatchId, SubdomainId};
+use crate::quality;
 use crate::refine::cells::CellLevel;
 use crate::refine::facets::SurfaceLevel;
 use crate::triangulation::{Triangulation, VertexId};
@@ -34,7 +36,11 @@ pub struct MeshComplex {
 
 impl MeshComplex {
     /// Collect the complex from a refined triangulation and the levels that refined it.
-    pub fn from_refinement<T: Triangulation<Point = Point3>>(tr: &T, surface: &SurfaceLevel<'_>, cells: &CellLevel<'_>) -> Self {
+    pub fn from_refinement<T: Triangulation<Point = Point3>>(
+        tr: &T,
+        surface: &SurfaceLevel<'_>,
+        cells: &CellLevel<'_>,
+    ) -> Self {
         let mut complex = MeshComplex::default();
         // Number vertices in `VertexId` order so the output does not depend on cell order.
         let mut used: Vec<VertexId> = Vec::new();
@@ -71,7 +77,11 @@ impl MeshComplex {
             complex.tet_subdomain.push(sub);
             for i in 0..4 {
                 let n = tr.neighbor(c, i);
-                let other = if tr.is_infinite_cell(n) { OUTSIDE } else { cells.subdomain(n) };
+                let other = if tr.is_infinite_cell(n) {
+                    OUTSIDE
+                } else {
+                    cells.subdomain(n)
+                };
                 if other >= sub {
                     continue;
                 }
@@ -81,7 +91,9 @@ impl MeshComplex {
                     f.swap(0, 1);
                 }
                 complex.facets.push(f.map(index_of));
-                complex.facet_patch.push(surface.ball(c, i).map_or(0, |b| b.patch));
+                complex
+                    .facet_patch
+                    .push(surface.ball(c, i).map_or(0, |b| b.patch));
                 complex.facet_subdomains.push([sub, other]);
             }
         }
@@ -90,6 +102,43 @@ impl MeshComplex {
 
     pub fn num_vertices(&self) -> usize {
         self.points.len()
+    }
+
+    /// The mesh as the formats crate writes it: subdomain per tet, patch per boundary facet, and
+    /// the cell fields `min_dihedral_deg` and `radius_edge` that ParaView users colour by.
+    pub fn to_tet_mesh(&self) -> TetMesh {
+        let (min_dihedral, radius_edge): (Vec<f64>, Vec<f64>) = (0..self.tets.len())
+            .map(|t| {
+                let p = self.tet_points(t);
+                let min = quality::dihedral_angles_deg(&p)
+                    .into_iter()
+                    .fold(f64::INFINITY, f64::min);
+                (min, quality::radius_edge_ratio(&p))
+            })
+            .unzip();
+        TetMesh {
+            positions: self.points.clone(),
+            tets: self.tets.clone(),
+            subdomains: self
+                .tet_subdomain
+                .iter()
+                .map(|&s| mesh::SubdomainId(s))
+                .collect(),
+            boundary: self.facets.clone(),
+            boundary_patches: self.facet_patch.iter().map(|&p| mesh::PatchId(p)).collect(),
+            feature_edges: Vec::new(),
+            feature_curves: Vec::new(),
+            cell_fields: vec![
+                CellField {
+                    name: "min_dihedral_deg".into(),
+                    values: min_dihedral,
+                },
+                CellField {
+                    name: "radius_edge".into(),
+                    values: radius_edge,
+                },
+            ],
+        }
     }
 
     /// The corner points of tetrahedron `t`.
@@ -106,6 +155,10 @@ impl MeshComplex {
 /// Six times the signed volume of a tetrahedron, positive when `p[0] p[1] p[2]` turn
 /// counterclockwise seen from `p[3]`. The sign is exact (robust predicates).
 pub fn signed_volume(p: &[Point3; 4]) -> f64 {
-    let c = |q: Point3| robust::Coord3D { x: q.x, y: q.y, z: q.z };
+    let c = |q: Point3| robust::Coord3D {
+        x: q.x,
+        y: q.y,
+        z: q.z,
+    };
     -robust::orient3d(c(p[0]), c(p[1]), c(p[2]), c(p[3]))
 }

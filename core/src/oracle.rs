@@ -30,7 +30,16 @@ impl Aabb {
     pub fn from_points(points: impl IntoIterator<Item = Point3>) -> Option<Self> {
         let mut it = points.into_iter();
         let first = it.next()?;
-        Some(it.fold(Aabb { min: first, max: first }, |b, p| Aabb { min: b.min.min(p), max: b.max.max(p) }))
+        Some(it.fold(
+            Aabb {
+                min: first,
+                max: first,
+            },
+            |b, p| Aabb {
+                min: b.min.min(p),
+                max: b.max.max(p),
+            },
+        ))
     }
 
     /// Length of the main diagonal: the scale default criteria are derived from.
@@ -115,7 +124,11 @@ mod tests {
 
     #[test]
     fn aabb_of_points_contains_them() {
-        let pts = [Point3::new(1.0, -2.0, 3.0), Point3::new(-1.0, 4.0, 0.5), Point3::ZERO];
+        let pts = [
+            Point3::new(1.0, -2.0, 3.0),
+            Point3::new(-1.0, 4.0, 0.5),
+            Point3::ZERO,
+        ];
         let b = Aabb::from_points(pts).expect("non-empty");
         assert!(pts.iter().all(|&p| b.contains(p)));
         assert_eq!(b.min, Point3::new(-1.0, -2.0, 0.0));

@@ -8,8 +8,14 @@ use std::collections::BTreeMap;
 pub fn dihedral_angles_deg(p: &[Point3; 4]) -> [f64; 6] {
     // The dihedral angle at edge (i, j) is π minus the angle between the outward normals of the
     // two faces containing the edge, which are the faces opposite k and l.
-    const EDGES: [(usize, usize, usize, usize); 6] =
-        [(0, 1, 2, 3), (0, 2, 1, 3), (0, 3, 1, 2), (1, 2, 0, 3), (1, 3, 0, 2), (2, 3, 0, 1)];
+    const EDGES: [(usize, usize, usize, usize); 6] = [
+        (0, 1, 2, 3),
+        (0, 2, 1, 3),
+        (0, 3, 1, 2),
+        (1, 2, 0, 3),
+        (1, 3, 0, 2),
+        (2, 3, 0, 1),
+    ];
     let normal_opposite = |k: usize| {
         let f: Vec<Point3> = (0..4).filter(|&m| m != k).map(|m| p[m]).collect();
         let mut n = (f[1] - f[0]).cross(f[2] - f[0]);
@@ -31,13 +37,17 @@ pub fn tet_circumcenter(p: &[Point3; 4]) -> Option<Point3> {
     if det == 0.0 {
         return None;
     }
-    let num = a.length_squared() * b.cross(c) + b.length_squared() * c.cross(a) + c.length_squared() * a.cross(b);
+    let num = a.length_squared() * b.cross(c)
+        + b.length_squared() * c.cross(a)
+        + c.length_squared() * a.cross(b);
     Some(p[0] + num / det)
 }
 
 /// Circumradius over shortest edge (√6/4 ≈ 0.612 for the regular tetrahedron; ∞ when flat).
 pub fn radius_edge_ratio(p: &[Point3; 4]) -> f64 {
-    let Some(c) = tet_circumcenter(p) else { return f64::INFINITY };
+    let Some(c) = tet_circumcenter(p) else {
+        return f64::INFINITY;
+    };
     let mut shortest = f64::INFINITY;
     for i in 0..4 {
         for j in i + 1..4 {
@@ -73,14 +83,22 @@ pub struct Histogram {
 
 impl Histogram {
     pub fn new(lo: f64, hi: f64, bins: usize) -> Self {
-        Histogram { lo, hi, counts: vec![0; bins.max(1)] }
+        Histogram {
+            lo,
+            hi,
+            counts: vec![0; bins.max(1)],
+        }
     }
 
     /// Values outside the range go to the first or last bin.
     pub fn add(&mut self, x: f64) {
         let n = self.counts.len();
         let t = ((x - self.lo) / (self.hi - self.lo) * n as f64).floor();
-        let i = if t.is_nan() { 0 } else { (t.max(0.0) as usize).min(n - 1) };
+        let i = if t.is_nan() {
+            0
+        } else {
+            (t.max(0.0) as usize).min(n - 1)
+        };
         self.counts[i] += 1;
     }
 }
@@ -177,7 +195,9 @@ pub fn surface_topology(triangles: &[[u32; 3]]) -> SurfaceTopology {
             faces_uf.union(w[0], w[1]);
         }
     }
-    let components = (0..triangles.len()).filter(|&f| faces_uf.find(f) == f).count();
+    let components = (0..triangles.len())
+        .filter(|&f| faces_uf.find(f) == f)
+        .count();
 
     // A vertex is manifold when its incident triangles are connected through edges at the vertex
     // (a single fan), counted with a union-find over the triangles of each vertex.
@@ -234,7 +254,9 @@ struct UnionFind {
 
 impl UnionFind {
     fn new(n: usize) -> Self {
-        UnionFind { parent: (0..n).collect() }
+        UnionFind {
+            parent: (0..n).collect(),
+        }
     }
     fn reset(&mut self, n: usize) {
         self.parent.clear();
@@ -257,14 +279,20 @@ impl UnionFind {
 
 /// Points spread over triangles about `spacing` apart (at least the centroid of each), for
 /// sampled distance measurements. Deterministic.
-pub fn sample_triangles(triangles: impl IntoIterator<Item = [Point3; 3]>, spacing: f64) -> Vec<Point3> {
+pub fn sample_triangles(
+    triangles: impl IntoIterator<Item = [Point3; 3]>,
+    spacing: f64,
+) -> Vec<Point3> {
     let mut out = Vec::new();
     for [a, b, c] in triangles {
         let longest = a.distance(b).max(b.distance(c)).max(c.distance(a));
         let n = ((longest / spacing).ceil() as usize).clamp(1, 64);
         for i in 0..n {
             for j in 0..n - i {
-                let (u, v) = ((i as f64 + 1.0 / 3.0) / n as f64, (j as f64 + 1.0 / 3.0) / n as f64);
+                let (u, v) = (
+                    (i as f64 + 1.0 / 3.0) / n as f64,
+                    (j as f64 + 1.0 / 3.0) / n as f64,
+                );
                 out.push(a + u * (b - a) + v * (c - a));
             }
         }
@@ -275,7 +303,10 @@ pub fn sample_triangles(triangles: impl IntoIterator<Item = [Point3; 3]>, spacin
 /// The largest distance from `samples` to a set measured by `distance_to_set`: one side of a
 /// Hausdorff distance.
 pub fn one_sided_distance(samples: &[Point3], distance_to_set: impl Fn(Point3) -> f64) -> f64 {
-    samples.iter().map(|&p| distance_to_set(p)).fold(0.0, f64::max)
+    samples
+        .iter()
+        .map(|&p| distance_to_set(p))
+        .fold(0.0, f64::max)
 }
 
 #[cfg(test)]
@@ -307,7 +338,9 @@ mod tests {
         let p = [Point3::ZERO, Point3::X, Point3::Y, Point3::Z];
         let a = dihedral_angles_deg(&p);
         // Edges along the axes have right dihedral angles.
-        assert!((a[0] - 90.0).abs() < 1e-9 && (a[1] - 90.0).abs() < 1e-9 && (a[2] - 90.0).abs() < 1e-9);
+        assert!(
+            (a[0] - 90.0).abs() < 1e-9 && (a[1] - 90.0).abs() < 1e-9 && (a[2] - 90.0).abs() < 1e-9
+        );
         assert!(tet_volume(&p) > 0.0);
     }
 
@@ -322,7 +355,10 @@ mod tests {
         assert_eq!(open.border_edges, 3);
         // Two tetrahedra sharing only a vertex: a non-manifold vertex.
         let mut two: Vec<[u32; 3]> = tris.to_vec();
-        two.extend(tris.iter().map(|t| t.map(|v| if v == 0 { 0 } else { v + 3 })));
+        two.extend(
+            tris.iter()
+                .map(|t| t.map(|v| if v == 0 { 0 } else { v + 3 })),
+        );
         let t2 = surface_topology(&two);
         assert_eq!(t2.non_manifold_vertices, 1);
         assert_eq!(t2.non_manifold_edges, 0);
@@ -345,6 +381,9 @@ mod tests {
         let t = [Point3::ZERO, Point3::X, Point3::Y];
         let s = sample_triangles([t], 0.1);
         assert!(s.len() > 10);
-        assert!(s.iter().all(|p| p.z == 0.0 && p.x >= 0.0 && p.y >= 0.0 && p.x + p.y <= 1.0));
+        assert!(
+            s.iter()
+                .all(|p| p.z == 0.0 && p.x >= 0.0 && p.y >= 0.0 && p.x + p.y <= 1.0)
+        );
     }
 }

@@ -14,7 +14,8 @@ impl Surface {
     pub fn merge(mut self, other: Surface) -> Surface {
         let offset = self.points.len() as u32;
         self.points.extend(other.points);
-        self.triangles.extend(other.triangles.iter().map(|t| t.map(|v| v + offset)));
+        self.triangles
+            .extend(other.triangles.iter().map(|t| t.map(|v| v + offset)));
         self
     }
 
@@ -52,10 +53,26 @@ pub fn sphere(center: DVec3, radius: f64, subdivisions: usize) -> Surface {
     .map(|&(x, y, z)| DVec3::new(x, y, z).normalize())
     .collect();
     let mut triangles: Vec<[u32; 3]> = vec![
-        [0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11],
-        [1, 5, 9], [5, 11, 4], [11, 10, 2], [10, 7, 6], [7, 1, 8],
-        [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8], [3, 8, 9],
-        [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1],
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
     ];
     for _ in 0..subdivisions {
         let mut mid = std::collections::BTreeMap::new();
@@ -67,12 +84,19 @@ pub fn sphere(center: DVec3, radius: f64, subdivisions: usize) -> Surface {
         };
         let mut next = Vec::new();
         for [a, b, c] in triangles {
-            let (ab, bc, ca) = (midpoint(a, b, &mut points), midpoint(b, c, &mut points), midpoint(c, a, &mut points));
+            let (ab, bc, ca) = (
+                midpoint(a, b, &mut points),
+                midpoint(b, c, &mut points),
+                midpoint(c, a, &mut points),
+            );
             next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
         }
         triangles = next;
     }
-    Surface { points: points.into_iter().map(|p| center + radius * p).collect(), triangles }
+    Surface {
+        points: points.into_iter().map(|p| center + radius * p).collect(),
+        triangles,
+    }
 }
 
 /// A torus around the z axis with major radius `r_major` and tube radius `r_minor`.
@@ -103,15 +127,37 @@ pub fn cuboid(min: DVec3, max: DVec3) -> Surface {
     let p = |x: usize, y: usize, z: usize| {
         DVec3::new([min.x, max.x][x], [min.y, max.y][y], [min.z, max.z][z])
     };
-    let points = vec![p(0, 0, 0), p(1, 0, 0), p(1, 1, 0), p(0, 1, 0), p(0, 0, 1), p(1, 0, 1), p(1, 1, 1), p(0, 1, 1)];
-    let quads = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [2, 3, 7, 6], [1, 2, 6, 5], [0, 4, 7, 3]];
-    let triangles = quads.iter().flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]]).collect();
+    let points = vec![
+        p(0, 0, 0),
+        p(1, 0, 0),
+        p(1, 1, 0),
+        p(0, 1, 0),
+        p(0, 0, 1),
+        p(1, 0, 1),
+        p(1, 1, 1),
+        p(0, 1, 1),
+    ];
+    let quads = [
+        [0, 3, 2, 1],
+        [4, 5, 6, 7],
+        [0, 1, 5, 4],
+        [2, 3, 7, 6],
+        [1, 2, 6, 5],
+        [0, 4, 7, 3],
+    ];
+    let triangles = quads
+        .iter()
+        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+        .collect();
     Surface { points, triangles }
 }
 
 /// The same surface with every triangle reversed (normals inward).
 pub fn flipped(s: Surface) -> Surface {
-    Surface { points: s.points, triangles: s.triangles.into_iter().map(|[a, b, c]| [a, c, b]).collect() }
+    Surface {
+        points: s.points,
+        triangles: s.triangles.into_iter().map(|[a, b, c]| [a, c, b]).collect(),
+    }
 }
 
 use delamesh::core::complex::MeshComplex;
@@ -122,15 +168,30 @@ use delamesh::polyhedral::PolyhedralOracle;
 /// CGAL-style criteria with constant sizes.
 pub fn criteria(angle: f64, size: f64, distance: f64, ratio: f64, cell_size: f64) -> MeshCriteria {
     MeshCriteria {
-        facet: FacetCriteria { angle_deg: angle, size: Sizing::Constant(size), distance: Sizing::Constant(distance) },
-        cell: CellCriteria { radius_edge_ratio: ratio, size: Sizing::Constant(cell_size) },
+        facet: FacetCriteria {
+            angle_deg: angle,
+            size: Sizing::Constant(size),
+            distance: Sizing::Constant(distance),
+        },
+        cell: CellCriteria {
+            radius_edge_ratio: ratio,
+            size: Sizing::Constant(cell_size),
+        },
     }
 }
 
 /// Mesh a surface; panics (this is a test) when the oracle or the mesher fails.
 pub fn mesh(surface: &Surface, criteria: MeshCriteria) -> (PolyhedralOracle, MeshComplex) {
-    let oracle = PolyhedralOracle::new(&surface.points, &surface.triangles, None).expect("valid test surface");
-    let options = MeshOptions { criteria, limits: Limits { max_vertices: 200_000, ..Limits::default() }, keep_partial: false };
+    let oracle = PolyhedralOracle::new(&surface.points, &surface.triangles, None)
+        .expect("valid test surface");
+    let options = MeshOptions {
+        criteria,
+        limits: Limits {
+            max_vertices: 200_000,
+            ..Limits::default()
+        },
+        keep_partial: false,
+    };
     let outcome = mesh_domain(&oracle, &options, &mut |_| {}).expect("refinement terminates");
     (oracle, outcome.complex)
 }

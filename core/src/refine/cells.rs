@@ -29,7 +29,13 @@ pub struct CellLevel<'o> {
 
 impl<'o> CellLevel<'o> {
     pub fn new(oracle: &'o dyn Oracle, criteria: CellCriteria) -> Self {
-        CellLevel { oracle, criteria, subdomain: Vec::new(), queue: RefineQueue::default(), proposed_radius2: 0.0 }
+        CellLevel {
+            oracle,
+            criteria,
+            subdomain: Vec::new(),
+            queue: RefineQueue::default(),
+            proposed_radius2: 0.0,
+        }
     }
 
     /// The subdomain a cell belongs to: the one containing its circumcentre.
@@ -40,7 +46,8 @@ impl<'o> CellLevel<'o> {
     fn update_cell<T: Triangulation<Point = Point3>>(&mut self, tr: &T, c: CellId) {
         let i = c.0 as usize;
         if self.subdomain.len() <= i {
-            self.subdomain.resize(tr.cell_capacity().max(i + 1), OUTSIDE);
+            self.subdomain
+                .resize(tr.cell_capacity().max(i + 1), OUTSIDE);
         }
         if tr.is_infinite_cell(c) {
             self.subdomain[i] = OUTSIDE;
@@ -48,7 +55,11 @@ impl<'o> CellLevel<'o> {
         }
         let center = tr.circumcenter(c);
         // A flat cell has no circumcentre; it lies on a planar patch and is left outside.
-        let sub = if center.is_finite() { self.oracle.subdomain(center) } else { OUTSIDE };
+        let sub = if center.is_finite() {
+            self.oracle.subdomain(center)
+        } else {
+            OUTSIDE
+        };
         self.subdomain[i] = sub;
         if sub == OUTSIDE {
             return;
@@ -112,11 +123,18 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for CellLevel<'o> {
     fn refinement_point(&mut self, tr: &T, q: &QueuedCell) -> Option<Candidate<Point3>> {
         let center = tr.circumcenter(q.cell);
         self.proposed_radius2 = center.distance_squared(tr.point(q.vertices[0]));
-        Some(Candidate { point: center, hint: Some(q.cell) })
+        Some(Candidate {
+            point: center,
+            hint: Some(q.cell),
+        })
     }
 
     fn check(&mut self, tr: &T, c: &Candidate<Point3>, _own: bool) -> Check {
-        if crowds_a_vertex(tr, c, self.proposed_radius2) { Check::RejectedForever } else { Check::Accepted }
+        if crowds_a_vertex(tr, c, self.proposed_radius2) {
+            Check::RejectedForever
+        } else {
+            Check::Accepted
+        }
     }
 
     fn after_insertion(&mut self, tr: &T, _v: VertexId, report: &InsertReport, _own: bool) {

@@ -15,7 +15,10 @@ pub enum Sizing {
     Unbounded,
     Constant(f64),
     /// A value per label, `default` elsewhere.
-    PerLabel { default: f64, values: BTreeMap<u32, f64> },
+    PerLabel {
+        default: f64,
+        values: BTreeMap<u32, f64>,
+    },
     Function(Arc<dyn Fn(Point3, u32) -> f64 + Send + Sync>),
 }
 
@@ -83,7 +86,10 @@ impl MeshCriteria {
                 size: Sizing::Constant(d / 20.0),
                 distance: Sizing::Constant(d / 400.0),
             },
-            cell: CellCriteria { radius_edge_ratio: 3.0, size: Sizing::Constant(d / 20.0) },
+            cell: CellCriteria {
+                radius_edge_ratio: 3.0,
+                size: Sizing::Constant(d / 20.0),
+            },
         }
     }
 }

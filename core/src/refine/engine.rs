@@ -1,6 +1,8 @@
 //! The refinement engine: the skeleton shared by all levels (thesis, ch. 5, `Mesher_level_base`).
 
-use crate::triangulation::{CellId, InsertOutcome, InsertReport, Triangulation, TriangulationError, VertexId};
+use crate::triangulation::{
+    CellId, InsertOutcome, InsertReport, Triangulation, TriangulationError, VertexId,
+};
 
 /// Answer of a level asked whether a refinement point may be inserted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -109,7 +111,10 @@ pub struct Limits {
 
 impl Default for Limits {
     fn default() -> Self {
-        Limits { max_vertices: 2_000_000, max_rejections_in_a_row: 64 }
+        Limits {
+            max_vertices: 2_000_000,
+            max_rejections_in_a_row: 64,
+        }
     }
 }
 
@@ -150,7 +155,11 @@ pub struct Engine<'a, T: Triangulation> {
 
 impl<'a, T: Triangulation> Engine<'a, T> {
     pub fn new(limits: Limits) -> Self {
-        Engine { levels: Vec::new(), limits, report: InsertReport::default() }
+        Engine {
+            levels: Vec::new(),
+            limits,
+            report: InsertReport::default(),
+        }
     }
 
     /// Add a level below all the levels already added. The caller keeps ownership, so that the
@@ -162,19 +171,30 @@ impl<'a, T: Triangulation> Engine<'a, T> {
 
     /// Run all levels until every queue is empty or a guard trips. The triangulation is left as
     /// it is when an error is returned, so that callers can keep the partial mesh.
-    pub fn refine(&mut self, tr: &mut T, progress: &mut dyn FnMut(&Progress)) -> Result<RefineStats, RefineError> {
-        let mut stats = RefineStats { insertions: vec![0; self.levels.len()], ..RefineStats::default() };
+    pub fn refine(
+        &mut self,
+        tr: &mut T,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> Result<RefineStats, RefineError> {
+        let mut stats = RefineStats {
+            insertions: vec![0; self.levels.len()],
+            ..RefineStats::default()
+        };
         for level in self.levels.iter_mut() {
             level.scan(tr);
         }
         let mut rejections_in_a_row = 0;
         let mut total = 0usize;
         loop {
-            let Some((i, candidate)) = self.next_candidate(tr) else { break };
+            let Some((i, candidate)) = self.next_candidate(tr) else {
+                break;
+            };
             match self.check_by_all_levels(tr, &candidate, i) {
                 Check::Accepted => {
                     if tr.num_vertices() >= self.limits.max_vertices {
-                        return Err(RefineError::TooManyVertices { limit: self.limits.max_vertices });
+                        return Err(RefineError::TooManyVertices {
+                            limit: self.limits.max_vertices,
+                        });
                     }
                     self.levels[i].pop();
                     match tr.insert_reporting(candidate.point, candidate.hint, &mut self.report)? {
@@ -213,7 +233,10 @@ impl<'a, T: Triangulation> Engine<'a, T> {
 
     /// The refinement point of the first level (in priority order) with work left.
     fn next_candidate(&mut self, tr: &T) -> Option<(usize, Candidate<T::Point>)> {
-        self.levels.iter_mut().enumerate().find_map(|(i, level)| level.next_candidate(tr).map(|c| (i, c)))
+        self.levels
+            .iter_mut()
+            .enumerate()
+            .find_map(|(i, level)| level.next_candidate(tr).map(|c| (i, c)))
     }
 
     /// `check_refinement_point_by_all_levels`: levels 0..=i, stopping at the first refusal.
@@ -231,7 +254,11 @@ impl<'a, T: Triangulation> Engine<'a, T> {
         Progress {
             vertices: tr.num_vertices(),
             insertions,
-            pending: self.levels.iter().map(|l| (l.name(), l.pending())).collect(),
+            pending: self
+                .levels
+                .iter()
+                .map(|l| (l.name(), l.pending()))
+                .collect(),
         }
     }
 }

@@ -10,7 +10,8 @@
 use super::criteria::FacetCriteria;
 use super::engine::{Candidate, Check, MesherLevel};
 use super::geometry::{
-    cell_vertices, crowds_a_vertex, facet_vertices, is_same_cell, triangle_circumcenter, triangle_min_angle_deg,
+    cell_vertices, crowds_a_vertex, facet_vertices, is_same_cell, triangle_circumcenter,
+    triangle_min_angle_deg,
 };
 use super::queue::RefineQueue;
 use crate::kernel::Point3;
@@ -105,10 +106,17 @@ impl<'o> SurfaceLevel<'o> {
     /// A flat cell (four coplanar vertices, which exact degeneracies on planar patches create)
     /// has its circumcentre at infinity: its side of the edge is then a ray, like an infinite
     /// cell's, pointing away from the other cell.
-    fn compute_ball<T: Triangulation<Point = Point3>>(&mut self, tr: &T, c: CellId, i: usize) -> Option<SurfaceBall> {
+    fn compute_ball<T: Triangulation<Point = Point3>>(
+        &mut self,
+        tr: &T,
+        c: CellId,
+        i: usize,
+    ) -> Option<SurfaceBall> {
         let n = tr.neighbor(c, i);
         let here = tr.circumcenter(c);
-        let there = (!tr.is_infinite_cell(n)).then(|| tr.circumcenter(n)).filter(|p| p.is_finite());
+        let there = (!tr.is_infinite_cell(n))
+            .then(|| tr.circumcenter(n))
+            .filter(|p| p.is_finite());
         let (c, i, here, there) = match (here.is_finite(), there) {
             (true, _) => (c, i, here, there),
             (false, Some(p)) => (n, tr.mirror_index(c, i), p, None),
@@ -132,12 +140,22 @@ impl<'o> SurfaceLevel<'o> {
         }
         self.hits
             .iter()
-            .map(|h| SurfaceBall { center: h.point, radius2: h.point.distance_squared(a), patch: h.patch })
+            .map(|h| SurfaceBall {
+                center: h.point,
+                radius2: h.point.distance_squared(a),
+                patch: h.patch,
+            })
             .max_by(|x, y| x.radius2.total_cmp(&y.radius2))
     }
 
     /// Why facet `(c, i)` with ball `ball` needs refinement, as a queue priority (`None`: good).
-    fn badness<T: Triangulation<Point = Point3>>(&self, tr: &T, cell: &[VertexId; 4], i: usize, ball: &SurfaceBall) -> Option<f64> {
+    fn badness<T: Triangulation<Point = Point3>>(
+        &self,
+        tr: &T,
+        cell: &[VertexId; 4],
+        i: usize,
+        ball: &SurfaceBall,
+    ) -> Option<f64> {
         let fv = facet_vertices(cell, i);
         if fv.iter().any(|&v| !self.is_on_surface(v)) {
             return Some(URGENT);
@@ -178,7 +196,15 @@ impl<'o> SurfaceLevel<'o> {
         if let Some(ball) = ball {
             let cell = cell_vertices(tr, c);
             if let Some(priority) = self.badness(tr, &cell, i, &ball) {
-                self.queue.push(priority, QueuedFacet { cell: c, index: i as u8, forced: false, vertices: cell });
+                self.queue.push(
+                    priority,
+                    QueuedFacet {
+                        cell: c,
+                        index: i as u8,
+                        forced: false,
+                        vertices: cell,
+                    },
+                );
             }
         }
     }
@@ -241,13 +267,20 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for SurfaceLevel<'o> {
     fn refinement_point(&mut self, _tr: &T, f: &QueuedFacet) -> Option<Candidate<Point3>> {
         let ball = self.balls[f.cell.0 as usize][f.index as usize]?;
         self.proposed_radius2 = ball.radius2;
-        Some(Candidate { point: ball.center, hint: Some(f.cell) })
+        Some(Candidate {
+            point: ball.center,
+            hint: Some(f.cell),
+        })
     }
 
     /// R3.2: a point of a lower level inside a surface ball is refused, and the facet queued.
     fn check(&mut self, tr: &T, c: &Candidate<Point3>, own: bool) -> Check {
         if own {
-            return if crowds_a_vertex(tr, c, self.proposed_radius2) { Check::RejectedForever } else { Check::Accepted };
+            return if crowds_a_vertex(tr, c, self.proposed_radius2) {
+                Check::RejectedForever
+            } else {
+                Check::Accepted
+            };
         }
         let mut zone = std::mem::take(&mut self.zone);
         tr.conflict_zone(c.point, c.hint, &mut zone);
@@ -261,7 +294,15 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for SurfaceLevel<'o> {
                     && ball.center.distance_squared(c.point) < ball.radius2
                 {
                     let vertices = cell_vertices(tr, cell);
-                    self.queue.push(URGENT, QueuedFacet { cell, index: i as u8, forced: true, vertices });
+                    self.queue.push(
+                        URGENT,
+                        QueuedFacet {
+                            cell,
+                            index: i as u8,
+                            forced: true,
+                            vertices,
+                        },
+                    );
                     verdict = Check::Rejected;
                     break 'cells;
                 }
@@ -289,7 +330,8 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for SurfaceLevel<'o> {
             }
             for i in 0..4 {
                 let n = tr.neighbor(c, i);
-                let both_new = self.created_mark[n.0 as usize] == self.stamp && !tr.is_infinite_cell(n);
+                let both_new =
+                    self.created_mark[n.0 as usize] == self.stamp && !tr.is_infinite_cell(n);
                 if !both_new || c.0 < n.0 {
                     self.update_facet(tr, c, i);
                 }
@@ -301,4 +343,3 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for SurfaceLevel<'o> {
         self.queue.len()
     }
 }
-

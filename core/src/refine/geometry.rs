@@ -1,7 +1,7 @@
 //! Small constructions the 3D levels need on triangles and tetrahedra.
 
-use crate::kernel::Point3;
 use super::engine::Candidate;
+use crate::kernel::Point3;
 use crate::triangulation::{CellId, Triangulation, VertexId};
 
 /// The four vertex ids of a cell of a 3D triangulation.
@@ -21,8 +21,14 @@ pub(crate) fn is_same_cell<T: Triangulation>(tr: &T, c: CellId, stored: &[Vertex
 /// nearly degenerate cells, and inserting it would create a near-duplicate vertex that no
 /// amount of refinement can separate. The nearest vertex of a point that close is a vertex of
 /// the cell containing it.
-pub(crate) fn crowds_a_vertex<T: Triangulation<Point = Point3>>(tr: &T, c: &Candidate<Point3>, radius2: f64) -> bool {
-    let Some(cell) = tr.locate(c.point, c.hint) else { return false };
+pub(crate) fn crowds_a_vertex<T: Triangulation<Point = Point3>>(
+    tr: &T,
+    c: &Candidate<Point3>,
+    radius2: f64,
+) -> bool {
+    let Some(cell) = tr.locate(c.point, c.hint) else {
+        return false;
+    };
     tr.cell(cell)
         .as_ref()
         .iter()
@@ -71,7 +77,11 @@ mod tests {
 
     #[test]
     fn circumcenter_is_equidistant_and_coplanar() {
-        let (a, b, c) = (Point3::new(1.0, 0.2, 0.0), Point3::new(-0.3, 2.0, 1.0), Point3::new(0.5, -1.0, 2.0));
+        let (a, b, c) = (
+            Point3::new(1.0, 0.2, 0.0),
+            Point3::new(-0.3, 2.0, 1.0),
+            Point3::new(0.5, -1.0, 2.0),
+        );
         let o = triangle_circumcenter(a, b, c);
         let (ra, rb, rc) = (o.distance(a), o.distance(b), o.distance(c));
         assert!((ra - rb).abs() < 1e-12 && (ra - rc).abs() < 1e-12);

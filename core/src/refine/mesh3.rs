@@ -62,10 +62,16 @@ pub fn mesh_domain(
         return Err(MeshError::NoInitialPoints);
     }
     for p in initial {
-        let v = tr.insert(p.point).map_err(MeshError::InitialPoint)?.vertex();
+        let v = tr
+            .insert(p.point)
+            .map_err(MeshError::InitialPoint)?
+            .vertex();
         surface.mark_on_surface(v);
     }
-    let mut times = PhaseTimes { initial_points: start.elapsed(), ..PhaseTimes::default() };
+    let mut times = PhaseTimes {
+        initial_points: start.elapsed(),
+        ..PhaseTimes::default()
+    };
 
     let start = Instant::now();
     let result = {
@@ -80,7 +86,11 @@ pub fn mesh_domain(
         Ok(stats) => {
             let complex = MeshComplex::from_refinement(&tr, &surface, &cells);
             times.complex = start.elapsed();
-            Ok(MeshOutcome { complex, stats, times })
+            Ok(MeshOutcome {
+                complex,
+                stats,
+                times,
+            })
         }
         Err(source) => {
             let partial = options

@@ -15,6 +15,8 @@ mod geometry;
 mod mesh3;
 mod queue;
 
+pub use engine::{
+    Candidate, Check, Engine, Limits, MesherLevel, Progress, RefineError, RefineStats,
+};
 pub(crate) use geometry::{cell_vertices, facet_vertices};
-pub use engine::{Candidate, Check, Engine, Limits, MesherLevel, Progress, RefineError, RefineStats};
 pub use mesh3::{MeshError, MeshOptions, MeshOutcome, PhaseTimes, mesh_domain};

@@ -23,7 +23,9 @@ impl<E> PartialOrd for Entry<E> {
 }
 impl<E> Ord for Entry<E> {
     fn cmp(&self, other: &Self) -> Ordering {
-        self.priority.total_cmp(&other.priority).then_with(|| other.seq.cmp(&self.seq))
+        self.priority
+            .total_cmp(&other.priority)
+            .then_with(|| other.seq.cmp(&self.seq))
     }
 }
 
@@ -34,14 +36,21 @@ pub(crate) struct RefineQueue<E> {
 
 impl<E> Default for RefineQueue<E> {
     fn default() -> Self {
-        RefineQueue { heap: BinaryHeap::new(), seq: 0 }
+        RefineQueue {
+            heap: BinaryHeap::new(),
+            seq: 0,
+        }
     }
 }
 
 impl<E> RefineQueue<E> {
     pub(crate) fn push(&mut self, priority: f64, element: E) {
         self.seq += 1;
-        self.heap.push(Entry { priority, seq: self.seq, element });
+        self.heap.push(Entry {
+            priority,
+            seq: self.seq,
+            element,
+        });
     }
 
     pub(crate) fn peek(&self) -> Option<&E> {

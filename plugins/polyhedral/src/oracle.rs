@@ -3,7 +3,9 @@
 use crate::predicates::{Crossing, segment_crossing};
 use crate::tree::TriangleTree;
 use crate::validate::surface_defects;
-use delamesh_core::oracle::{Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint};
+use delamesh_core::oracle::{
+    Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
+};
 use glam::DVec3;
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -11,7 +13,11 @@ pub enum PolyhedralError {
     #[error("the surface has no triangles")]
     Empty,
     #[error("triangle {triangle} refers to vertex {index}, but there are only {count} vertices")]
-    IndexOutOfRange { triangle: usize, index: u32, count: usize },
+    IndexOutOfRange {
+        triangle: usize,
+        index: u32,
+        count: usize,
+    },
     #[error("vertex {0} has a non-finite coordinate")]
     NonFinite(usize),
     #[error("{0} triangles have a repeated vertex")]
@@ -20,7 +26,9 @@ pub enum PolyhedralError {
     NotClosed(usize),
     #[error("the surface is not a manifold: {0} edges belong to more than two triangles")]
     NonManifold(usize),
-    #[error("the surface is not consistently oriented: {0} edges are traversed twice in the same direction")]
+    #[error(
+        "the surface is not consistently oriented: {0} edges are traversed twice in the same direction"
+    )]
     Inconsistent(usize),
     #[error("the surface intersects itself (triangles {0} and {1} cross)")]
     SelfIntersecting(usize, usize),
@@ -59,7 +67,11 @@ fn ray_direction(attempt: usize) -> DVec3 {
 
 impl PolyhedralOracle {
     /// Build the oracle; `patches` labels each triangle (default: one patch per component).
-    pub fn new(points: &[DVec3], triangles: &[[u32; 3]], patches: Option<&[PatchId]>) -> Result<Self, PolyhedralError> {
+    pub fn new(
+        points: &[DVec3],
+        triangles: &[[u32; 3]],
+        patches: Option<&[PatchId]>,
+    ) -> Result<Self, PolyhedralError> {
         if triangles.is_empty() {
             return Err(PolyhedralError::Empty);
         }
@@ -68,7 +80,11 @@ impl PolyhedralOracle {
         }
         for (t, tri) in triangles.iter().enumerate() {
             if let Some(&index) = tri.iter().find(|&&v| v as usize >= points.len()) {
-                return Err(PolyhedralError::IndexOutOfRange { triangle: t, index, count: points.len() });
+                return Err(PolyhedralError::IndexOutOfRange {
+                    triangle: t,
+                    index,
+                    count: points.len(),
+                });
             }
         }
         if let Some(p) = patches
@@ -78,7 +94,9 @@ impl PolyhedralOracle {
         }
         let defects = surface_defects(points, triangles);
         if defects.degenerate_triangles > 0 {
-            return Err(PolyhedralError::DegenerateTriangles(defects.degenerate_triangles));
+            return Err(PolyhedralError::DegenerateTriangles(
+                defects.degenerate_triangles,
+            ));
         }
         if defects.border_edges > 0 {
             return Err(PolyhedralError::NotClosed(defects.border_edges));
@@ -93,14 +111,18 @@ impl PolyhedralOracle {
             return Err(PolyhedralError::SelfIntersecting(a, b));
         }
 
-        let geometry: Vec<[DVec3; 3]> = triangles.iter().map(|t| t.map(|v| points[v as usize])).collect();
+        let geometry: Vec<[DVec3; 3]> = triangles
+            .iter()
+            .map(|t| t.map(|v| points[v as usize]))
+            .collect();
         let component = components(points.len(), triangles);
         let num_components = component.iter().max().map_or(0, |&c| c as usize + 1);
         let patch = match patches {
             Some(p) => p.to_vec(),
             None => component.iter().map(|&c| c + 1).collect(),
         };
-        let bbox = Aabb::from_points(geometry.iter().flatten().copied()).ok_or(PolyhedralError::Empty)?;
+        let bbox =
+            Aabb::from_points(geometry.iter().flatten().copied()).ok_or(PolyhedralError::Empty)?;
         let tree = TriangleTree::new(&geometry);
         let mut oracle = PolyhedralOracle {
             triangles: geometry,
@@ -132,8 +154,9 @@ impl PolyhedralOracle {
             return Err(PolyhedralError::FlatComponent(k));
         }
         // around[k]: winding number of every component around component k.
-        let around: Vec<Vec<i32>> =
-            (0..n).map(|k| self.windings(probe[k].unwrap_or(DVec3::ZERO), Some(k as u32), n)).collect();
+        let around: Vec<Vec<i32>> = (0..n)
+            .map(|k| self.windings(probe[k].unwrap_or(DVec3::ZERO), Some(k as u32), n))
+            .collect();
         for k in 0..n {
             self.depth[k] = around[k].iter().filter(|&&x| x != 0).count() as u32;
         }
@@ -147,13 +170,18 @@ impl PolyhedralOracle {
                 inside_volume[k] += volume[k].abs();
             }
             // The region inside the parent (the innermost component around k) loses k's volume.
-            let parent = (0..n).filter(|&j| around[k][j] != 0).max_by_key(|&j| self.depth[j]);
+            let parent = (0..n)
+                .filter(|&j| around[k][j] != 0)
+                .max_by_key(|&j| self.depth[j]);
             if let Some(j) = parent {
                 inside_volume[j] -= volume[k].abs();
             }
         }
         // The region between a component and its children is in the domain when labelled.
-        self.domain_volume = (0..n).filter(|&k| self.inner_label[k] != OUTSIDE).map(|k| inside_volume[k]).sum();
+        self.domain_volume = (0..n)
+            .filter(|&k| self.inner_label[k] != OUTSIDE)
+            .map(|k| inside_volume[k])
+            .sum();
         Ok(())
     }
 
@@ -173,7 +201,9 @@ impl PolyhedralOracle {
                     return;
                 }
                 match segment_crossing(p, q, &self.triangles[t as usize]) {
-                    Crossing::Proper { from_back } => w[k as usize] += if from_back { 1 } else { -1 },
+                    Crossing::Proper { from_back } => {
+                        w[k as usize] += if from_back { 1 } else { -1 }
+                    }
                     Crossing::Degenerate | Crossing::Coplanar => degenerate = true,
                     Crossing::None => {}
                 }
@@ -202,7 +232,10 @@ impl PolyhedralOracle {
             for attempt in 0..24 {
                 hits.clear();
                 self.ray_hits_filtered(origin, ray_direction(attempt), Some(k as u32), &mut hits);
-                out.extend(hits.iter().map(|h| SurfacePoint { point: h.point, patch: h.patch }));
+                out.extend(hits.iter().map(|h| SurfacePoint {
+                    point: h.point,
+                    patch: h.patch,
+                }));
             }
             // Rays from the centre miss parts of non-convex components (and give nearly coplanar
             // points on flat ones): add vertices of the component spread by farthest-point sampling.
@@ -218,11 +251,23 @@ impl PolyhedralOracle {
             .filter(|&t| self.component[t] == k)
             .flat_map(|t| self.triangles[t].map(|p| (p, self.patch[t])))
             .collect();
-        let Some(&(start, _)) = corners.first() else { return };
-        let mut nearest: Vec<f64> = corners.iter().map(|(p, _)| p.distance_squared(start)).collect();
-        out.push(SurfacePoint { point: start, patch: corners[0].1 });
+        let Some(&(start, _)) = corners.first() else {
+            return;
+        };
+        let mut nearest: Vec<f64> = corners
+            .iter()
+            .map(|(p, _)| p.distance_squared(start))
+            .collect();
+        out.push(SurfacePoint {
+            point: start,
+            patch: corners[0].1,
+        });
         for _ in 1..count {
-            let Some((i, _)) = nearest.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1).then(b.0.cmp(&a.0))) else {
+            let Some((i, _)) = nearest
+                .iter()
+                .enumerate()
+                .max_by(|a, b| a.1.total_cmp(b.1).then(b.0.cmp(&a.0)))
+            else {
                 break;
             };
             let (p, patch) = corners[i];
@@ -236,12 +281,19 @@ impl PolyhedralOracle {
         }
     }
 
-    fn ray_hits_filtered(&self, origin: DVec3, dir: DVec3, only: Option<u32>, out: &mut Vec<SurfaceHit>) {
+    fn ray_hits_filtered(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        only: Option<u32>,
+        out: &mut Vec<SurfaceHit>,
+    ) {
         let len = dir.length();
         if len == 0.0 || !len.is_finite() || !origin.is_finite() {
             return;
         }
-        let reach = (2.0 * (self.bbox.diagonal() + origin.distance(self.bbox.center())) + 1.0) / len;
+        let reach =
+            (2.0 * (self.bbox.diagonal() + origin.distance(self.bbox.center())) + 1.0) / len;
         let start = out.len();
         self.segment_hits_filtered(origin, origin + reach * dir, only, out);
         for h in &mut out[start..] {
@@ -249,7 +301,13 @@ impl PolyhedralOracle {
         }
     }
 
-    fn segment_hits_filtered(&self, a: DVec3, b: DVec3, only: Option<u32>, out: &mut Vec<SurfaceHit>) {
+    fn segment_hits_filtered(
+        &self,
+        a: DVec3,
+        b: DVec3,
+        only: Option<u32>,
+        out: &mut Vec<SurfaceHit>,
+    ) {
         if !a.is_finite() || !b.is_finite() {
             return;
         }
@@ -263,8 +321,16 @@ impl PolyhedralOracle {
             if let Crossing::Proper { .. } | Crossing::Degenerate = segment_crossing(a, b, tri) {
                 let normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]);
                 let denom = normal.dot(d);
-                let s = if denom != 0.0 { (normal.dot(tri[0] - a) / denom).clamp(0.0, 1.0) } else { 0.0 };
-                out.push(SurfaceHit { point: a + s * d, t: s, patch: self.patch[t as usize] });
+                let s = if denom != 0.0 {
+                    (normal.dot(tri[0] - a) / denom).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                out.push(SurfaceHit {
+                    point: a + s * d,
+                    t: s,
+                    patch: self.patch[t as usize],
+                });
             }
         });
         let hits = &mut out[start..];

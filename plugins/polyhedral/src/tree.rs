@@ -27,14 +27,34 @@ const LEAF_SIZE: usize = 4;
 impl TriangleTree {
     pub fn new(triangles: &[[DVec3; 3]]) -> Self {
         let mut order: Vec<u32> = (0..triangles.len() as u32).collect();
-        let centroids: Vec<DVec3> = triangles.iter().map(|t| (t[0] + t[1] + t[2]) / 3.0).collect();
+        let centroids: Vec<DVec3> = triangles
+            .iter()
+            .map(|t| (t[0] + t[1] + t[2]) / 3.0)
+            .collect();
         let (lo, hi) = triangles
             .iter()
             .flatten()
-            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| (lo.min(p), hi.max(p)));
-        let extent = if triangles.is_empty() { 0.0 } else { (hi - lo).max_element().max(lo.abs().max(hi.abs()).max_element()) };
-        let mut tree = TriangleTree { nodes: Vec::with_capacity(2 * triangles.len() / LEAF_SIZE + 1), order: Vec::new(), slack: 1e-9 * extent };
-        tree.nodes.push(Node { min: DVec3::ZERO, max: DVec3::ZERO, first: 0, count: 0 });
+            .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
+                (lo.min(p), hi.max(p))
+            });
+        let extent = if triangles.is_empty() {
+            0.0
+        } else {
+            (hi - lo)
+                .max_element()
+                .max(lo.abs().max(hi.abs()).max_element())
+        };
+        let mut tree = TriangleTree {
+            nodes: Vec::with_capacity(2 * triangles.len() / LEAF_SIZE + 1),
+            order: Vec::new(),
+            slack: 1e-9 * extent,
+        };
+        tree.nodes.push(Node {
+            min: DVec3::ZERO,
+            max: DVec3::ZERO,
+            first: 0,
+            count: 0,
+        });
         if !triangles.is_empty() {
             tree.build(0, &mut order, 0, triangles, &centroids);
         }
@@ -42,7 +62,14 @@ impl TriangleTree {
         tree
     }
 
-    fn build(&mut self, node: usize, order: &mut [u32], first: usize, triangles: &[[DVec3; 3]], centroids: &[DVec3]) {
+    fn build(
+        &mut self,
+        node: usize,
+        order: &mut [u32],
+        first: usize,
+        triangles: &[[DVec3; 3]],
+        centroids: &[DVec3],
+    ) {
         let (mut min, mut max) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
         for &t in order.iter() {
             for p in triangles[t as usize] {
@@ -53,18 +80,40 @@ impl TriangleTree {
         min -= DVec3::splat(self.slack);
         max += DVec3::splat(self.slack);
         if order.len() <= LEAF_SIZE {
-            self.nodes[node] = Node { min, max, first: first as u32, count: order.len() as u32 };
+            self.nodes[node] = Node {
+                min,
+                max,
+                first: first as u32,
+                count: order.len() as u32,
+            };
             return;
         }
         let axis = (max - min).max_position();
         let mid = order.len() / 2;
         order.select_nth_unstable_by(mid, |&a, &b| {
-            centroids[a as usize][axis].total_cmp(&centroids[b as usize][axis]).then(a.cmp(&b))
+            centroids[a as usize][axis]
+                .total_cmp(&centroids[b as usize][axis])
+                .then(a.cmp(&b))
         });
         let left = self.nodes.len();
-        self.nodes.push(Node { min, max, first: 0, count: 0 });
-        self.nodes.push(Node { min, max, first: 0, count: 0 });
-        self.nodes[node] = Node { min, max, first: left as u32, count: 0 };
+        self.nodes.push(Node {
+            min,
+            max,
+            first: 0,
+            count: 0,
+        });
+        self.nodes.push(Node {
+            min,
+            max,
+            first: 0,
+            count: 0,
+        });
+        self.nodes[node] = Node {
+            min,
+            max,
+            first: left as u32,
+            count: 0,
+        };
         let (lo, hi) = order.split_at_mut(mid);
         self.build(left, lo, first, triangles, centroids);
         self.build(left + 1, hi, first + mid, triangles, centroids);
@@ -133,11 +182,16 @@ impl TriangleTree {
             if node.count > 0 {
                 let first = node.first as usize;
                 for &t in &self.order[first..first + node.count as usize] {
-                    best = best.min(p.distance_squared(closest_point_on_triangle(p, &triangles[t as usize])));
+                    best = best.min(
+                        p.distance_squared(closest_point_on_triangle(p, &triangles[t as usize])),
+                    );
                 }
             } else {
                 let (l, r) = (node.first as usize, node.first as usize + 1);
-                let (dl, dr) = (box_distance2(p, &self.nodes[l]), box_distance2(p, &self.nodes[r]));
+                let (dl, dr) = (
+                    box_distance2(p, &self.nodes[l]),
+                    box_distance2(p, &self.nodes[r]),
+                );
                 if dl < dr {
                     stack.push((r, dr));
                     stack.push((l, dl));
@@ -212,7 +266,10 @@ pub fn closest_point_on_triangle(p: DVec3, t: &[DVec3; 3]) -> DVec3 {
     let denom = va + vb + vc;
     if denom == 0.0 {
         // A degenerate (flat) triangle: the nearest of its vertices is close enough.
-        return [a, b, c].into_iter().min_by(|x, y| p.distance_squared(*x).total_cmp(&p.distance_squared(*y))).unwrap_or(a);
+        return [a, b, c]
+            .into_iter()
+            .min_by(|x, y| p.distance_squared(*x).total_cmp(&p.distance_squared(*y)))
+            .unwrap_or(a);
     }
     a + ab * (vb / denom) + ac * (vc / denom)
 }
@@ -241,8 +298,14 @@ mod tests {
         let mut found = Vec::new();
         tree.for_each_near_segment(a, b, |t| found.push(t));
         // The triangle containing (2.3, 5.7) must be among the candidates.
-        let inside = |t: &[DVec3; 3]| closest_point_on_triangle(DVec3::new(2.3, 5.7, 0.0), t).distance(DVec3::new(2.3, 5.7, 0.0)) < 1e-12;
-        let truth: Vec<u32> = (0..tris.len() as u32).filter(|&t| inside(&tris[t as usize])).collect();
+        let inside = |t: &[DVec3; 3]| {
+            closest_point_on_triangle(DVec3::new(2.3, 5.7, 0.0), t)
+                .distance(DVec3::new(2.3, 5.7, 0.0))
+                < 1e-12
+        };
+        let truth: Vec<u32> = (0..tris.len() as u32)
+            .filter(|&t| inside(&tris[t as usize]))
+            .collect();
         assert!(!truth.is_empty());
         assert!(truth.iter().all(|t| found.contains(t)));
         assert!(found.len() < tris.len() / 4);
@@ -252,8 +315,15 @@ mod tests {
     fn distance_matches_brute_force() {
         let tris = grid(6);
         let tree = TriangleTree::new(&tris);
-        for p in [DVec3::new(3.2, 1.1, 2.0), DVec3::new(-1.0, -1.0, 0.5), DVec3::new(7.0, 2.0, -3.0)] {
-            let brute = tris.iter().map(|t| closest_point_on_triangle(p, t).distance(p)).fold(f64::INFINITY, f64::min);
+        for p in [
+            DVec3::new(3.2, 1.1, 2.0),
+            DVec3::new(-1.0, -1.0, 0.5),
+            DVec3::new(7.0, 2.0, -3.0),
+        ] {
+            let brute = tris
+                .iter()
+                .map(|t| closest_point_on_triangle(p, t).distance(p))
+                .fold(f64::INFINITY, f64::min);
             assert!((tree.distance(p, &tris) - brute).abs() < 1e-12);
         }
     }

@@ -60,7 +60,10 @@ pub fn surface_defects(points: &[DVec3], triangles: &[[u32; 3]]) -> SurfaceDefec
 
 /// A pair of triangles whose interiors meet (shared vertices and edges do not count).
 fn first_intersection(points: &[DVec3], triangles: &[[u32; 3]]) -> Option<(usize, usize)> {
-    let geometry: Vec<[DVec3; 3]> = triangles.iter().map(|t| t.map(|v| points[v as usize])).collect();
+    let geometry: Vec<[DVec3; 3]> = triangles
+        .iter()
+        .map(|t| t.map(|v| points[v as usize]))
+        .collect();
     let tree = TriangleTree::new(&geometry);
     for (i, t) in triangles.iter().enumerate() {
         let g = &geometry[i];
@@ -84,13 +87,17 @@ fn first_intersection(points: &[DVec3], triangles: &[[u32; 3]]) -> Option<(usize
 /// passes through the other.
 fn triangles_cross(ti: &[u32; 3], gi: &[DVec3; 3], tj: &[u32; 3], gj: &[DVec3; 3]) -> bool {
     let shared = ti.iter().filter(|v| tj.contains(v)).count();
-    let hits = |edge: (DVec3, DVec3), g: &[DVec3; 3], strict: bool| match segment_crossing(edge.0, edge.1, g) {
+    let hits = |edge: (DVec3, DVec3), g: &[DVec3; 3], strict: bool| match segment_crossing(
+        edge.0, edge.1, g,
+    ) {
         Crossing::Proper { .. } => true,
         Crossing::Degenerate => !strict,
         Crossing::None | Crossing::Coplanar => false,
     };
     match shared {
-        0 => (0..3).any(|k| hits((gi[k], gi[(k + 1) % 3]), gj, false) || hits((gj[k], gj[(k + 1) % 3]), gi, false)),
+        0 => (0..3).any(|k| {
+            hits((gi[k], gi[(k + 1) % 3]), gj, false) || hits((gj[k], gj[(k + 1) % 3]), gi, false)
+        }),
         1 => {
             let opposite = |t: &[u32; 3], g: &[DVec3; 3], other: &[u32; 3]| {
                 let k = (0..3).find(|&k| other.contains(&t[k])).unwrap_or(0);
