@@ -218,23 +218,16 @@ fn progress_bar(quiet: bool) -> ProgressBar {
     bar
 }
 
-#[derive(Default, Serialize)]
+/// Wall time of each phase.
+#[derive(Default)]
 struct Times {
-    #[serde(skip)]
     read: Duration,
-    #[serde(skip)]
     oracle: Duration,
-    #[serde(skip)]
     initial_points: Duration,
-    #[serde(skip)]
     refinement: Duration,
-    #[serde(skip)]
     complex: Duration,
-    #[serde(skip)]
     quality: Duration,
-    #[serde(skip)]
     write: Duration,
-    #[serde(skip)]
     total: Duration,
 }
 
@@ -355,7 +348,6 @@ impl Report {
         let (to_input, to_mesh) = hausdorff(c, oracle);
         let input_topology = quality::surface_topology(input_triangles);
         let topology = quality::surface_topology(&c.facets);
-        let _ = input_points;
         let mut subdomains: Vec<u32> = c.tet_subdomain.clone();
         subdomains.sort_unstable();
         subdomains.dedup();

@@ -75,7 +75,7 @@ impl MeshComplex {
             }
             complex.tets.push(tet);
             complex.tet_subdomain.push(sub);
-            for i in 0..4 {
+            for (i, &apex) in p.iter().enumerate() {
                 let n = tr.neighbor(c, i);
                 let other = if tr.is_infinite_cell(n) {
                     OUTSIDE
@@ -87,7 +87,7 @@ impl MeshComplex {
                 }
                 let mut f = crate::refine::facet_vertices(&cell, i);
                 let [a, b, d] = f.map(|v| tr.point(v));
-                if (b - a).cross(d - a).dot(p[i] - a) > 0.0 {
+                if (b - a).cross(d - a).dot(apex - a) > 0.0 {
                     f.swap(0, 1);
                 }
                 complex.facets.push(f.map(index_of));

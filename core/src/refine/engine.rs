@@ -185,10 +185,7 @@ impl<'a, T: Triangulation> Engine<'a, T> {
         }
         let mut rejections_in_a_row = 0;
         let mut total = 0usize;
-        loop {
-            let Some((i, candidate)) = self.next_candidate(tr) else {
-                break;
-            };
+        while let Some((i, candidate)) = self.next_candidate(tr) {
             match self.check_by_all_levels(tr, &candidate, i) {
                 Check::Accepted => {
                     if tr.num_vertices() >= self.limits.max_vertices {

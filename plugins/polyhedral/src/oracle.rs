@@ -157,9 +157,7 @@ impl PolyhedralOracle {
         let around: Vec<Vec<i32>> = (0..n)
             .map(|k| self.windings(probe[k].unwrap_or(DVec3::ZERO), Some(k as u32), n))
             .collect();
-        for k in 0..n {
-            self.depth[k] = around[k].iter().filter(|&&x| x != 0).count() as u32;
-        }
+        self.depth = around.iter().map(|w| w.iter().filter(|&&x| x != 0).count() as u32).collect();
         let mut next_label = 1;
         let mut inside_volume = vec![0.0f64; n];
         for k in 0..n {
