@@ -3,7 +3,7 @@
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use delamesh_core::complex::MeshComplex;
-use delamesh_core::oracle::Oracle;
+use delamesh_core::oracle::{Oracle, PatchId};
 use delamesh_core::quality::{self, TetQuality};
 use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
 use delamesh_core::refine::{Limits, MeshError, MeshOptions, MeshOutcome, Progress, mesh_domain};
@@ -65,7 +65,8 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     times.read = t.elapsed();
 
     let t = Instant::now();
-    let patches: Vec<u32> = surface.patches.iter().map(|p| p.0 + 1).collect();
+    // The oracle numbers patches from 1 (0 marks facets of no patch in the output).
+    let patches: Vec<PatchId> = surface.patches.iter().map(|p| PatchId(p.0 + 1)).collect();
     let oracle = PolyhedralOracle::new(&surface.positions, &surface.triangles, Some(&patches))
         .map_err(|e| {
             anyhow::anyhow!(
@@ -348,7 +349,7 @@ impl Report {
         let (to_input, to_mesh) = hausdorff(c, oracle);
         let input_topology = quality::surface_topology(input_triangles);
         let topology = quality::surface_topology(&c.facets);
-        let mut subdomains: Vec<u32> = c.tet_subdomain.clone();
+        let mut subdomains = c.tet_subdomain.clone();
         subdomains.sort_unstable();
         subdomains.dedup();
         Report {
@@ -403,7 +404,7 @@ impl Report {
                 components: topology.components,
                 input_euler_characteristic: input_topology.euler_characteristic,
                 input_components: input_topology.components,
-                unrestricted_facets: c.facet_patch.iter().filter(|&&p| p == 0).count(),
+                unrestricted_facets: c.facet_patch.iter().filter(|&&p| p == PatchId(0)).count(),
             },
         }
     }

@@ -8,40 +8,12 @@
 
 use crate::kernel::Point3;
 
-/// Label of a subdomain (a cell of the input complex). `OUTSIDE` (0) is the complement of the domain.
-pub type SubdomainId = u32;
-/// Label of a boundary surface patch. Patches are numbered from 1.
-pub type PatchId = u32;
-/// Label of a 1D feature curve. Curves are numbered from 1.
-pub type CurveId = u32;
+pub use crate::mesh::{Aabb, CurveId, PatchId, SubdomainId};
 
 /// The subdomain label of every point outside the domain.
-pub const OUTSIDE: SubdomainId = 0;
-
-/// An axis-aligned box, used for default sizes and for rays that must leave the domain.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Aabb {
-    pub min: Point3,
-    pub max: Point3,
-}
+pub const OUTSIDE: SubdomainId = SubdomainId(0);
 
 impl Aabb {
-    /// The smallest box containing `points`; `None` when there are none.
-    pub fn from_points(points: impl IntoIterator<Item = Point3>) -> Option<Self> {
-        let mut it = points.into_iter();
-        let first = it.next()?;
-        Some(it.fold(
-            Aabb {
-                min: first,
-                max: first,
-            },
-            |b, p| Aabb {
-                min: b.min.min(p),
-                max: b.max.max(p),
-            },
-        ))
-    }
-
     /// Length of the main diagonal: the scale default criteria are derived from.
     pub fn diagonal(&self) -> f64 {
         (self.max - self.min).length()
@@ -65,7 +37,7 @@ pub struct SurfaceHit {
     pub patch: PatchId,
 }
 
-/// A point on a boundary surface, with the patch it lies on.
+/// A point on a boundary surface, with the patch it lies on (patches are numbered from 1).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfacePoint {
     pub point: Point3,
@@ -73,6 +45,7 @@ pub struct SurfacePoint {
 }
 
 /// A 1D feature (sharp edge, patch border) as a polyline. Used by piecewise-smooth domains.
+/// Curves are numbered from 1.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FeatureCurve {
     pub id: CurveId,
@@ -129,11 +102,11 @@ mod tests {
             Point3::new(-1.0, 4.0, 0.5),
             Point3::ZERO,
         ];
-        let b = Aabb::from_points(pts).expect("non-empty");
+        let b = Aabb::of(&pts).expect("non-empty");
         assert!(pts.iter().all(|&p| b.contains(p)));
         assert_eq!(b.min, Point3::new(-1.0, -2.0, 0.0));
         assert_eq!(b.max, Point3::new(1.0, 4.0, 3.0));
-        assert!(Aabb::from_points([]).is_none());
+        assert!(Aabb::of(&[]).is_none());
     }
 
     #[test]

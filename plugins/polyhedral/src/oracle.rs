@@ -119,10 +119,10 @@ impl PolyhedralOracle {
         let num_components = component.iter().max().map_or(0, |&c| c as usize + 1);
         let patch = match patches {
             Some(p) => p.to_vec(),
-            None => component.iter().map(|&c| c + 1).collect(),
+            None => component.iter().map(|&c| PatchId(c + 1)).collect(),
         };
-        let bbox =
-            Aabb::from_points(geometry.iter().flatten().copied()).ok_or(PolyhedralError::Empty)?;
+        let bbox = Aabb::of(&geometry.iter().flatten().copied().collect::<Vec<_>>())
+            .ok_or(PolyhedralError::Empty)?;
         let tree = TriangleTree::new(&geometry);
         let mut oracle = PolyhedralOracle {
             triangles: geometry,
@@ -157,14 +157,17 @@ impl PolyhedralOracle {
         let around: Vec<Vec<i32>> = (0..n)
             .map(|k| self.windings(probe[k].unwrap_or(DVec3::ZERO), Some(k as u32), n))
             .collect();
-        self.depth = around.iter().map(|w| w.iter().filter(|&&x| x != 0).count() as u32).collect();
-        let mut next_label = 1;
+        self.depth = around
+            .iter()
+            .map(|w| w.iter().filter(|&&x| x != 0).count() as u32)
+            .collect();
+        let mut next_label = SubdomainId(1);
         let mut inside_volume = vec![0.0f64; n];
         for k in 0..n {
             let own = if volume[k] > 0.0 { 1 } else { -1 };
             if own + around[k].iter().sum::<i32>() != 0 {
                 self.inner_label[k] = next_label;
-                next_label += 1;
+                next_label.0 += 1;
                 inside_volume[k] += volume[k].abs();
             }
             // The region inside the parent (the innermost component around k) loses k's volume.
@@ -190,7 +193,13 @@ impl PolyhedralOracle {
         let reach = 2.0 * (self.bbox.diagonal() + p.distance(self.bbox.center())) + 1.0;
         let mut w = vec![0i32; n];
         for attempt in 0..64 {
-            let q = p + reach * ray_direction(attempt);
+            // First towards the nearest side of the box (the shortest walk through the tree),
+            // slightly tilted off the axis; then along well-spread directions.
+            let q = if attempt == 0 {
+                self.exit_point(p)
+            } else {
+                p + reach * ray_direction(attempt)
+            };
             w.iter_mut().for_each(|x| *x = 0);
             let mut degenerate = false;
             self.tree.for_each_near_segment(p, q, |t| {
@@ -211,6 +220,18 @@ impl PolyhedralOracle {
             }
         }
         w
+    }
+
+    /// A point just outside the bounding box, beyond its side nearest to `p`.
+    fn exit_point(&self, p: DVec3) -> DVec3 {
+        let (lo, hi) = (p - self.bbox.min, self.bbox.max - p);
+        let near = lo.min(hi);
+        let axis = near.min_position();
+        let sign = if lo[axis] < hi[axis] { -1.0 } else { 1.0 };
+        let margin = 1e-3 * self.bbox.diagonal() + 1e-300;
+        let mut dir = DVec3::new(0.0137, 0.0291, 0.0213);
+        dir[axis] = sign;
+        p + (near[axis] + margin) * dir
     }
 
     /// Points on each component: where rays from the component's centre leave it, completed by

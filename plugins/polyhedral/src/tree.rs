@@ -126,7 +126,7 @@ impl TriangleTree {
         }
         let d = b - a;
         let inv = d.recip();
-        let mut stack = vec![0usize];
+        let mut stack = NodeStack::default();
         while let Some(n) = stack.pop() {
             let node = self.nodes[n];
             if !segment_meets_box(a, d, inv, node.min, node.max) {
@@ -138,8 +138,8 @@ impl TriangleTree {
                     visit(t);
                 }
             } else {
-                stack.push(node.first as usize + 1);
-                stack.push(node.first as usize);
+                stack.push(node.first as usize + 1, 0.0);
+                stack.push(node.first as usize, 0.0);
             }
         }
     }
@@ -149,7 +149,7 @@ impl TriangleTree {
         if self.order.is_empty() {
             return;
         }
-        let mut stack = vec![0usize];
+        let mut stack = NodeStack::default();
         while let Some(n) = stack.pop() {
             let node = self.nodes[n];
             if node.min.cmpgt(max).any() || node.max.cmplt(min).any() {
@@ -161,8 +161,8 @@ impl TriangleTree {
                     visit(t);
                 }
             } else {
-                stack.push(node.first as usize + 1);
-                stack.push(node.first as usize);
+                stack.push(node.first as usize + 1, 0.0);
+                stack.push(node.first as usize, 0.0);
             }
         }
     }
@@ -173,8 +173,8 @@ impl TriangleTree {
             return f64::INFINITY;
         }
         let mut best = f64::INFINITY;
-        let mut stack = vec![(0usize, 0.0f64)];
-        while let Some((n, d2)) = stack.pop() {
+        let mut stack = NodeStack::default();
+        while let Some((n, d2)) = stack.pop_with_key() {
             if d2 >= best {
                 continue;
             }
@@ -193,15 +193,46 @@ impl TriangleTree {
                     box_distance2(p, &self.nodes[r]),
                 );
                 if dl < dr {
-                    stack.push((r, dr));
-                    stack.push((l, dl));
+                    stack.push(r, dr);
+                    stack.push(l, dl);
                 } else {
-                    stack.push((l, dl));
-                    stack.push((r, dr));
+                    stack.push(l, dl);
+                    stack.push(r, dr);
                 }
             }
         }
         best.sqrt()
+    }
+}
+
+/// The traversal stack: a median-split tree over at most 2^32 triangles is less than 64 levels
+/// deep, and a depth-first traversal holds at most one pending sibling per level.
+struct NodeStack {
+    items: [(u32, f64); 66],
+    len: usize,
+}
+
+impl Default for NodeStack {
+    fn default() -> Self {
+        NodeStack {
+            items: [(0, 0.0); 66],
+            len: 1,
+        }
+    }
+}
+
+impl NodeStack {
+    fn push(&mut self, node: usize, key: f64) {
+        self.items[self.len] = (node as u32, key);
+        self.len += 1;
+    }
+    fn pop(&mut self) -> Option<usize> {
+        self.pop_with_key().map(|(n, _)| n)
+    }
+    fn pop_with_key(&mut self) -> Option<(usize, f64)> {
+        self.len = self.len.checked_sub(1)?;
+        let (n, k) = self.items[self.len];
+        Some((n as usize, k))
     }
 }
 
