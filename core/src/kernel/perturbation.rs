@@ -179,4 +179,36 @@ mod tests {
             Point3::new(3.0, 0.5, 5.0)
         ));
     }
+
+    #[test]
+    fn perturbed_in_sphere_is_consistent_across_a_cospherical_grid() {
+        // For every positively oriented tetrahedron of lattice points and every fifth lattice
+        // point, even permutations of the cell leave the answer unchanged.
+        let pts: Vec<Point3> = (0..27)
+            .map(|i| Point3::new((i % 3) as f64, (i / 3 % 3) as f64, (i / 9) as f64))
+            .collect();
+        let mut checked = 0;
+        for a in 0..27 {
+            for b in (a + 1)..27 {
+                for c in (b + 1)..27 {
+                    let (d, e) = ((a + b + c) % 27, (a * 7 + c) % 27);
+                    if [a, b, c].contains(&d) || [a, b, c, d].contains(&e) {
+                        continue;
+                    }
+                    let mut cell = [pts[a], pts[b], pts[c], pts[d]];
+                    match orient3d(cell[0], cell[1], cell[2], cell[3]) {
+                        Sign::Zero => continue,
+                        Sign::Negative => cell.swap(0, 1),
+                        Sign::Positive => {}
+                    }
+                    let inside = in_sphere_perturbed(cell, pts[e]);
+                    for perm in [[1, 2, 0, 3], [2, 0, 1, 3], [1, 0, 3, 2], [3, 2, 1, 0]] {
+                        assert_eq!(in_sphere_perturbed(perm.map(|k| cell[k]), pts[e]), inside);
+                    }
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 100);
+    }
 }
