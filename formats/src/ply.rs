@@ -42,7 +42,18 @@ fn index_list(p: &Property) -> Option<Vec<i64>> {
 pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
     let ply = Parser::<DefaultElement>::new()
         .read_ply(&mut Cursor::new(bytes))
-        .map_err(|e| Problem::bad(format!("not a readable PLY file: {e}")))?;
+        .map_err(|e| {
+            // ply-rs-bw's messages run over several lines; the first says what and where.
+            let msg = e.to_string();
+            let first = msg.lines().next().unwrap_or("unknown error");
+            match first.strip_prefix("Line ").and_then(|r| r.split_once(": ")) {
+                Some((line, what)) if line.parse::<usize>().is_ok() => Problem::at_line(
+                    line.parse().unwrap_or(0),
+                    format!("not a readable PLY file: {what}"),
+                ),
+                _ => Problem::bad(format!("not a readable PLY file: {first}")),
+            }
+        })?;
     let vertices = ply
         .payload
         .get("vertex")
