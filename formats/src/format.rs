@@ -35,7 +35,7 @@ const TABLE: &[(Format, &str, &[&str])] = &[
     (Format::Vtk, "vtk", &["vtk"]),
     (Format::Vtu, "vtu", &["vtu"]),
     (Format::Vtp, "vtp", &["vtp"]),
-    (Format::Medit, "mesh", &["mesh", "meshb"]),
+    (Format::Medit, "mesh", &["mesh", "medit"]),
     (Format::Msh, "msh", &["msh"]),
 ];
 
