@@ -76,14 +76,6 @@ impl Format {
             Format::Vtk | Format::Vtu | Format::Medit | Format::Msh
         )
     }
-
-    pub fn can_read(self) -> bool {
-        self != Format::Msh
-    }
-
-    pub fn can_write(self) -> bool {
-        !matches!(self, Format::Gltf | Format::Vtp)
-    }
 }
 
 impl fmt::Display for Format {
