@@ -3,7 +3,7 @@
 //! with double coordinates and an int `patch` per face.
 
 use crate::error::Problem;
-use delamesh_core::mesh::{PatchId, SurfaceMesh};
+use delamesh_core::mesh::{PatchId, SurfaceMesh, name_patch_labels};
 use glam::DVec3;
 use ply_rs_bw::parser::Parser;
 use ply_rs_bw::ply::{
@@ -100,8 +100,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
             m.patches.push(PatchId(patch));
         }
     }
-    let max_patch = m.patches.iter().map(|p| p.0).max().unwrap_or(0);
-    m.patch_names = (0..=max_patch).map(|p| format!("patch {p}")).collect();
+    m.patch_names = name_patch_labels(&mut m.patches);
     Ok(m)
 }
 
