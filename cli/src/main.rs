@@ -2,7 +2,9 @@
 //!
 //! Exit codes: 0 success, 1 the work failed (bad input, I/O, refinement guard), 2 bad usage.
 
+mod convert;
 mod delaunay;
+mod info;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -22,12 +24,18 @@ struct Cli {
 enum Command {
     /// Delaunay tetrahedralisation of a point set.
     Delaunay(delaunay::DelaunayArgs),
+    /// Convert a mesh from one file format to another
+    Convert(convert::ConvertArgs),
+    /// Describe a mesh: counts, bounding box, patches, closedness, manifoldness, genus
+    Info(info::InfoArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    let result = match &cli.command {
-        Command::Delaunay(args) => delaunay::run(args),
+    let result = match cli.command {
+        Command::Delaunay(args) => delaunay::run(&args),
+        Command::Convert(args) => convert::run(args),
+        Command::Info(args) => info::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -131,6 +131,10 @@ pub fn read_bytes(bytes: &[u8], format: Format, dir: Option<&Path>) -> Result<Me
             if soup {
                 welded_vertices = weld_exact(&mut s.positions, &mut s.triangles);
             }
+            if format == Format::Obj {
+                // tobj copies shared vertices into every group; count only the file's own duplicates.
+                welded_vertices = obj::vertex_count(bytes).saturating_sub(s.positions.len());
+            }
             s.validate()?;
             AnyMesh::Surface(s)
         }
