@@ -5,6 +5,7 @@
 mod convert;
 mod delaunay;
 mod info;
+mod mesh;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -22,6 +23,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Mesh the volume bounded by a closed surface.
+    Mesh(mesh::MeshArgs),
     /// Delaunay tetrahedralisation of a point set.
     Delaunay(delaunay::DelaunayArgs),
     /// Convert a mesh from one file format to another
@@ -33,6 +36,7 @@ enum Command {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
+        Command::Mesh(args) => mesh::run(&args),
         Command::Delaunay(args) => delaunay::run(&args),
         Command::Convert(args) => convert::run(args),
         Command::Info(args) => info::run(args),
