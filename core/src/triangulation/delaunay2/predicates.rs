@@ -1,0 +1,71 @@
+//! Exact 2D predicates (adaptive arithmetic from `robust`) and the symbolic perturbation that makes
+//! the Delaunay triangulation of any point set unique.
+
+use glam::DVec2;
+use std::cmp::Ordering;
+
+fn coord(p: DVec2) -> robust::Coord<f64> {
+    robust::Coord { x: p.x, y: p.y }
+}
+
+/// Sign of the orientation of `(a, b, c)`: `Greater` when counter-clockwise, `Less` when clockwise,
+/// `Equal` when exactly collinear.
+pub fn orient2d(a: DVec2, b: DVec2, c: DVec2) -> Ordering {
+    sign(robust::orient2d(coord(a), coord(b), coord(c)))
+}
+
+/// Exact in-circle sign: `Greater` when `d` is strictly inside the circle through the
+/// counter-clockwise triangle `(a, b, c)`, `Less` outside, `Equal` on it.
+pub fn incircle(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Ordering {
+    sign(robust::incircle(coord(a), coord(b), coord(c), coord(d)))
+}
+
+fn sign(v: f64) -> Ordering {
+    v.partial_cmp(&0.0).unwrap_or(Ordering::Equal)
+}
+
+/// The total order on points used by the perturbation: lexicographic on (x, y). It depends only on
+/// coordinates, never on insertion order, so the perturbed triangulation is order independent.
+/// Collinear points are also sorted along their line by this order.
+pub fn lex_cmp(a: DVec2, b: DVec2) -> Ordering {
+    a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y))
+}
+
+/// In-circle with symbolic perturbation: never `Equal` for four distinct points of which
+/// `(a, b, c)` are not collinear.
+///
+/// Each point's lifted height `x² + y²` is raised by an infinitesimal that is larger for points later
+/// in [`lex_cmp`] order. The sign of the perturbed determinant is the sign of the first non-zero
+/// coefficient, taking points from the largest to the smallest; the coefficient of point `d` is
+/// `-orient(a, b, c)`, and the others follow from the antisymmetry of the determinant.
+pub fn incircle_perturbed(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Ordering {
+    let exact = incircle(a, b, c, d);
+    if exact != Ordering::Equal {
+        return exact;
+    }
+    let pts = [a, b, c, d];
+    let mut order = [0usize, 1, 2, 3];
+    order.sort_unstable_by(|&i, &j| lex_cmp(pts[j], pts[i]));
+    for &i in &order {
+        let s = match i {
+            0 => orient2d(b, c, d),
+            1 => orient2d(a, c, d).reverse(),
+            2 => orient2d(a, b, d),
+            _ => orient2d(a, b, c).reverse(),
+        };
+        if s != Ordering::Equal {
+            return s;
+        }
+    }
+    Ordering::Equal
+}
+
+/// Circumcentre of the triangle `(a, b, c)`, computed relative to `a` for accuracy.
+pub fn circumcenter(a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
+    let ab = b - a;
+    let ac = c - a;
+    let d = 2.0 * ab.perp_dot(ac);
+    let ab2 = ab.length_squared();
+    let ac2 = ac.length_squared();
+    a + DVec2::new(ac.y * ab2 - ab.y * ac2, ab.x * ac2 - ac.x * ab2) / d
+}
