@@ -3,6 +3,7 @@
 
 pub mod kernel;
 pub mod mesh;
+pub mod mesh2d;
 pub mod oracle;
 pub mod refine;
 pub mod triangulation;

@@ -69,3 +69,57 @@ pub fn circumcenter(a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
     let ac2 = ac.length_squared();
     a + DVec2::new(ac.y * ab2 - ab.y * ac2, ab.x * ac2 - ac.x * ab2) / d
 }
+
+/// `a * b` as an exact unevaluated sum `hi + lo`.
+fn two_product(a: f64, b: f64) -> (f64, f64) {
+    let hi = a * b;
+    (hi, a.mul_add(b, -hi))
+}
+
+/// Adds `b` to the non-overlapping expansion `e` (increasing magnitude), exactly.
+fn grow_expansion(e: &mut Vec<f64>, mut b: f64) {
+    let mut out = Vec::with_capacity(e.len() + 1);
+    for &x in e.iter() {
+        let s = b + x;
+        let bv = s - b;
+        let err = (b - (s - bv)) + (x - bv);
+        if err != 0.0 {
+            out.push(err);
+        }
+        b = s;
+    }
+    if b != 0.0 || out.is_empty() {
+        out.push(b);
+    }
+    *e = out;
+}
+
+/// Exact sign of `(a - p) · (b - p)`: `Less` when the angle `a p b` is obtuse (p strictly inside
+/// the circle with diameter `ab`), `Equal` when right (p on that circle), `Greater` when acute.
+pub fn dot_sign(p: DVec2, a: DVec2, b: DVec2) -> Ordering {
+    let fast = (a - p).dot(b - p);
+    let bound = 8.0 * f64::EPSILON * ((a - p).abs().dot((b - p).abs()) + p.abs().dot(p.abs()));
+    if fast.abs() > bound {
+        return sign(fast);
+    }
+    // (a - p)·(b - p) = a·b - a·p - p·b + p·p, each product split exactly.
+    let mut e = Vec::with_capacity(16);
+    for (x, y, s) in [
+        (a.x, b.x, 1.0),
+        (a.y, b.y, 1.0),
+        (a.x, p.x, -1.0),
+        (a.y, p.y, -1.0),
+        (p.x, b.x, -1.0),
+        (p.y, b.y, -1.0),
+        (p.x, p.x, 1.0),
+        (p.y, p.y, 1.0),
+    ] {
+        let (hi, lo) = two_product(s * x, y);
+        grow_expansion(&mut e, hi);
+        grow_expansion(&mut e, lo);
+    }
+    e.iter()
+        .rev()
+        .find(|&&x| x != 0.0)
+        .map_or(Ordering::Equal, |&x| sign(x))
+}
