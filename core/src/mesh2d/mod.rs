@@ -12,4 +12,5 @@ mod tests;
 
 pub use admissible::{Theta2, classify, is_strongly_admissible};
 pub use conform::{Algorithm, ConformError, ConformOptions, Conformed, conform};
+pub use glam::DVec2 as Point2;
 pub use pslg::{Pslg, PslgError, Region};
