@@ -53,7 +53,9 @@ fn oracle(points: &[DVec2], i: usize, j: usize) -> bool {
 }
 
 fn edge_in(t: &Delaunay2, a: VertexId, b: VertexId) -> bool {
-    t.incident_cells(a).iter().any(|&c| t.cell(c).contains(&b))
+    let mut around = Vec::new();
+    t.incident_cells(a, &mut around);
+    around.iter().any(|&c| t.cell(c).contains(&b))
 }
 
 #[test]
@@ -239,7 +241,9 @@ fn check_conformed(input: &Pslg, out: &Conformed) {
         );
         assert!(edge_in(t, va, vb));
         // Not the diagonal of a cocircular cell.
-        for c in t.incident_cells(va) {
+        let mut around = Vec::new();
+        t.incident_cells(va, &mut around);
+        for c in around {
             let cell = t.cell(c);
             if !cell.contains(&vb) {
                 continue;

@@ -24,9 +24,31 @@ use std::cmp::Ordering;
 use std::collections::{BTreeMap, HashMap};
 
 const NO_CELL: CellId = CellId(u32::MAX);
-const DEAD: VertexId = VertexId(u32::MAX);
+const FREE: VertexId = VertexId(u32::MAX - 1);
 /// The infinite vertex: every hull edge `(a, b)` has the triangle `(b, a, INFINITE)` behind it.
-pub const INFINITE: VertexId = VertexId(0);
+pub const INFINITE: VertexId = VertexId(u32::MAX);
+
+/// Largest coordinate magnitude accepted: beyond it the exact predicates could overflow.
+pub const MAX_COORDINATE: f64 = 1e50;
+
+/// Rejects points the exact predicates cannot handle.
+fn validate_point(p: DVec2, index: usize) -> Result<(), TriangulationError> {
+    if !p.is_finite() {
+        return Err(TriangulationError::NonFinite {
+            index,
+            x: p.x,
+            y: p.y,
+            z: 0.0,
+        });
+    }
+    if p.abs().max_element() > MAX_COORDINATE {
+        return Err(TriangulationError::TooLarge {
+            index,
+            limit: MAX_COORDINATE,
+        });
+    }
+    Ok(())
+}
 
 /// Key ordering points lexicographically, for the collinear phase.
 #[derive(Copy, Clone, Debug)]
@@ -52,11 +74,13 @@ impl Ord for LexKey {
 /// Delaunay triangulation of points in the plane (see the module documentation).
 #[derive(Debug)]
 pub struct Delaunay2 {
-    /// Vertex coordinates; entry 0 stands for the infinite vertex and is never read as a point.
+    /// Coordinates of the finite vertices, numbered from 0 in insertion order.
     points: Vec<DVec2>,
-    /// One live cell incident to each vertex (`NO_CELL` while no triangle exists).
+    /// One live cell incident to each finite vertex (`NO_CELL` while no triangle exists).
     vertex_cell: Vec<CellId>,
-    /// Cell vertices, counter-clockwise; a dead cell has `DEAD` as first vertex.
+    /// One live cell incident to the infinite vertex.
+    infinite_cell: CellId,
+    /// Cell vertices, counter-clockwise; a free slot has `FREE` as first vertex.
     cells: Vec<[VertexId; 3]>,
     /// `neighbors[c][i]` is the cell across the edge opposite vertex `i` of `c`.
     neighbors: Vec<[CellId; 3]>,
@@ -81,8 +105,9 @@ impl Delaunay2 {
     /// An empty triangulation.
     pub fn new() -> Self {
         Self {
-            points: vec![DVec2::NAN],
-            vertex_cell: vec![NO_CELL],
+            points: Vec::new(),
+            vertex_cell: Vec::new(),
+            infinite_cell: NO_CELL,
             cells: Vec::new(),
             neighbors: Vec::new(),
             free: Vec::new(),
@@ -107,8 +132,8 @@ impl Delaunay2 {
         &mut self,
         points: &[DVec2],
     ) -> Result<Vec<InsertOutcome>, TriangulationError> {
-        if points.iter().any(|p| !p.is_finite()) {
-            return Err(TriangulationError::NonFinitePoint);
+        for (index, &p) in points.iter().enumerate() {
+            validate_point(p, index)?;
         }
         let mut outcomes = vec![InsertOutcome::Duplicate(INFINITE); points.len()];
         for i in sort::brio_order(points) {
@@ -119,22 +144,24 @@ impl Delaunay2 {
 
     /// Inserts one point.
     pub fn insert(&mut self, p: DVec2) -> Result<InsertOutcome, TriangulationError> {
-        self.insert_impl(p, None)
+        self.insert_impl(p, None, None)
     }
 
-    /// Inserts one point and reports the cells destroyed and created.
+    /// Inserts one point, walking from `hint` if given, and fills `report` (cleared first) with
+    /// the cells destroyed and created.
     pub fn insert_reporting(
         &mut self,
         p: DVec2,
-    ) -> Result<(InsertOutcome, InsertReport), TriangulationError> {
-        let mut report = InsertReport::default();
-        let outcome = self.insert_impl(p, Some(&mut report))?;
-        Ok((outcome, report))
+        hint: Option<CellId>,
+        report: &mut InsertReport,
+    ) -> Result<InsertOutcome, TriangulationError> {
+        report.clear();
+        self.insert_impl(p, hint, Some(report))
     }
 
     /// Number of finite vertices.
     pub fn num_vertices(&self) -> usize {
-        self.points.len() - 1
+        self.points.len()
     }
 
     /// Number of finite triangles.
@@ -148,8 +175,18 @@ impl Delaunay2 {
     }
 
     /// The three vertices of a cell, counter-clockwise.
-    pub fn cell(&self, c: CellId) -> &[VertexId; 3] {
-        &self.cells[c.0 as usize]
+    pub fn cell(&self, c: CellId) -> [VertexId; 3] {
+        self.cells[c.0 as usize]
+    }
+
+    /// Number of live cells, finite and infinite.
+    pub fn num_cells(&self) -> usize {
+        self.cells.len() - self.free.len()
+    }
+
+    /// The infinite vertex.
+    pub fn infinite_vertex(&self) -> VertexId {
+        INFINITE
     }
 
     /// The cell across the edge opposite vertex `i` of `c`.
@@ -174,7 +211,7 @@ impl Delaunay2 {
 
     /// Whether `c` is a cell of the current triangulation (not freed for reuse).
     pub fn is_live(&self, c: CellId) -> bool {
-        self.cells.get(c.0 as usize).is_some_and(|v| v[0] != DEAD)
+        self.cells.get(c.0 as usize).is_some_and(|v| v[0] != FREE)
     }
 
     /// Size of the cell arrays (live and free); cell ids are below this.
@@ -196,7 +233,7 @@ impl Delaunay2 {
 
     /// Finite vertices in id order.
     pub fn vertices(&self) -> impl Iterator<Item = VertexId> + '_ {
-        (1..self.points.len() as u32).map(VertexId)
+        (0..self.points.len() as u32).map(VertexId)
     }
 
     /// Every finite edge once, as `(cell, index of the opposite vertex)` with the cell finite.
@@ -216,11 +253,11 @@ impl Delaunay2 {
     }
 
     /// Live cells around vertex `v` (infinite ones included), empty while no triangle exists.
-    pub fn incident_cells(&self, v: VertexId) -> Vec<CellId> {
-        let start = self.vertex_cell[v.0 as usize];
-        let mut out = Vec::new();
+    pub fn incident_cells(&self, v: VertexId, out: &mut Vec<CellId>) {
+        out.clear();
+        let start = self.vertex_cell_of(v);
         if start == NO_CELL {
-            return out;
+            return;
         }
         let mut c = start;
         loop {
@@ -228,15 +265,18 @@ impl Delaunay2 {
             let i = self.index_of(c, v);
             c = self.neighbor(c, (i + 1) % 3);
             if c == start || out.len() > self.cells.len() {
-                return out;
+                return;
             }
         }
     }
 
     /// A cell containing `p` in its closure, or an infinite cell whose hull edge sees `p` strictly
     /// outside; `None` while no triangle exists.
-    pub fn locate(&self, p: DVec2) -> Option<CellId> {
-        let mut start = self.hint.get();
+    pub fn locate(&self, p: DVec2, hint: Option<CellId>) -> Option<CellId> {
+        let mut start = hint.unwrap_or(self.hint.get());
+        if !self.is_live(start) {
+            start = self.hint.get();
+        }
         if !self.is_live(start) {
             start = self.cells().next()?;
         }
@@ -247,17 +287,16 @@ impl Delaunay2 {
 
     /// The cells in conflict with `p` (circumdisk containing `p` under the perturbation) without
     /// inserting it; empty when `p` is a vertex or no triangle exists.
-    pub fn conflict_zone(&self, p: DVec2) -> ConflictZone {
-        let mut zone = ConflictZone::default();
+    pub fn conflict_zone(&self, p: DVec2, hint: Option<CellId>, out: &mut ConflictZone) {
+        out.clear();
         if !p.is_finite() {
-            return zone;
+            return;
         }
-        if let Some(c) = self.locate(p) {
+        if let Some(c) = self.locate(p, hint) {
             if self.duplicate_in(c, p).is_none() {
-                self.find_conflicts(p, c, &mut zone);
+                self.find_conflicts(p, c, out);
             }
         }
-        zone
     }
 
     /// Whether `p` is strictly inside the (perturbed) circumdisk of `c`, or beyond the hull edge of
@@ -279,6 +318,22 @@ impl Delaunay2 {
                     Ordering::Equal => lex_cmp(a, p) == lex_cmp(p, b) && lex_cmp(a, p).is_ne(),
                 }
             }
+        }
+    }
+
+    fn vertex_cell_of(&self, v: VertexId) -> CellId {
+        if v == INFINITE {
+            self.infinite_cell
+        } else {
+            self.vertex_cell[v.0 as usize]
+        }
+    }
+
+    fn set_vertex_cell(&mut self, v: VertexId, c: CellId) {
+        if v == INFINITE {
+            self.infinite_cell = c;
+        } else {
+            self.vertex_cell[v.0 as usize] = c;
         }
     }
 
@@ -374,12 +429,11 @@ impl Delaunay2 {
     fn insert_impl(
         &mut self,
         p: DVec2,
+        hint: Option<CellId>,
         report: Option<&mut InsertReport>,
     ) -> Result<InsertOutcome, TriangulationError> {
-        if !p.is_finite() {
-            return Err(TriangulationError::NonFinitePoint);
-        }
-        let Some(start) = self.locate(p) else {
+        validate_point(p, self.points.len())?;
+        let Some(start) = self.locate(p, hint) else {
             return self.insert_on_line(p, report);
         };
         if let Some(v) = self.duplicate_in(start, p) {
@@ -394,9 +448,9 @@ impl Delaunay2 {
 
     fn push_vertex(&mut self, p: DVec2) -> Result<VertexId, TriangulationError> {
         let id =
-            u32::try_from(self.points.len()).map_err(|_| TriangulationError::CapacityExceeded)?;
-        if id == DEAD.0 {
-            return Err(TriangulationError::CapacityExceeded);
+            u32::try_from(self.points.len()).map_err(|_| TriangulationError::TooManyElements)?;
+        if id >= FREE.0 {
+            return Err(TriangulationError::TooManyElements);
         }
         self.points.push(p);
         self.vertex_cell.push(NO_CELL);
@@ -412,9 +466,9 @@ impl Delaunay2 {
             return Ok(c);
         }
         let id =
-            u32::try_from(self.cells.len()).map_err(|_| TriangulationError::CapacityExceeded)?;
+            u32::try_from(self.cells.len()).map_err(|_| TriangulationError::TooManyElements)?;
         if id == NO_CELL.0 {
-            return Err(TriangulationError::CapacityExceeded);
+            return Err(TriangulationError::TooManyElements);
         }
         self.cells.push(v);
         self.neighbors.push([NO_CELL; 3]);
@@ -446,7 +500,7 @@ impl Delaunay2 {
             if !self.is_infinite_cell(c) {
                 self.num_finite_cells -= 1;
             }
-            self.cells[c.0 as usize][0] = DEAD;
+            self.cells[c.0 as usize][0] = FREE;
             self.free.push(c);
         }
         let mut created = Vec::with_capacity(boundary.len());
@@ -455,22 +509,22 @@ impl Delaunay2 {
             self.neighbors[c.0 as usize][0] = n;
             self.neighbors[n.0 as usize][j] = c;
             // The cavity boundary is one cycle: each vertex starts exactly one new cell.
-            self.vertex_cell[x.0 as usize] = c;
+            self.set_vertex_cell(x, c);
             created.push(c);
         }
         for &c in &created {
             let y = self.cells[c.0 as usize][2];
-            let next = self.vertex_cell[y.0 as usize];
+            let next = self.vertex_cell_of(y);
             self.neighbors[c.0 as usize][1] = next;
             self.neighbors[next.0 as usize][2] = c;
         }
         if let Some(&c) = created.first() {
-            self.vertex_cell[v.0 as usize] = c;
+            self.set_vertex_cell(v, c);
             self.hint.set(c);
         }
         if let Some(report) = report {
-            report.removed = zone.cells.clone();
-            report.created = created;
+            report.removed.extend_from_slice(&zone.cells);
+            report.created.extend_from_slice(&created);
         }
         Ok(())
     }
@@ -553,12 +607,12 @@ impl Delaunay2 {
                 if let Some(&(n, _)) = edges.get(&(y, x)) {
                     self.neighbors[ids[t].0 as usize][i] = ids[n];
                 }
-                self.vertex_cell[v[i].0 as usize] = ids[t];
+                self.set_vertex_cell(v[i], ids[t]);
             }
         }
         self.hint.set(ids[0]);
         if let Some(report) = report {
-            report.created = ids;
+            report.created.extend_from_slice(&ids);
         }
         Ok(())
     }

@@ -183,8 +183,11 @@ fn collinear_points_then_one_off_the_line() {
     let mut t = build(&line);
     assert_eq!(t.num_vertices(), 50);
     assert_eq!(t.num_finite_cells(), 0);
-    assert!(t.locate(DVec2::ZERO).is_none());
-    let (outcome, report) = t.insert_reporting(DVec2::new(10.0, 0.0)).expect("finite");
+    assert!(t.locate(DVec2::ZERO, None).is_none());
+    let mut report = InsertReport::default();
+    let outcome = t
+        .insert_reporting(DVec2::new(10.0, 0.0), None, &mut report)
+        .expect("finite");
     assert!(matches!(outcome, InsertOutcome::Inserted(_)));
     t.check_validity().expect("valid");
     assert_eq!(t.num_finite_cells(), 49);
@@ -229,10 +232,14 @@ fn duplicates_are_reported_not_inserted() {
 #[test]
 fn non_finite_points_are_errors() {
     let mut t = Delaunay2::new();
-    assert_eq!(
+    assert!(matches!(
         t.insert(DVec2::new(f64::NAN, 0.0)),
-        Err(TriangulationError::NonFinitePoint)
-    );
+        Err(TriangulationError::NonFinite { .. })
+    ));
+    assert!(matches!(
+        t.insert(DVec2::new(1e300, 0.0)),
+        Err(TriangulationError::TooLarge { .. })
+    ));
     assert!(Delaunay2::from_points(&[DVec2::ZERO, DVec2::INFINITY]).is_err());
 }
 
@@ -254,13 +261,15 @@ fn conflict_zone_matches_brute_force_and_report() {
     let pts = random_points(400, 21);
     let mut t = build(&pts);
     for q in random_points(50, 22) {
-        let zone = t.conflict_zone(q);
+        let mut zone = ConflictZone::default();
+        t.conflict_zone(q, None, &mut zone);
         let mut brute: Vec<CellId> = t.cells().filter(|&c| t.in_conflict(c, q)).collect();
         let mut found = zone.cells.clone();
         brute.sort();
         found.sort();
         assert_eq!(found, brute);
-        let (_, report) = t.insert_reporting(q).expect("finite");
+        let mut report = InsertReport::default();
+        t.insert_reporting(q, None, &mut report).expect("finite");
         let mut removed = report.removed.clone();
         removed.sort();
         assert_eq!(removed, brute);
@@ -274,7 +283,8 @@ fn conflict_zone_matches_brute_force_and_report() {
 fn incident_cells_surround_each_vertex() {
     let t = build(&random_points(200, 31));
     for v in t.vertices() {
-        let around = t.incident_cells(v);
+        let mut around = Vec::new();
+        t.incident_cells(v, &mut around);
         assert!(around.len() >= 2);
         assert!(around.iter().all(|&c| t.cell(c).contains(&v)));
     }

@@ -32,11 +32,43 @@ pub struct ConflictZone {
     pub boundary_facets: Vec<(CellId, usize)>,
 }
 
-/// Why a point could not be inserted.
+/// Why a point was refused.
 #[derive(Debug, thiserror::Error, Clone, PartialEq)]
 pub enum TriangulationError {
-    #[error("point has a non-finite coordinate")]
-    NonFinitePoint,
+    #[error("point {index} has a non-finite coordinate ({x}, {y}, {z})")]
+    NonFinite {
+        index: usize,
+        x: f64,
+        y: f64,
+        z: f64,
+    },
+    #[error(
+        "point {index} has a coordinate of magnitude above {limit:e}, beyond the range where the exact predicates cannot overflow"
+    )]
+    TooLarge { index: usize, limit: f64 },
     #[error("too many vertices or cells for 32-bit indices")]
-    CapacityExceeded,
+    TooManyElements,
+}
+
+impl InsertOutcome {
+    /// The vertex at the point, new or existing.
+    pub fn vertex(self) -> VertexId {
+        match self {
+            InsertOutcome::Inserted(v) | InsertOutcome::Duplicate(v) => v,
+        }
+    }
+}
+
+impl InsertReport {
+    pub fn clear(&mut self) {
+        self.created.clear();
+        self.removed.clear();
+    }
+}
+
+impl ConflictZone {
+    pub fn clear(&mut self) {
+        self.cells.clear();
+        self.boundary_facets.clear();
+    }
 }

@@ -29,7 +29,7 @@ impl Delaunay2 {
         let mut hull = 0;
         for c in self.cells() {
             cells += 1;
-            let v = *self.cell(c);
+            let v = self.cell(c);
             if v.contains(&INFINITE) {
                 hull += 1;
             } else if orient2d(self.point(v[0]), self.point(v[1]), self.point(v[2]))
@@ -43,7 +43,7 @@ impl Delaunay2 {
                     return Err(ValidityError::Adjacency(c, i));
                 }
                 let j = self.mirror_index(c, i);
-                let w = *self.cell(n);
+                let w = self.cell(n);
                 if self.neighbor(n, j) != c
                     || w[(j + 1) % 3] != v[(i + 2) % 3]
                     || w[(j + 2) % 3] != v[(i + 1) % 3]
@@ -59,7 +59,7 @@ impl Delaunay2 {
             return Ok(());
         }
         for v in self.vertices() {
-            let c = self.vertex_cell[v.0 as usize];
+            let c = self.vertex_cell_of(v);
             if !self.is_live(c) || !self.cell(c).contains(&v) {
                 return Err(ValidityError::VertexCell(v));
             }
