@@ -4,6 +4,7 @@
 pub mod admissible;
 pub mod conform;
 mod grid;
+pub mod mesher;
 pub mod pslg;
 pub mod quality;
 
