@@ -2,6 +2,7 @@ use super::admissible::{Theta2, classify};
 use super::conform::{Algorithm, ConformError, ConformOptions, Conformed, Conformer, conform};
 use super::pslg::{Pslg, PslgError};
 use super::quality::shape_measure;
+use crate::triangulation::Triangulation;
 use crate::triangulation::delaunay2::predicates::{dot_sign, incircle, orient2d};
 use crate::triangulation::delaunay2::{Delaunay2, INFINITE, VertexId};
 use glam::DVec2;

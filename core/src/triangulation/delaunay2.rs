@@ -6,15 +6,16 @@
 //! [`predicates::incircle_perturbed`] so that cocircular input has one order-independent answer.
 //! Until three non-collinear points exist the vertices wait on a sorted line (no triangle exists).
 
-pub mod predicates;
 mod sort;
-mod types;
 mod validity;
 
 #[cfg(test)]
 mod tests;
 
-pub use types::{CellId, ConflictZone, InsertOutcome, InsertReport, TriangulationError, VertexId};
+pub use super::{
+    CellId, ConflictZone, InsertOutcome, InsertReport, Triangulation, TriangulationError, VertexId,
+};
+pub use crate::kernel::predicates2d as predicates;
 pub use validity::ValidityError;
 
 use glam::DVec2;
@@ -142,100 +143,6 @@ impl Delaunay2 {
         Ok(outcomes)
     }
 
-    /// Inserts one point.
-    pub fn insert(&mut self, p: DVec2) -> Result<InsertOutcome, TriangulationError> {
-        self.insert_impl(p, None, None)
-    }
-
-    /// Inserts one point, walking from `hint` if given, and fills `report` (cleared first) with
-    /// the cells destroyed and created.
-    pub fn insert_reporting(
-        &mut self,
-        p: DVec2,
-        hint: Option<CellId>,
-        report: &mut InsertReport,
-    ) -> Result<InsertOutcome, TriangulationError> {
-        report.clear();
-        self.insert_impl(p, hint, Some(report))
-    }
-
-    /// Number of finite vertices.
-    pub fn num_vertices(&self) -> usize {
-        self.points.len()
-    }
-
-    /// Number of finite triangles.
-    pub fn num_finite_cells(&self) -> usize {
-        self.num_finite_cells
-    }
-
-    /// Coordinates of a finite vertex.
-    pub fn point(&self, v: VertexId) -> DVec2 {
-        self.points[v.0 as usize]
-    }
-
-    /// The three vertices of a cell, counter-clockwise.
-    pub fn cell(&self, c: CellId) -> [VertexId; 3] {
-        self.cells[c.0 as usize]
-    }
-
-    /// Number of live cells, finite and infinite.
-    pub fn num_cells(&self) -> usize {
-        self.cells.len() - self.free.len()
-    }
-
-    /// The infinite vertex.
-    pub fn infinite_vertex(&self) -> VertexId {
-        INFINITE
-    }
-
-    /// The cell across the edge opposite vertex `i` of `c`.
-    pub fn neighbor(&self, c: CellId, i: usize) -> CellId {
-        self.neighbors[c.0 as usize][i]
-    }
-
-    /// The index `j` such that `neighbor(neighbor(c, i), j) == c`.
-    pub fn mirror_index(&self, c: CellId, i: usize) -> usize {
-        let n = self.neighbor(c, i);
-        let ns = &self.neighbors[n.0 as usize];
-        (0..3).find(|&j| ns[j] == c).unwrap_or(0)
-    }
-
-    pub fn is_infinite_vertex(&self, v: VertexId) -> bool {
-        v == INFINITE
-    }
-
-    pub fn is_infinite_cell(&self, c: CellId) -> bool {
-        self.cells[c.0 as usize].contains(&INFINITE)
-    }
-
-    /// Whether `c` is a cell of the current triangulation (not freed for reuse).
-    pub fn is_live(&self, c: CellId) -> bool {
-        self.cells.get(c.0 as usize).is_some_and(|v| v[0] != FREE)
-    }
-
-    /// Size of the cell arrays (live and free); cell ids are below this.
-    pub fn cell_capacity(&self) -> usize {
-        self.cells.len()
-    }
-
-    /// All live cells, infinite ones included, in id order.
-    pub fn cells(&self) -> impl Iterator<Item = CellId> + '_ {
-        (0..self.cells.len() as u32)
-            .map(CellId)
-            .filter(|&c| self.is_live(c))
-    }
-
-    /// Live finite triangles in id order.
-    pub fn finite_cells(&self) -> impl Iterator<Item = CellId> + '_ {
-        self.cells().filter(|&c| !self.is_infinite_cell(c))
-    }
-
-    /// Finite vertices in id order.
-    pub fn vertices(&self) -> impl Iterator<Item = VertexId> + '_ {
-        (0..self.points.len() as u32).map(VertexId)
-    }
-
     /// Every finite edge once, as `(cell, index of the opposite vertex)` with the cell finite.
     pub fn finite_edges(&self) -> impl Iterator<Item = (CellId, usize)> + '_ {
         self.finite_cells().flat_map(move |c| {
@@ -244,59 +151,6 @@ impl Delaunay2 {
                 (self.is_infinite_cell(n) || c < n).then_some((c, i))
             })
         })
-    }
-
-    /// Circumcentre of a finite triangle.
-    pub fn circumcenter(&self, c: CellId) -> DVec2 {
-        let [a, b, d] = self.cells[c.0 as usize];
-        predicates::circumcenter(self.point(a), self.point(b), self.point(d))
-    }
-
-    /// Live cells around vertex `v` (infinite ones included), empty while no triangle exists.
-    pub fn incident_cells(&self, v: VertexId, out: &mut Vec<CellId>) {
-        out.clear();
-        let start = self.vertex_cell_of(v);
-        if start == NO_CELL {
-            return;
-        }
-        let mut c = start;
-        loop {
-            out.push(c);
-            let i = self.index_of(c, v);
-            c = self.neighbor(c, (i + 1) % 3);
-            if c == start || out.len() > self.cells.len() {
-                return;
-            }
-        }
-    }
-
-    /// A cell containing `p` in its closure, or an infinite cell whose hull edge sees `p` strictly
-    /// outside; `None` while no triangle exists.
-    pub fn locate(&self, p: DVec2, hint: Option<CellId>) -> Option<CellId> {
-        let mut start = hint.unwrap_or(self.hint.get());
-        if !self.is_live(start) {
-            start = self.hint.get();
-        }
-        if !self.is_live(start) {
-            start = self.cells().next()?;
-        }
-        let found = self.walk(p, start);
-        self.hint.set(found);
-        Some(found)
-    }
-
-    /// The cells in conflict with `p` (circumdisk containing `p` under the perturbation) without
-    /// inserting it; empty when `p` is a vertex or no triangle exists.
-    pub fn conflict_zone(&self, p: DVec2, hint: Option<CellId>, out: &mut ConflictZone) {
-        out.clear();
-        if !p.is_finite() {
-            return;
-        }
-        if let Some(c) = self.locate(p, hint) {
-            if self.duplicate_in(c, p).is_none() {
-                self.find_conflicts(p, c, out);
-            }
-        }
     }
 
     /// Whether `p` is strictly inside the (perturbed) circumdisk of `c`, or beyond the hull edge of
@@ -615,5 +469,157 @@ impl Delaunay2 {
             report.created.extend_from_slice(&ids);
         }
         Ok(())
+    }
+}
+
+impl Triangulation for Delaunay2 {
+    type Point = DVec2;
+    type Cell = [VertexId; 3];
+
+    /// Inserts one point.
+    fn insert(&mut self, p: DVec2) -> Result<InsertOutcome, TriangulationError> {
+        self.insert_impl(p, None, None)
+    }
+
+    /// Inserts one point, walking from `hint` if given, and fills `report` (cleared first) with
+    /// the cells destroyed and created.
+    fn insert_reporting(
+        &mut self,
+        p: DVec2,
+        hint: Option<CellId>,
+        report: &mut InsertReport,
+    ) -> Result<InsertOutcome, TriangulationError> {
+        report.clear();
+        self.insert_impl(p, hint, Some(report))
+    }
+
+    /// Number of finite vertices.
+    fn num_vertices(&self) -> usize {
+        self.points.len()
+    }
+
+    /// Number of finite triangles.
+    fn num_finite_cells(&self) -> usize {
+        self.num_finite_cells
+    }
+
+    /// Coordinates of a finite vertex.
+    fn point(&self, v: VertexId) -> DVec2 {
+        self.points[v.0 as usize]
+    }
+
+    /// The three vertices of a cell, counter-clockwise.
+    fn cell(&self, c: CellId) -> [VertexId; 3] {
+        self.cells[c.0 as usize]
+    }
+
+    /// Number of live cells, finite and infinite.
+    fn num_cells(&self) -> usize {
+        self.cells.len() - self.free.len()
+    }
+
+    /// The infinite vertex.
+    fn infinite_vertex(&self) -> VertexId {
+        INFINITE
+    }
+
+    /// The cell across the edge opposite vertex `i` of `c`.
+    fn neighbor(&self, c: CellId, i: usize) -> CellId {
+        self.neighbors[c.0 as usize][i]
+    }
+
+    /// The index `j` such that `neighbor(neighbor(c, i), j) == c`.
+    fn mirror_index(&self, c: CellId, i: usize) -> usize {
+        let n = self.neighbor(c, i);
+        let ns = &self.neighbors[n.0 as usize];
+        (0..3).find(|&j| ns[j] == c).unwrap_or(0)
+    }
+
+    fn is_infinite_vertex(&self, v: VertexId) -> bool {
+        v == INFINITE
+    }
+
+    fn is_infinite_cell(&self, c: CellId) -> bool {
+        self.cells[c.0 as usize].contains(&INFINITE)
+    }
+
+    /// Whether `c` is a cell of the current triangulation (not freed for reuse).
+    fn is_live(&self, c: CellId) -> bool {
+        self.cells.get(c.0 as usize).is_some_and(|v| v[0] != FREE)
+    }
+
+    /// Size of the cell arrays (live and free); cell ids are below this.
+    fn cell_capacity(&self) -> usize {
+        self.cells.len()
+    }
+
+    /// All live cells, infinite ones included, in id order.
+    fn cells(&self) -> impl Iterator<Item = CellId> + '_ {
+        (0..self.cells.len() as u32)
+            .map(CellId)
+            .filter(|&c| self.is_live(c))
+    }
+
+    /// Live finite triangles in id order.
+    fn finite_cells(&self) -> impl Iterator<Item = CellId> + '_ {
+        self.cells().filter(|&c| !self.is_infinite_cell(c))
+    }
+
+    /// Finite vertices in id order.
+    fn vertices(&self) -> impl Iterator<Item = VertexId> + '_ {
+        (0..self.points.len() as u32).map(VertexId)
+    }
+
+    /// Circumcentre of a finite triangle.
+    fn circumcenter(&self, c: CellId) -> DVec2 {
+        let [a, b, d] = self.cells[c.0 as usize];
+        predicates::circumcenter(self.point(a), self.point(b), self.point(d))
+    }
+
+    /// Live cells around vertex `v` (infinite ones included), empty while no triangle exists.
+    fn incident_cells(&self, v: VertexId, out: &mut Vec<CellId>) {
+        out.clear();
+        let start = self.vertex_cell_of(v);
+        if start == NO_CELL {
+            return;
+        }
+        let mut c = start;
+        loop {
+            out.push(c);
+            let i = self.index_of(c, v);
+            c = self.neighbor(c, (i + 1) % 3);
+            if c == start || out.len() > self.cells.len() {
+                return;
+            }
+        }
+    }
+
+    /// A cell containing `p` in its closure, or an infinite cell whose hull edge sees `p` strictly
+    /// outside; `None` while no triangle exists.
+    fn locate(&self, p: DVec2, hint: Option<CellId>) -> Option<CellId> {
+        let mut start = hint.unwrap_or(self.hint.get());
+        if !self.is_live(start) {
+            start = self.hint.get();
+        }
+        if !self.is_live(start) {
+            start = self.cells().next()?;
+        }
+        let found = self.walk(p, start);
+        self.hint.set(found);
+        Some(found)
+    }
+
+    /// The cells in conflict with `p` (circumdisk containing `p` under the perturbation) without
+    /// inserting it; empty when `p` is a vertex or no triangle exists.
+    fn conflict_zone(&self, p: DVec2, hint: Option<CellId>, out: &mut ConflictZone) {
+        out.clear();
+        if !p.is_finite() {
+            return;
+        }
+        if let Some(c) = self.locate(p, hint) {
+            if self.duplicate_in(c, p).is_none() {
+                self.find_conflicts(p, c, out);
+            }
+        }
     }
 }

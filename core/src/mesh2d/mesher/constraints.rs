@@ -1,6 +1,7 @@
 //! What both mesher levels share: the constrained sub-segments (with the region on each side), which
 //! vertices are input vertices, and the segments each vertex lies on.
 
+use crate::triangulation::Triangulation;
 use crate::triangulation::delaunay2::predicates::dot_sign;
 use crate::triangulation::delaunay2::{CellId, Delaunay2, VertexId};
 use std::cmp::Ordering;

@@ -2,6 +2,7 @@
 //! module: the same skeleton — levels in priority order, a point proposed by level i checked by
 //! levels 0..=i, inserted when all accept, every level told of every insertion.
 
+use crate::triangulation::Triangulation;
 use crate::triangulation::delaunay2::{
     CellId, Delaunay2, InsertOutcome, InsertReport, TriangulationError, VertexId,
 };

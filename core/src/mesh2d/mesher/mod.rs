@@ -15,6 +15,7 @@ mod triangles;
 pub use engine::RefineError;
 
 use super::pslg::{Pslg, PslgError};
+use crate::triangulation::Triangulation;
 use crate::triangulation::delaunay2::{CellId, Delaunay2, TriangulationError, VertexId};
 use constraints::{Constraints, Label, edge_cell};
 use segments::SegmentLevel;

@@ -4,6 +4,7 @@
 
 use super::constraints::{Constraints, edge_cell, is_encroached};
 use super::engine::{Candidate, Check};
+use crate::triangulation::Triangulation;
 use crate::triangulation::delaunay2::predicates::dot_sign;
 use crate::triangulation::delaunay2::{CellId, ConflictZone, Delaunay2, InsertReport, VertexId};
 use glam::DVec2;

@@ -6,6 +6,7 @@
 use super::constraints::{Constraints, Label};
 use super::engine::{Candidate, Check};
 use crate::mesh2d::quality::signed_area;
+use crate::triangulation::Triangulation;
 use crate::triangulation::delaunay2::{CellId, Delaunay2, InsertReport, VertexId};
 use glam::DVec2;
 use std::cell::RefCell;

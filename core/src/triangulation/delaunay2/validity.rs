@@ -1,7 +1,7 @@
 //! The validity checker: combinatorics, orientation, exact local Delaunay property, counts.
 
 use super::predicates::orient2d;
-use super::types::{CellId, VertexId};
+use super::{CellId, Triangulation, VertexId};
 use super::{Delaunay2, INFINITE, NO_CELL};
 use std::cmp::Ordering;
 

@@ -1,5 +1,7 @@
-//! Exact 2D predicates (adaptive arithmetic from `robust`) and the symbolic perturbation that makes
-//! the Delaunay triangulation of any point set unique.
+//! Exact 2D predicates for the planar code (`Delaunay2`, `mesh2d`), returning `Ordering`: the
+//! orientation and in-circle signs (adaptive arithmetic from `robust`), the lifting-map symbolic
+//! perturbation that makes a planar Delaunay triangulation unique, and the exact diametral-disk
+//! test (angle sign) that constraint meshing needs.
 
 use glam::DVec2;
 use std::cmp::Ordering;
