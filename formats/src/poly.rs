@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 /// Why a `.poly` file could not be read.
 #[derive(Debug, thiserror::Error)]
 pub enum PolyError {
-    #[error("{path}: {source}")]
+    #[error("cannot read {path}")]
     Io {
         path: PathBuf,
         source: std::io::Error,
@@ -20,7 +20,7 @@ pub enum PolyError {
         line: usize,
         message: String,
     },
-    #[error("{path}: {source}")]
+    #[error("{path}: invalid planar straight-line graph")]
     Invalid {
         path: PathBuf,
         source: delamesh_core::mesh2d::PslgError,

@@ -72,7 +72,7 @@ pub struct Conformed {
     /// Sub-edges (indices into `points`), each oriented like its original segment.
     pub segments: Vec<[u32; 2]>,
     /// For each sub-edge, the input segment it is part of.
-    pub segment_origin: Vec<u32>,
+    pub segment_origins: Vec<u32>,
     /// Projection and cleaning steps performed.
     pub iterations: usize,
     pub triangulation: Delaunay2,
@@ -385,7 +385,7 @@ impl Conformer {
         let live: Vec<&SubEdge> = self.edges.iter().filter(|e| e.alive).collect();
         Ok(Conformed {
             segments: live.iter().map(|e| e.ends).collect(),
-            segment_origin: live.iter().map(|e| e.origin).collect(),
+            segment_origins: live.iter().map(|e| e.origin).collect(),
             points: self.points,
             iterations,
             triangulation,

@@ -212,7 +212,7 @@ fn check_conformed(input: &Pslg, out: &Conformed) {
     for (s, &[a, b]) in input.segments.iter().enumerate() {
         let (pa, pb) = (input.points[a as usize], input.points[b as usize]);
         let subs: Vec<[u32; 2]> = (0..out.segments.len())
-            .filter(|&k| out.segment_origin[k] == s as u32)
+            .filter(|&k| out.segment_origins[k] == s as u32)
             .map(|k| out.segments[k])
             .collect();
         let mut at = a;
