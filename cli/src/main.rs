@@ -2,10 +2,12 @@
 //!
 //! Exit codes: 0 success, 1 the work failed (bad input, I/O, refinement guard), 2 bad usage.
 
+mod conform2d;
 mod convert;
 mod delaunay;
 mod info;
 mod mesh;
+mod mesh2d;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -31,6 +33,10 @@ enum Command {
     Convert(convert::ConvertArgs),
     /// Describe a mesh: counts, bounding box, patches, closedness, manifoldness, genus
     Info(info::InfoArgs),
+    /// Subdivide a planar constraint until it is Delaunay-admissible (Pébay) and triangulate it.
+    Conform2d(conform2d::Args),
+    /// Quality triangle mesh of a planar straight-line graph.
+    Mesh2d(mesh2d::Args),
 }
 
 fn main() -> ExitCode {
@@ -40,6 +46,8 @@ fn main() -> ExitCode {
         Command::Delaunay(args) => delaunay::run(&args),
         Command::Convert(args) => convert::run(args),
         Command::Info(args) => info::run(args),
+        Command::Conform2d(args) => conform2d::run(&args),
+        Command::Mesh2d(args) => mesh2d::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

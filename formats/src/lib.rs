@@ -16,6 +16,7 @@ mod obj;
 mod off;
 mod ply;
 mod points;
+pub mod poly;
 mod stl;
 mod text;
 mod vtk;

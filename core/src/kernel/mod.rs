@@ -8,6 +8,7 @@
 pub mod perturbation;
 pub mod power;
 pub mod predicates;
+pub mod predicates2d;
 
 pub use glam::DVec2 as Point2;
 pub use glam::DVec3 as Point3;

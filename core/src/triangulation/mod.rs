@@ -1,4 +1,4 @@
-//! Triangulations: the `Triangulation` trait, Delaunay 3D, validity checking.
+//! Triangulations: the `Triangulation` trait, Delaunay 3D and 2D, validity checking.
 //!
 //! # Identifiers
 //! Vertices and cells are named by the typed indices [`VertexId`] and [`CellId`]. Vertex ids are
@@ -17,10 +17,12 @@
 //! points are still vertices (duplicates are still detected), and the first independent point builds
 //! all cells at once.
 
+pub mod delaunay2;
 pub mod delaunay3;
 pub mod spatial_sort;
 pub mod validity;
 
+pub use delaunay2::Delaunay2;
 pub use delaunay3::Delaunay3;
 
 /// A vertex of a triangulation. Stable once assigned; finite vertices are numbered from 0 in the
