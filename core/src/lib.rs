@@ -4,6 +4,7 @@
 pub mod complex;
 pub mod kernel;
 pub mod mesh;
+pub mod mesh2d;
 pub mod oracle;
 pub mod quality;
 pub mod refine;
