@@ -7,7 +7,7 @@ use super::engine::{Candidate, Check, MesherLevel};
 use super::geometry::{cell_vertices, crowds_a_vertex, is_same_cell, shortest_edge};
 use super::queue::RefineQueue;
 use crate::kernel::Point3;
-use crate::oracle::{OUTSIDE, Oracle, SubdomainId};
+use crate::oracle::{OUTSIDE, Oracle, SubdomainId, SurfaceHit};
 use crate::triangulation::{CellId, InsertReport, Triangulation, VertexId};
 
 /// A queued cell and its vertices when queued (to detect that it was destroyed).
@@ -25,6 +25,7 @@ pub struct CellLevel<'o> {
     queue: RefineQueue<QueuedCell>,
     /// Squared circumradius of the cell whose circumcentre was last proposed.
     proposed_radius2: f64,
+    hits: Vec<SurfaceHit>,
 }
 
 impl<'o> CellLevel<'o> {
@@ -35,6 +36,7 @@ impl<'o> CellLevel<'o> {
             subdomain: Vec::new(),
             queue: RefineQueue::default(),
             proposed_radius2: 0.0,
+            hits: Vec::new(),
         }
     }
 
@@ -43,7 +45,14 @@ impl<'o> CellLevel<'o> {
         self.subdomain.get(c.0 as usize).copied().unwrap_or(OUTSIDE)
     }
 
-    fn update_cell<T: Triangulation<Point = Point3>>(&mut self, tr: &T, c: CellId) {
+    /// Label and queue a new cell. `apex` is the vertex just inserted: the facet opposite it is
+    /// on the cavity boundary, and the old cell across it has a known subdomain.
+    fn update_cell<T: Triangulation<Point = Point3>>(
+        &mut self,
+        tr: &T,
+        c: CellId,
+        apex: Option<VertexId>,
+    ) {
         let i = c.0 as usize;
         if self.subdomain.len() <= i {
             self.subdomain
@@ -55,10 +64,14 @@ impl<'o> CellLevel<'o> {
         }
         let center = tr.circumcenter(c);
         // A flat cell has no circumcentre; it lies on a planar patch and is left outside.
-        let sub = if center.is_finite() {
-            self.oracle.subdomain(center)
-        } else {
+        let sub = if !center.is_finite() {
             OUTSIDE
+        } else if let Some(sub) =
+            apex.and_then(|v| self.subdomain_from_old_neighbour(tr, c, center, v))
+        {
+            sub
+        } else {
+            self.oracle.subdomain(center)
         };
         self.subdomain[i] = sub;
         if sub == OUTSIDE {
@@ -68,6 +81,30 @@ impl<'o> CellLevel<'o> {
         if let Some(priority) = self.badness(tr, &vertices, center, sub) {
             self.queue.push(priority, QueuedCell { cell: c, vertices });
         }
+    }
+
+    /// The subdomain of the old neighbour of `c` across the facet opposite `apex`, when the segment
+    /// between the two circumcentres crosses no boundary: a short segment query instead of an
+    /// inside test, which casts a ray out of the whole domain.
+    fn subdomain_from_old_neighbour<T: Triangulation<Point = Point3>>(
+        &mut self,
+        tr: &T,
+        c: CellId,
+        center: Point3,
+        apex: VertexId,
+    ) -> Option<SubdomainId> {
+        let i = tr.cell(c).as_ref().iter().position(|&v| v == apex)?;
+        let n = tr.neighbor(c, i);
+        if tr.is_infinite_cell(n) {
+            return None;
+        }
+        let other = tr.circumcenter(n);
+        if !other.is_finite() {
+            return None;
+        }
+        self.hits.clear();
+        self.oracle.segment_hits(center, other, &mut self.hits);
+        self.hits.is_empty().then(|| self.subdomain(n))
     }
 
     /// How much a cell of subdomain `sub` violates the criteria (`None`: it satisfies them).
@@ -102,7 +139,7 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for CellLevel<'o> {
         self.subdomain.resize(tr.cell_capacity(), OUTSIDE);
         let cells: Vec<CellId> = tr.finite_cells().collect();
         for c in cells {
-            self.update_cell(tr, c);
+            self.update_cell(tr, c, None);
         }
     }
 
@@ -137,14 +174,14 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for CellLevel<'o> {
         }
     }
 
-    fn after_insertion(&mut self, tr: &T, _v: VertexId, report: &InsertReport, _own: bool) {
+    fn after_insertion(&mut self, tr: &T, v: VertexId, report: &InsertReport, _own: bool) {
         for &c in &report.removed {
             if let Some(s) = self.subdomain.get_mut(c.0 as usize) {
                 *s = OUTSIDE;
             }
         }
         for &c in &report.created {
-            self.update_cell(tr, c);
+            self.update_cell(tr, c, Some(v));
         }
     }
 
