@@ -4,7 +4,11 @@ use clap::{Parser, Subcommand};
 use std::process::ExitCode;
 
 #[derive(Parser)]
-#[command(name = "delamesh", version, about = "Quality tetrahedral meshes by Delaunay refinement")]
+#[command(
+    name = "delamesh",
+    version,
+    about = "Quality tetrahedral meshes by Delaunay refinement"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

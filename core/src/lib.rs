@@ -4,5 +4,6 @@
 pub mod kernel;
 pub mod mesh;
 pub mod oracle;
+pub mod plugin;
 pub mod refine;
 pub mod triangulation;
