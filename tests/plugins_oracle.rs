@@ -1,7 +1,8 @@
 //! Plugins loaded at run time answer through the `Oracle` trait exactly as the same code linked
 //! statically, and every fault the ABI can express becomes an error naming the plugin.
 
-mod common;
+mod plugins_support;
+use plugins_support as common;
 
 use delamesh::core::kernel::Point3;
 use delamesh::core::oracle::{OUTSIDE, Oracle, SurfaceHit};

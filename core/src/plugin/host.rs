@@ -372,16 +372,19 @@ impl DynOracle {
         Ok(patch)
     }
 
-    /// Calls a capacity-protocol query, growing `buffer` once if the plugin asks for more room.
+    /// Calls a capacity-protocol query with `buffer` as its output, growing it once if the plugin
+    /// asks for more room; returns how many leading items of `buffer` the plugin wrote. The buffer
+    /// stays fully initialised (never shrunk, grown with defaults), so even a plugin that lies
+    /// about its count cannot make us read uninitialised memory.
     fn fill_buffer<T: Copy + Default>(
         &self,
         query: &'static str,
         buffer: &mut Vec<T>,
         mut call: impl FnMut(*mut T, usize, *mut usize) -> i32,
-    ) -> Result<(), PluginError> {
-        let capacity = buffer.capacity().max(16);
-        buffer.clear();
-        buffer.resize(capacity, T::default());
+    ) -> Result<usize, PluginError> {
+        if buffer.len() < 16 {
+            buffer.resize(16, T::default());
+        }
         for _attempt in 0..2 {
             let mut len = 0;
             let status = call(buffer.as_mut_ptr(), buffer.len(), &mut len);
@@ -396,8 +399,7 @@ impl DynOracle {
                     format!("reported {len} items for a buffer of {}", buffer.len()),
                 ));
             }
-            buffer.truncate(len);
-            return Ok(());
+            return Ok(len);
         }
         Err(self.contract(query, "asked for a larger buffer twice".into()))
     }
@@ -462,11 +464,11 @@ impl DynOracle {
             let mut buffer = buffer.borrow_mut();
             let (da, db) = (DmVec3::from(a), DmVec3::from(b));
             // SAFETY: the closure passes a buffer of `cap` hits and one length.
-            self.fill_buffer(query, &mut buffer, |ptr, cap, len| unsafe {
+            let len = self.fill_buffer(query, &mut buffer, |ptr, cap, len| unsafe {
                 function(self.handle, da, db, ptr, cap, len)
             })?;
             let mut previous_t = f64::NEG_INFINITY;
-            for hit in buffer.iter() {
+            for hit in &buffer[..len] {
                 let point = self.check_point(query, hit.point.into())?;
                 if !(hit.t >= 0.0 && hit.t <= t_max) || hit.t < previous_t {
                     return Err(self.contract(
@@ -514,16 +516,16 @@ impl DynOracle {
         const QUERY: &str = "initial_points";
         let mut buffer = Vec::new();
         // SAFETY: the closure passes a buffer of `cap` points and one length.
-        self.fill_buffer(QUERY, &mut buffer, |ptr, cap, len| unsafe {
+        let len = self.fill_buffer(QUERY, &mut buffer, |ptr, cap, len| unsafe {
             (self.functions.initial_points)(self.handle, ptr, cap, len)
         })?;
-        if buffer.is_empty() {
+        if len == 0 {
             return Err(self.contract(
                 QUERY,
                 "returned no points; the mesher needs some on every component".into(),
             ));
         }
-        buffer
+        buffer[..len]
             .iter()
             .map(|p| {
                 Ok(SurfacePoint {
@@ -540,10 +542,10 @@ impl DynOracle {
         };
         let mut buffer = Vec::new();
         // SAFETY: the closure passes a buffer of `cap` points and one length.
-        self.fill_buffer("corners", &mut buffer, |ptr, cap, len| unsafe {
+        let len = self.fill_buffer("corners", &mut buffer, |ptr, cap, len| unsafe {
             corners(self.handle, ptr, cap, len)
         })?;
-        buffer
+        buffer[..len]
             .iter()
             .map(|&p| self.check_point("corners", p.into()))
             .collect()

@@ -30,9 +30,9 @@ fn dylib_name(lib: &str) -> String {
     )
 }
 
-/// Builds the cdylib of workspace package `package` (library name `lib`) with `features`, in the
-/// profile of the running executable, and returns its path. Each build runs once per process.
-pub fn rust_plugin(package: &str, lib: &str, features: &[&str]) -> PathBuf {
+/// Runs `cargo build -p package [--features ...]` once per process, in the profile and target
+/// directory of the running executable; returns that profile directory.
+fn cargo_build(package: &str, features: &[&str]) -> PathBuf {
     static BUILT: Mutex<Vec<String>> = Mutex::new(Vec::new());
     let dir = profile_dir();
     let key = format!("{package} {features:?}");
@@ -58,7 +58,18 @@ pub fn rust_plugin(package: &str, lib: &str, features: &[&str]) -> PathBuf {
         assert!(status.success(), "cargo build -p {package} failed");
         built.push(key);
     }
-    dir.join(dylib_name(lib))
+    dir
+}
+
+/// The `delamesh` binary (package `delamesh-cli`, which `cargo test -p delamesh` does not build).
+pub fn delamesh_bin() -> PathBuf {
+    cargo_build("delamesh-cli", &[]).join(format!("delamesh{}", std::env::consts::EXE_SUFFIX))
+}
+
+/// Builds the cdylib of workspace package `package` (library name `lib`) with `features`, in the
+/// profile of the running executable, and returns its path. Each build runs once per process.
+pub fn rust_plugin(package: &str, lib: &str, features: &[&str]) -> PathBuf {
+    cargo_build(package, features).join(dylib_name(lib))
 }
 
 /// Compiles C `source` (relative to the repository) with `defines` into a shared library under
