@@ -1,1 +1,439 @@
 //! Mesh data model shared by formats, plugins and the mesher: surfaces, tet meshes, images.
+//!
+//! Connectivity is stored as plain `u32` vertex indices (`[u32; 3]` triangles, `[u32; 4]` tets) because
+//! that is what every file format and the refinement engine exchange in bulk; the labels that carry
+//! meaning (patch, subdomain, curve) are newtypes so they cannot be mixed up.
+
+mod topology;
+mod weld;
+
+pub use topology::{Topology, surface_topology};
+pub use weld::weld_exact;
+
+use glam::DVec3;
+use std::fmt;
+
+/// Surface patch label of a boundary triangle (an index into `SurfaceMesh::patch_names` for surfaces).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct PatchId(pub u32);
+
+/// Subdomain label of a tetrahedron (0 is reserved for "outside" by the oracle, so real subdomains are ≥ 1).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct SubdomainId(pub u32);
+
+/// Feature-curve label of a constrained edge.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct CurveId(pub u32);
+
+/// A structural defect found by a `validate` method: the model forbids it, whatever the file said.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum MeshError {
+    #[error("vertex {vertex} has a non-finite coordinate ({x}, {y}, {z})")]
+    NonFinite {
+        vertex: usize,
+        x: f64,
+        y: f64,
+        z: f64,
+    },
+    #[error("{element} {index} refers to vertex {vertex}, but there are only {count} vertices")]
+    IndexOutOfRange {
+        element: &'static str,
+        index: usize,
+        vertex: u32,
+        count: usize,
+    },
+    #[error("{what} has {got} entries, expected {expected} (one per {per})")]
+    LengthMismatch {
+        what: String,
+        got: usize,
+        expected: usize,
+        per: &'static str,
+    },
+    #[error("patch id {patch} of triangle {triangle} has no name (only {names} patch names)")]
+    UnnamedPatch {
+        triangle: usize,
+        patch: u32,
+        names: usize,
+    },
+    #[error("the mesh is empty: {0}")]
+    Empty(&'static str),
+}
+
+/// A triangulated surface with a patch label per triangle.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SurfaceMesh {
+    pub positions: Vec<DVec3>,
+    pub triangles: Vec<[u32; 3]>,
+    /// One entry per triangle.
+    pub patches: Vec<PatchId>,
+    /// Indexed by `PatchId`; a file without named parts gets a single patch.
+    pub patch_names: Vec<String>,
+}
+
+/// A named scalar per tetrahedron, e.g. `min_dihedral_deg` or `radius_edge`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CellField {
+    pub name: String,
+    pub values: Vec<f64>,
+}
+
+/// A tetrahedral mesh with its boundary triangles and optional feature edges.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TetMesh {
+    pub positions: Vec<DVec3>,
+    pub tets: Vec<[u32; 4]>,
+    /// One entry per tet.
+    pub subdomains: Vec<SubdomainId>,
+    pub boundary: Vec<[u32; 3]>,
+    /// One entry per boundary triangle.
+    pub boundary_patches: Vec<PatchId>,
+    pub feature_edges: Vec<[u32; 2]>,
+    /// One entry per feature edge.
+    pub feature_curves: Vec<CurveId>,
+    /// Per-tet scalar fields, written as cell data next to `subdomain`.
+    pub cell_fields: Vec<CellField>,
+}
+
+/// Voxel labels of a 3D image, stored x fastest, then y, then z.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Labels {
+    U8(Vec<u8>),
+    U16(Vec<u16>),
+}
+
+impl Labels {
+    pub fn len(&self) -> usize {
+        match self {
+            Labels::U8(v) => v.len(),
+            Labels::U16(v) => v.len(),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// A labelled 3D image: voxel `(i, j, k)` has its centre at `origin + spacing * (i, j, k)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LabelledImage {
+    pub dims: [usize; 3],
+    pub spacing: DVec3,
+    pub origin: DVec3,
+    pub labels: Labels,
+}
+
+impl LabelledImage {
+    /// The label of voxel `(i, j, k)`, or `None` outside the image.
+    pub fn label(&self, i: usize, j: usize, k: usize) -> Option<u16> {
+        let [nx, ny, nz] = self.dims;
+        if i >= nx || j >= ny || k >= nz {
+            return None;
+        }
+        let at = i + nx * (j + ny * k);
+        match &self.labels {
+            Labels::U8(v) => v.get(at).map(|&l| u16::from(l)),
+            Labels::U16(v) => v.get(at).copied(),
+        }
+    }
+
+    pub fn validate(&self) -> Result<(), MeshError> {
+        let expected = self.dims.iter().product::<usize>();
+        if expected == 0 {
+            return Err(MeshError::Empty("the image has no voxels"));
+        }
+        check_len("labels", self.labels.len(), expected, "voxel")
+    }
+}
+
+/// Axis-aligned bounding box of a point set.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: DVec3,
+    pub max: DVec3,
+}
+
+impl Aabb {
+    /// `None` for an empty point set.
+    pub fn of(points: &[DVec3]) -> Option<Aabb> {
+        let first = *points.first()?;
+        Some(points.iter().fold(
+            Aabb {
+                min: first,
+                max: first,
+            },
+            |b, &p| Aabb {
+                min: b.min.min(p),
+                max: b.max.max(p),
+            },
+        ))
+    }
+}
+
+impl fmt::Display for Aabb {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "[{}, {}, {}] .. [{}, {}, {}]",
+            self.min.x, self.min.y, self.min.z, self.max.x, self.max.y, self.max.z
+        )
+    }
+}
+
+fn check_positions(positions: &[DVec3]) -> Result<(), MeshError> {
+    match positions.iter().position(|p| !p.is_finite()) {
+        Some(vertex) => {
+            let p = positions[vertex];
+            Err(MeshError::NonFinite {
+                vertex,
+                x: p.x,
+                y: p.y,
+                z: p.z,
+            })
+        }
+        None => Ok(()),
+    }
+}
+
+fn check_indices<const N: usize>(
+    element: &'static str,
+    cells: &[[u32; N]],
+    count: usize,
+) -> Result<(), MeshError> {
+    for (index, cell) in cells.iter().enumerate() {
+        if let Some(&vertex) = cell.iter().find(|&&v| v as usize >= count) {
+            return Err(MeshError::IndexOutOfRange {
+                element,
+                index,
+                vertex,
+                count,
+            });
+        }
+    }
+    Ok(())
+}
+
+fn check_len(what: &str, got: usize, expected: usize, per: &'static str) -> Result<(), MeshError> {
+    if got == expected {
+        Ok(())
+    } else {
+        Err(MeshError::LengthMismatch {
+            what: what.to_owned(),
+            got,
+            expected,
+            per,
+        })
+    }
+}
+
+impl SurfaceMesh {
+    /// Finite coordinates, indices in range, one patch per triangle, every patch named, not empty.
+    pub fn validate(&self) -> Result<(), MeshError> {
+        if self.triangles.is_empty() {
+            return Err(MeshError::Empty("no triangles"));
+        }
+        check_positions(&self.positions)?;
+        check_indices("triangle", &self.triangles, self.positions.len())?;
+        check_len(
+            "patch ids",
+            self.patches.len(),
+            self.triangles.len(),
+            "triangle",
+        )?;
+        let names = self.patch_names.len();
+        if let Some((triangle, p)) = self
+            .patches
+            .iter()
+            .enumerate()
+            .find(|(_, p)| p.0 as usize >= names)
+        {
+            return Err(MeshError::UnnamedPatch {
+                triangle,
+                patch: p.0,
+                names,
+            });
+        }
+        Ok(())
+    }
+
+    pub fn bounding_box(&self) -> Option<Aabb> {
+        Aabb::of(&self.positions)
+    }
+
+    /// Closedness, manifoldness, Euler characteristic, orientation, volume (see [`Topology`]).
+    pub fn topology(&self) -> Topology {
+        surface_topology(&self.positions, &self.triangles)
+    }
+}
+
+impl TetMesh {
+    /// Finite coordinates, indices in range, one label per element, one value per tet in every field.
+    pub fn validate(&self) -> Result<(), MeshError> {
+        if self.tets.is_empty() && self.boundary.is_empty() {
+            return Err(MeshError::Empty("no tetrahedra and no boundary triangles"));
+        }
+        check_positions(&self.positions)?;
+        let n = self.positions.len();
+        check_indices("tetrahedron", &self.tets, n)?;
+        check_indices("boundary triangle", &self.boundary, n)?;
+        check_indices("feature edge", &self.feature_edges, n)?;
+        check_len(
+            "subdomain ids",
+            self.subdomains.len(),
+            self.tets.len(),
+            "tetrahedron",
+        )?;
+        check_len(
+            "patch ids",
+            self.boundary_patches.len(),
+            self.boundary.len(),
+            "boundary triangle",
+        )?;
+        check_len(
+            "curve ids",
+            self.feature_curves.len(),
+            self.feature_edges.len(),
+            "feature edge",
+        )?;
+        for field in &self.cell_fields {
+            check_len(
+                &format!("cell field {:?}", field.name),
+                field.values.len(),
+                self.tets.len(),
+                "tetrahedron",
+            )?;
+        }
+        Ok(())
+    }
+
+    pub fn bounding_box(&self) -> Option<Aabb> {
+        Aabb::of(&self.positions)
+    }
+
+    /// Signed volume of tet `t`: positive for the right-handed orientation `(b-a)×(c-a)·(d-a) > 0`.
+    pub fn tet_volume(&self, t: usize) -> f64 {
+        let [a, b, c, d] = self.tets[t].map(|v| self.positions[v as usize]);
+        (b - a).cross(c - a).dot(d - a) / 6.0
+    }
+
+    /// The boundary triangles as a surface, one patch name per distinct patch id.
+    pub fn boundary_surface(&self) -> SurfaceMesh {
+        let max_patch = self.boundary_patches.iter().map(|p| p.0).max().unwrap_or(0);
+        SurfaceMesh {
+            positions: self.positions.clone(),
+            triangles: self.boundary.clone(),
+            patches: self.boundary_patches.clone(),
+            patch_names: (0..=max_patch).map(|p| format!("patch {p}")).collect(),
+        }
+    }
+
+    /// Faces of the tets that belong to exactly one tet, oriented outward (seen from outside they are
+    /// counter-clockwise) for positively oriented tets; used when a file carries tets but no boundary.
+    pub fn exterior_faces(&self) -> Vec<[u32; 3]> {
+        let mut faces: Vec<([u32; 3], [u32; 3])> = Vec::with_capacity(self.tets.len() * 4);
+        for &[a, b, c, d] in &self.tets {
+            for f in [[b, c, d], [a, d, c], [a, b, d], [a, c, b]] {
+                let mut key = f;
+                key.sort_unstable();
+                faces.push((key, f));
+            }
+        }
+        faces.sort_unstable();
+        let mut out = Vec::new();
+        let mut i = 0;
+        while i < faces.len() {
+            let mut j = i + 1;
+            while j < faces.len() && faces[j].0 == faces[i].0 {
+                j += 1;
+            }
+            if j - i == 1 {
+                out.push(faces[i].1);
+            }
+            i = j;
+        }
+        out
+    }
+}
+
+impl From<SurfaceMesh> for TetMesh {
+    /// A mesh with no tets whose boundary is the surface, so volume formats can carry surfaces too.
+    fn from(s: SurfaceMesh) -> TetMesh {
+        TetMesh {
+            positions: s.positions,
+            boundary: s.triangles,
+            boundary_patches: s.patches,
+            ..TetMesh::default()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tet() -> TetMesh {
+        TetMesh {
+            positions: vec![DVec3::ZERO, DVec3::X, DVec3::Y, DVec3::Z],
+            tets: vec![[0, 1, 2, 3]],
+            subdomains: vec![SubdomainId(1)],
+            ..TetMesh::default()
+        }
+    }
+
+    #[test]
+    fn exterior_faces_of_a_tet_point_outward() {
+        let m = tet();
+        assert!(m.tet_volume(0) > 0.0);
+        let faces = m.exterior_faces();
+        assert_eq!(faces.len(), 4);
+        let s = SurfaceMesh {
+            positions: m.positions.clone(),
+            patches: vec![PatchId(0); faces.len()],
+            triangles: faces,
+            patch_names: vec!["all".into()],
+        };
+        let t = s.topology();
+        assert!(t.closed && t.manifold && t.orientation_consistent);
+        assert!((t.signed_volume - m.tet_volume(0)).abs() < 1e-15);
+    }
+
+    #[test]
+    fn validate_rejects_bad_indices_nan_and_length_mismatch() {
+        let mut m = tet();
+        assert!(m.validate().is_ok());
+        m.tets[0][3] = 7;
+        assert!(matches!(
+            m.validate(),
+            Err(MeshError::IndexOutOfRange { vertex: 7, .. })
+        ));
+        let mut m = tet();
+        m.positions[2].y = f64::NAN;
+        assert!(matches!(
+            m.validate(),
+            Err(MeshError::NonFinite { vertex: 2, .. })
+        ));
+        let mut m = tet();
+        m.cell_fields.push(CellField {
+            name: "q".into(),
+            values: vec![],
+        });
+        assert!(matches!(
+            m.validate(),
+            Err(MeshError::LengthMismatch { .. })
+        ));
+        assert!(TetMesh::default().validate().is_err());
+    }
+
+    #[test]
+    fn image_labels_are_x_fastest() {
+        let img = LabelledImage {
+            dims: [2, 3, 1],
+            spacing: DVec3::ONE,
+            origin: DVec3::ZERO,
+            labels: Labels::U8(vec![0, 1, 2, 3, 4, 5]),
+        };
+        assert!(img.validate().is_ok());
+        assert_eq!(img.label(1, 2, 0), Some(5));
+        assert_eq!(img.label(2, 0, 0), None);
+    }
+}

@@ -1,0 +1,218 @@
+//! Symbolic perturbation of the in-sphere predicates (simulation of simplicity).
+//!
+//! The lift `|p|²` of every point is raised by an infinitesimal `ε_p`, with `ε_p ≫ ε_q` whenever `p`
+//! comes after `q` in the lexicographic order of coordinates. The perturbed points are in general
+//! position for the lifted determinant, so "on the sphere" never happens and the Delaunay
+//! triangulation is unique and independent of the insertion order (the order is a property of the
+//! points, not of their insertion rank). Coordinates themselves are not perturbed: orientation
+//! degeneracies of finite points are real and handled by the triangulation.
+//!
+//! The 5×5 lifted determinant is linear in the lift column, so once the exact value is zero its
+//! sign is that of the cofactor of the largest infinitesimal whose cofactor is non-zero. The
+//! cofactor of a cell vertex `v` is the orientation of the cell with `v` replaced by the query
+//! point; the cofactor of the query point is minus the (positive) orientation of the cell.
+
+use super::Point2;
+use super::{Point3, Sign, insphere, orient2d, orient3d};
+use std::cmp::Ordering;
+
+/// The total order of the perturbation: lexicographic on `(x, y, z)`. Inputs are finite.
+#[inline]
+pub fn lex_cmp(a: Point3, b: Point3) -> Ordering {
+    a.x.partial_cmp(&b.x)
+        .unwrap_or(Ordering::Equal)
+        .then(a.y.partial_cmp(&b.y).unwrap_or(Ordering::Equal))
+        .then(a.z.partial_cmp(&b.z).unwrap_or(Ordering::Equal))
+}
+
+/// Indices `0..N` of `pts` sorted from the lexicographically largest point down (the order in which
+/// the perturbation's infinitesimals dominate).
+#[inline]
+fn by_decreasing_rank<const N: usize>(pts: &[Point3; N]) -> [usize; N] {
+    let mut idx = [0usize; N];
+    for (i, slot) in idx.iter_mut().enumerate() {
+        *slot = i;
+    }
+    // Insertion sort: N ≤ 5.
+    for i in 1..N {
+        let mut j = i;
+        while j > 0 && lex_cmp(pts[idx[j - 1]], pts[idx[j]]) == Ordering::Less {
+            idx.swap(j - 1, j);
+            j -= 1;
+        }
+    }
+    idx
+}
+
+/// Is `e` strictly inside the perturbed circumsphere of the positively oriented tetrahedron
+/// `cell`? Never undecided; `e` must differ from the cell's vertices.
+#[inline]
+pub fn in_sphere_perturbed(cell: [Point3; 4], e: Point3) -> bool {
+    match insphere(cell[0], cell[1], cell[2], cell[3], e) {
+        Sign::Positive => true,
+        Sign::Negative => false,
+        Sign::Zero => in_sphere_tie_break(cell, e),
+    }
+}
+
+#[cold]
+fn in_sphere_tie_break(cell: [Point3; 4], e: Point3) -> bool {
+    let pts = [cell[0], cell[1], cell[2], cell[3], e];
+    for k in by_decreasing_rank(&pts) {
+        if k == 4 {
+            // The query's own lift dominates: raising it moves it outside.
+            return false;
+        }
+        let mut t = cell;
+        t[k] = e;
+        match orient3d(t[0], t[1], t[2], t[3]) {
+            Sign::Positive => return true,
+            Sign::Negative => return false,
+            Sign::Zero => {}
+        }
+    }
+    unreachable!("the query point is one of the ranked points")
+}
+
+/// A point off the plane of the non-collinear triangle `tri`, and the sign of `orient3d(tri, q)`.
+///
+/// Moves a vertex along an axis on which the triangle's normal has an exactly non-zero component,
+/// so the returned point is exactly off the plane.
+fn off_plane_point(tri: [Point3; 3]) -> (Point3, Sign) {
+    let [a, b, c] = tri;
+    let proj = [
+        (
+            Point2::new(a.y, a.z),
+            Point2::new(b.y, b.z),
+            Point2::new(c.y, c.z),
+        ),
+        (
+            Point2::new(a.z, a.x),
+            Point2::new(b.z, b.x),
+            Point2::new(c.z, c.x),
+        ),
+        (
+            Point2::new(a.x, a.y),
+            Point2::new(b.x, b.y),
+            Point2::new(c.x, c.y),
+        ),
+    ];
+    for (axis, (pa, pb, pc)) in proj.into_iter().enumerate() {
+        if orient2d(pa, pb, pc) != Sign::Zero {
+            let mut q = a;
+            q[axis] += 1.0 + q[axis].abs();
+            let s = orient3d(a, b, c, q);
+            if s != Sign::Zero {
+                return (q, s);
+            }
+        }
+    }
+    unreachable!("a non-collinear triangle has a non-zero normal component")
+}
+
+/// For `e` coplanar with the non-collinear triangle `tri`: is `e` strictly inside the perturbed
+/// circumcircle of `tri`? The same perturbation as [`in_sphere_perturbed`], restricted to the
+/// plane (this is the conflict test of a hull facet with a point on its supporting plane).
+pub fn in_circle_coplanar_perturbed(tri: [Point3; 3], e: Point3) -> bool {
+    let (q, plane_sign) = off_plane_point(tri);
+    // Any sphere through the triangle cuts its plane along the triangle's circumcircle.
+    let s = insphere(tri[0], tri[1], tri[2], q, e);
+    if s != Sign::Zero {
+        return s == plane_sign;
+    }
+    let pts = [tri[0], tri[1], tri[2], e];
+    for k in by_decreasing_rank(&pts) {
+        if k == 3 {
+            return false;
+        }
+        let mut t = tri;
+        t[k] = e;
+        let o = orient3d(t[0], t[1], t[2], q);
+        if o != Sign::Zero {
+            return o == plane_sign;
+        }
+    }
+    unreachable!("the query point is one of the ranked points")
+}
+
+/// Is `e` in conflict with the infinite cell whose finite facet, completed by `e`, gives the
+/// orientation `orient` (positive when `e` lies strictly beyond the hull facet `tri`)?
+#[inline]
+pub fn beyond_hull_facet_perturbed(tri: [Point3; 3], orient: Sign, e: Point3) -> bool {
+    match orient {
+        Sign::Positive => true,
+        Sign::Negative => false,
+        Sign::Zero => in_circle_coplanar_perturbed(tri, e),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cube_cell() -> [Point3; 4] {
+        // Positively oriented (see predicates::orient3d).
+        let c = [
+            Point3::new(1.0, 0.0, 0.0),
+            Point3::new(0.0, 1.0, 0.0),
+            Point3::new(0.0, 0.0, 1.0),
+            Point3::new(0.0, 0.0, 0.0),
+        ];
+        assert_eq!(orient3d(c[0], c[1], c[2], c[3]), Sign::Positive);
+        c
+    }
+
+    #[test]
+    fn cospherical_points_are_decided_and_consistent() {
+        // (1,1,1) is on the sphere of the corner tetrahedron of the unit cube.
+        let cell = cube_cell();
+        let e = Point3::ONE;
+        assert_eq!(insphere(cell[0], cell[1], cell[2], cell[3], e), Sign::Zero);
+        let inside = in_sphere_perturbed(cell, e);
+        // Exactly one of the two tetrahedra sharing a facet with e's side can be Delaunay: swapping
+        // the roles of e and the vertex it would replace must give the opposite answer.
+        for k in 0..4 {
+            let mut other = cell;
+            other[k] = e;
+            if orient3d(other[0], other[1], other[2], other[3]) == Sign::Positive {
+                assert_ne!(in_sphere_perturbed(other, cell[k]), inside);
+            }
+        }
+    }
+
+    #[test]
+    fn perturbation_is_invariant_under_even_permutations_of_the_cell() {
+        let cell = cube_cell();
+        let e = Point3::ONE;
+        let rotated = [cell[1], cell[2], cell[0], cell[3]];
+        assert_eq!(
+            in_sphere_perturbed(cell, e),
+            in_sphere_perturbed(rotated, e)
+        );
+    }
+
+    #[test]
+    fn coplanar_cocircular_points_are_decided_consistently() {
+        let a = Point3::new(0.0, 0.0, 5.0);
+        let b = Point3::new(1.0, 0.0, 5.0);
+        let c = Point3::new(1.0, 1.0, 5.0);
+        let d = Point3::new(0.0, 1.0, 5.0);
+        let inside = in_circle_coplanar_perturbed([a, b, c], d);
+        assert_eq!(in_circle_coplanar_perturbed([b, c, a], d), inside);
+        assert_eq!(in_circle_coplanar_perturbed([b, a, c], d), inside);
+        // The square has two diagonals; the perturbation must make exactly one pair of triangles empty.
+        let diagonal_ac = !in_circle_coplanar_perturbed([a, b, c], d)
+            && !in_circle_coplanar_perturbed([a, c, d], b);
+        let diagonal_bd = !in_circle_coplanar_perturbed([a, b, d], c)
+            && !in_circle_coplanar_perturbed([b, c, d], a);
+        assert!(diagonal_ac != diagonal_bd);
+        assert!(in_circle_coplanar_perturbed(
+            [a, b, c],
+            Point3::new(0.5, 0.5, 5.0)
+        ));
+        assert!(!in_circle_coplanar_perturbed(
+            [a, b, c],
+            Point3::new(3.0, 0.5, 5.0)
+        ));
+    }
+}

@@ -1,0 +1,194 @@
+//! Exact-sign orientation and in-sphere predicates on double-precision points.
+//!
+//! Thin wrappers over the `robust` crate (Shewchuk's adaptive-precision predicates: a floating-point
+//! evaluation with an error bound, refined exactly only when the bound cannot decide the sign).
+
+use super::{Point2, Point3};
+use robust::{Coord, Coord3D};
+
+/// The sign of a determinant. Triangulations branch on signs only, never on magnitudes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Sign {
+    Negative,
+    Zero,
+    Positive,
+}
+
+impl Sign {
+    /// Sign of an (exactly signed) determinant value.
+    #[inline]
+    pub fn of(value: f64) -> Sign {
+        if value > 0.0 {
+            Sign::Positive
+        } else if value < 0.0 {
+            Sign::Negative
+        } else {
+            Sign::Zero
+        }
+    }
+
+    /// The opposite sign.
+    #[inline]
+    pub fn flip(self) -> Sign {
+        match self {
+            Sign::Negative => Sign::Positive,
+            Sign::Zero => Sign::Zero,
+            Sign::Positive => Sign::Negative,
+        }
+    }
+}
+
+#[inline]
+fn c2(p: Point2) -> Coord<f64> {
+    Coord { x: p.x, y: p.y }
+}
+
+#[inline]
+fn c3(p: Point3) -> Coord3D<f64> {
+    Coord3D {
+        x: p.x,
+        y: p.y,
+        z: p.z,
+    }
+}
+
+/// Positive when `a, b, c` turn counter-clockwise.
+#[inline]
+pub fn orient2d(a: Point2, b: Point2, c: Point2) -> Sign {
+    Sign::of(robust::orient2d(c2(a), c2(b), c2(c)))
+}
+
+/// Positive when `d` lies below the plane through `a, b, c`, seen counter-clockwise from above
+/// (Shewchuk's convention: the sign of `det[a-d; b-d; c-d]`). A tetrahedron `(a, b, c, d)` is
+/// *positively oriented* when this is positive; every finite cell of `Delaunay3` is.
+#[inline]
+pub fn orient3d(a: Point3, b: Point3, c: Point3, d: Point3) -> Sign {
+    let (ad, bd, cd) = (a - d, b - d, c - d);
+    let det = ad.x * (bd.y * cd.z - bd.z * cd.y) - ad.y * (bd.x * cd.z - bd.z * cd.x)
+        + ad.z * (bd.x * cd.y - bd.y * cd.x);
+    let m = ad.abs().max(bd.abs()).max(cd.abs());
+    // Semi-static filter: each of the six products of three differences is at most
+    // m.x * m.y * m.z and is evaluated with a handful of roundings, so the floating-point error
+    // stays below ~5e-15 of that product; 1e-14 leaves a margin. The range guard keeps the bound
+    // itself free of underflow.
+    let bound = 1e-14 * m.x * m.y * m.z;
+    if det.abs() > bound && m.min_element() > 1e-90 {
+        return Sign::of(det);
+    }
+    orient3d_exact(a, b, c, d)
+}
+
+#[cold]
+fn orient3d_exact(a: Point3, b: Point3, c: Point3, d: Point3) -> Sign {
+    Sign::of(robust::orient3d(c3(a), c3(b), c3(c), c3(d)))
+}
+
+/// Positive when `d` lies inside the circle through `a, b, c`, given `orient2d(a, b, c)` positive
+/// (the sign is reversed for a negatively oriented triangle).
+#[inline]
+pub fn incircle(a: Point2, b: Point2, c: Point2, d: Point2) -> Sign {
+    Sign::of(robust::incircle(c2(a), c2(b), c2(c), c2(d)))
+}
+
+/// Positive when `e` lies inside the sphere through `a, b, c, d`, given `orient3d(a, b, c, d)`
+/// positive (the sign is reversed for a negatively oriented tetrahedron).
+#[inline]
+pub fn insphere(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> Sign {
+    let (ae, be, ce, de) = (a - e, b - e, c - e, d - e);
+    let (la, lb, lc, ld) = (
+        ae.length_squared(),
+        be.length_squared(),
+        ce.length_squared(),
+        de.length_squared(),
+    );
+    // 4×4 determinant [x y z lift] of the translated rows, expanded along 2×2 minors.
+    let ab = ae.x * be.y - be.x * ae.y;
+    let bc = be.x * ce.y - ce.x * be.y;
+    let cd = ce.x * de.y - de.x * ce.y;
+    let da = de.x * ae.y - ae.x * de.y;
+    let ac = ae.x * ce.y - ce.x * ae.y;
+    let bd = be.x * de.y - de.x * be.y;
+    let abc = ae.z * bc - be.z * ac + ce.z * ab;
+    let bcd = be.z * cd - ce.z * bd + de.z * bc;
+    let cda = ce.z * da + de.z * ac + ae.z * cd;
+    let dab = de.z * ab + ae.z * bd + be.z * da;
+    let det = (ld * abc - lc * dab) + (lb * cda - la * bcd);
+    let m = ae.abs().max(be.abs()).max(ce.abs()).max(de.abs());
+    let mm = m.max_element();
+    // Semi-static filter: the 24 products x * y * z * lift are each at most m.x * m.y * m.z *
+    // 3 mm², computed with about ten roundings: the error stays below ~1e-13 of m.x m.y m.z mm²;
+    // 1e-12 leaves a margin. The range guard keeps the bound free of underflow.
+    let bound = 1e-12 * m.x * m.y * m.z * mm * mm;
+    if det.abs() > bound && m.min_element() > 1e-55 {
+        return Sign::of(det);
+    }
+    insphere_exact(a, b, c, d, e)
+}
+
+#[cold]
+fn insphere_exact(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> Sign {
+    Sign::of(robust::insphere(c3(a), c3(b), c3(c), c3(d), c3(e)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn orientation_convention_of_the_unit_tetrahedron() {
+        let o = Point3::ZERO;
+        let (x, y, z) = (Point3::X, Point3::Y, Point3::Z);
+        assert_eq!(orient3d(x, y, z, o), Sign::Positive);
+        assert_eq!(orient3d(y, x, z, o), Sign::Negative);
+        assert_eq!(orient3d(x, y, z, Point3::new(0.25, 0.25, 0.5)), Sign::Zero);
+        assert_eq!(insphere(x, y, z, o, Point3::splat(0.25)), Sign::Positive);
+        assert_eq!(insphere(x, y, z, o, Point3::splat(2.0)), Sign::Negative);
+        assert_eq!(insphere(x, y, z, o, Point3::ONE), Sign::Zero);
+    }
+
+    #[test]
+    fn orientation_is_exact_one_ulp_off_a_plane() {
+        // d is exactly on the plane x + y + z = 1; one ulp up or down must be seen on either side,
+        // which a plain floating-point evaluation of the determinant does not guarantee.
+        let a = Point3::new(1.0, 0.0, 0.0);
+        let b = Point3::new(0.0, 1.0, 0.0);
+        let c = Point3::new(0.0, 0.0, 1.0);
+        let z = 0.375f64;
+        let d = Point3::new(0.3125, 0.3125, z);
+        let up = Point3::new(d.x, d.y, f64::from_bits(z.to_bits() + 1));
+        let down = Point3::new(d.x, d.y, f64::from_bits(z.to_bits() - 1));
+        assert_eq!(orient3d(a, b, c, d), Sign::Zero);
+        let s_up = orient3d(a, b, c, up);
+        assert_ne!(s_up, Sign::Zero);
+        assert_eq!(orient3d(a, b, c, down), s_up.flip());
+        // Permutations flip or keep the sign consistently.
+        assert_eq!(orient3d(b, a, c, up), s_up.flip());
+        assert_eq!(orient3d(b, c, a, up), s_up);
+    }
+
+    #[test]
+    fn filtered_predicates_agree_with_the_adaptive_ones() {
+        // Small integer coordinates make many exact degeneracies; one-ulp nudges make near ones.
+        let mut state = 0x1234_5678_9abc_def0u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        for _ in 0..20000 {
+            let mut p = [Point3::ZERO; 5];
+            for q in &mut p {
+                let r = next();
+                *q = Point3::new((r % 3) as f64, (r >> 8 & 3) as f64, (r >> 16 & 3) as f64) * 0.1
+                    + Point3::splat(1e6);
+                if r >> 40 & 1 == 1 {
+                    q.y = f64::from_bits(q.y.to_bits() + (r >> 50 & 3));
+                }
+            }
+            let [a, b, c, d, e] = p;
+            assert_eq!(orient3d(a, b, c, d), orient3d_exact(a, b, c, d));
+            assert_eq!(insphere(a, b, c, d, e), insphere_exact(a, b, c, d, e));
+        }
+    }
+}

@@ -1,0 +1,186 @@
+//! Insertion order for bulk construction: BRIO rounds, each sorted along a Hilbert curve.
+//!
+//! Consecutive points of a Hilbert order are close, so the location walk from the previously created
+//! cell is short; the random rounds (Amenta–Choi–Rote's Biased Randomized Insertion Order) keep the
+//! expected cavity sizes of a random order, which a purely sorted order would lose.
+
+use crate::kernel::Point3;
+use crate::kernel::perturbation::lex_cmp;
+
+/// Bits per axis of the Hilbert grid (3 × 21 = 63-bit keys).
+const BITS: u32 = 21;
+/// Fraction of points kept for the earlier (coarser) rounds at each level.
+const ROUND_RATIO: f64 = 0.125;
+/// Below this size a round is not split further.
+const MIN_ROUND: usize = 64;
+
+/// A seeded permutation source (SplitMix64): deterministic across runs and platforms.
+struct SplitMix(u64);
+
+impl SplitMix {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    fn below(&mut self, n: usize) -> usize {
+        (((self.next() >> 32) * n as u64) >> 32) as usize
+    }
+}
+
+/// Position along the 3D Hilbert curve of a grid cell (Skilling's transpose algorithm).
+fn hilbert_key(mut x: [u32; 3]) -> u64 {
+    let m = 1u32 << (BITS - 1);
+    // Inverse undo of the curve's reflections and exchanges.
+    let mut q = m;
+    while q > 1 {
+        let p = q - 1;
+        for i in 0..3 {
+            // Branch-free form of: if bit q of x[i] is set, invert the low bits of x[0];
+            // otherwise exchange the low bits of x[0] and x[i].
+            let set = ((x[i] & q) != 0) as u32;
+            let invert = p & set.wrapping_neg();
+            let t = (x[0] ^ x[i]) & p & !invert;
+            x[0] ^= t ^ invert;
+            x[i] ^= t;
+        }
+        q >>= 1;
+    }
+    // Gray encode.
+    x[1] ^= x[0];
+    x[2] ^= x[1];
+    let mut t = 0;
+    let mut q = m;
+    while q > 1 {
+        if x[2] & q != 0 {
+            t ^= q - 1;
+        }
+        q >>= 1;
+    }
+    for xi in &mut x {
+        *xi ^= t;
+    }
+    // Interleave the transposed bits, most significant first.
+    let mut key = 0u64;
+    for b in (0..BITS).rev() {
+        for xi in x {
+            key = (key << 1) | u64::from((xi >> b) & 1);
+        }
+    }
+    key
+}
+
+/// The Hilbert grid over the bounding box of a point set.
+struct HilbertGrid {
+    lo: Point3,
+    scale: Point3,
+}
+
+impl HilbertGrid {
+    fn new(points: &[Point3]) -> Self {
+        let (mut lo, mut hi) = (
+            Point3::splat(f64::INFINITY),
+            Point3::splat(f64::NEG_INFINITY),
+        );
+        for p in points {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        let extent = (hi - lo).max(Point3::splat(f64::MIN_POSITIVE));
+        HilbertGrid {
+            lo,
+            scale: Point3::splat(f64::from((1u32 << BITS) - 1)) / extent,
+        }
+    }
+
+    fn key(&self, p: Point3) -> u64 {
+        let max = f64::from((1u32 << BITS) - 1);
+        let g = ((p - self.lo) * self.scale).clamp(Point3::ZERO, Point3::splat(max));
+        hilbert_key([g.x as u32, g.y as u32, g.z as u32])
+    }
+}
+
+/// Indices of `points` in Hilbert-curve order. Ties (points in one grid cell) are broken by the
+/// lexicographic order of coordinates, then by index, so equal points end up adjacent.
+pub fn hilbert_order(points: &[Point3]) -> Vec<u32> {
+    let grid = HilbertGrid::new(points);
+    let mut keyed: Vec<(u64, u32)> = points
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| (grid.key(p), i as u32))
+        .collect();
+    keyed.sort_unstable_by(|a, b| {
+        a.0.cmp(&b.0)
+            .then_with(|| lex_cmp(points[a.1 as usize], points[b.1 as usize]))
+            .then(a.1.cmp(&b.1))
+    });
+    keyed.into_iter().map(|(_, i)| i).collect()
+}
+
+/// Reorders `ranks` — positions along a space-filling curve — into a BRIO order: a seeded shuffle
+/// split into rounds of geometrically growing size, each round sorted back along the curve.
+pub fn brio_rounds(ranks: &mut [u32], seed: u64) {
+    let n = ranks.len();
+    let mut rng = SplitMix(seed);
+    for i in (1..n).rev() {
+        ranks.swap(i, rng.below(i + 1));
+    }
+    let mut end = n;
+    while end > 0 {
+        let start = if end <= MIN_ROUND {
+            0
+        } else {
+            (end as f64 * ROUND_RATIO) as usize
+        };
+        ranks[start..end].sort_unstable();
+        end = start;
+    }
+}
+
+/// A BRIO insertion order of `points` (indices into it), each round in Hilbert order.
+/// Points must be finite.
+pub fn brio_order(points: &[Point3], seed: u64) -> Vec<u32> {
+    let curve = hilbert_order(points);
+    let mut ranks: Vec<u32> = (0..points.len() as u32).collect();
+    brio_rounds(&mut ranks, seed);
+    ranks.into_iter().map(|r| curve[r as usize]).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hilbert_keys_of_a_small_grid_are_a_path_of_unit_steps() {
+        // Along the curve, consecutive cells of the grid are face neighbours.
+        let side = 1u32 << BITS;
+        let step = side / 8;
+        let mut cells = Vec::new();
+        for x in 0..8 {
+            for y in 0..8 {
+                for z in 0..8 {
+                    let k = hilbert_key([x * step, y * step, z * step]);
+                    cells.push((k, [x as i32, y as i32, z as i32]));
+                }
+            }
+        }
+        cells.sort_unstable();
+        for w in cells.windows(2) {
+            let d: i32 = (0..3).map(|i| (w[0].1[i] - w[1].1[i]).abs()).sum();
+            assert_eq!(d, 1, "{:?} -> {:?}", w[0].1, w[1].1);
+        }
+    }
+
+    #[test]
+    fn brio_order_is_a_permutation() {
+        let pts: Vec<Point3> = (0..1000)
+            .map(|i| Point3::new((i % 10) as f64, (i / 10 % 10) as f64, (i / 100) as f64))
+            .collect();
+        let mut order = brio_order(&pts, 7);
+        order.sort_unstable();
+        assert!(order.iter().enumerate().all(|(i, &j)| i as u32 == j));
+    }
+}

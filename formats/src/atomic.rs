@@ -1,0 +1,33 @@
+//! Atomic writes: a temp file in the destination's directory, renamed over the destination only once
+//! fully written, so an existing file is never half-overwritten and a failed write leaves nothing.
+
+use crate::error::Problem;
+use std::io::{BufWriter, Write};
+use std::path::Path;
+
+pub(crate) fn write_atomic(
+    path: &Path,
+    body: impl FnOnce(&mut dyn Write) -> Result<(), Problem>,
+) -> Result<(), Problem> {
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    if path.is_dir() {
+        return Err(Problem::Unsupported("is a directory".into()));
+    }
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".delamesh-").suffix(".tmp");
+    // tempfile creates private (0600) files; a mesh is an ordinary document (0666 less the umask).
+    #[cfg(unix)]
+    builder.permissions(std::os::unix::fs::PermissionsExt::from_mode(0o666));
+    let mut tmp = builder.tempfile_in(dir)?;
+    {
+        let mut w = BufWriter::new(tmp.as_file_mut());
+        body(&mut w)?;
+        w.flush()?;
+    }
+    tmp.as_file().sync_all()?;
+    tmp.persist(path).map_err(|e| Problem::Io(e.error))?;
+    Ok(())
+}

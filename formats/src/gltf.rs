@@ -1,0 +1,290 @@
+//! glTF 2.0 (`.gltf` with data-URI or external buffers, and `.glb`) through the `gltf` crate: walks the
+//! default scene applying every node's transform; each primitive instance becomes a patch; TRIANGLES,
+//! TRIANGLE_STRIP and TRIANGLE_FAN, indexed (u8/u16/u32) or not. Other modes are skipped with a
+//! warning. Vertices are per primitive, so the caller welds them.
+
+use crate::error::Problem;
+use base64::Engine;
+use delamesh_core::mesh::{PatchId, SurfaceMesh};
+use glam::{DMat4, DVec3};
+use gltf::accessor::{DataType, Dimensions};
+use gltf::mesh::Mode;
+use gltf::{Accessor, Node, Semantic};
+use std::borrow::Cow;
+use std::path::Path;
+
+pub(crate) fn read(
+    bytes: &[u8],
+    dir: Option<&Path>,
+) -> Result<(SurfaceMesh, Vec<String>), Problem> {
+    let gltf = gltf::Gltf::from_slice(bytes)
+        .map_err(|e| Problem::bad(format!("not a readable glTF file: {e}")))?;
+    let mut buffers: Vec<Cow<[u8]>> = Vec::new();
+    for buffer in gltf.buffers() {
+        let data = match buffer.source() {
+            gltf::buffer::Source::Bin => Cow::Borrowed(gltf.blob.as_deref().ok_or_else(|| {
+                Problem::bad("buffer 0 refers to the GLB binary chunk, which is missing")
+            })?),
+            gltf::buffer::Source::Uri(uri) => Cow::Owned(load_uri(uri, dir)?),
+        };
+        if data.len() < buffer.length() {
+            return Err(Problem::bad(format!(
+                "buffer {} declares {} bytes but holds {}",
+                buffer.index(),
+                buffer.length(),
+                data.len()
+            )));
+        }
+        buffers.push(data);
+    }
+
+    // The default scene, else the first; a file without scenes shows every root node.
+    let scene = gltf.default_scene().or_else(|| gltf.scenes().next());
+    let roots: Vec<Node> = match &scene {
+        Some(s) => s.nodes().collect(),
+        None => {
+            let children: Vec<usize> = gltf
+                .nodes()
+                .flat_map(|n| n.children().map(|c| c.index()))
+                .collect();
+            gltf.nodes()
+                .filter(|n| !children.contains(&n.index()))
+                .collect()
+        }
+    };
+    let mut out = Reader {
+        buffers: &buffers,
+        mesh: SurfaceMesh::default(),
+        warnings: Vec::new(),
+    };
+    let max_depth = gltf.nodes().len();
+    let mut stack: Vec<(Node, DMat4, usize)> = roots
+        .into_iter()
+        .rev()
+        .map(|n| (n, DMat4::IDENTITY, 0))
+        .collect();
+    while let Some((node, parent, depth)) = stack.pop() {
+        if depth > max_depth {
+            return Err(Problem::bad("the node hierarchy has a cycle"));
+        }
+        let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
+        let world = parent * local;
+        if let Some(mesh) = node.mesh() {
+            let multi = mesh.primitives().len() > 1;
+            let base = mesh
+                .name()
+                .or(node.name())
+                .map_or_else(|| format!("mesh {}", mesh.index()), str::to_owned);
+            for prim in mesh.primitives() {
+                let name = if multi {
+                    format!("{base}/{}", prim.index())
+                } else {
+                    base.clone()
+                };
+                out.primitive(&prim, &world, name)?;
+            }
+        }
+        let children: Vec<Node> = node.children().collect();
+        stack.extend(children.into_iter().rev().map(|c| (c, world, depth + 1)));
+    }
+    Ok((out.mesh, out.warnings))
+}
+
+/// A buffer's bytes: a base64 data URI, or a file next to the glTF.
+fn load_uri(uri: &str, dir: Option<&Path>) -> Result<Vec<u8>, Problem> {
+    if let Some(rest) = uri.strip_prefix("data:") {
+        let (_, data) = rest
+            .split_once(";base64,")
+            .ok_or_else(|| Problem::Unsupported("data URIs must be base64-encoded".into()))?;
+        return base64::engine::general_purpose::STANDARD
+            .decode(data)
+            .map_err(|e| Problem::bad(format!("bad base64 in a data URI: {e}")));
+    }
+    if uri.contains("://") || uri.starts_with('/') {
+        return Err(Problem::Unsupported(format!(
+            "buffer URI {uri:?}: only relative file names are supported"
+        )));
+    }
+    let dir = dir.ok_or_else(|| {
+        Problem::Unsupported(format!(
+            "external buffer {uri:?} cannot be resolved without a file location"
+        ))
+    })?;
+    let path = dir.join(percent_decode(uri));
+    std::fs::read(&path)
+        .map_err(|e| Problem::bad(format!("external buffer {}: {e}", path.display())))
+}
+
+/// URIs escape spaces and other bytes as `%XX`.
+fn percent_decode(s: &str) -> String {
+    let b = s.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        let hex = b
+            .get(i + 1..i + 3)
+            .and_then(|h| std::str::from_utf8(h).ok())
+            .and_then(|h| u8::from_str_radix(h, 16).ok());
+        match (b[i], hex) {
+            (b'%', Some(x)) => {
+                out.push(x);
+                i += 3;
+            }
+            (c, _) => {
+                out.push(c);
+                i += 1;
+            }
+        }
+    }
+    String::from_utf8_lossy(&out).into_owned()
+}
+
+struct Reader<'b> {
+    buffers: &'b [Cow<'b, [u8]>],
+    mesh: SurfaceMesh,
+    warnings: Vec<String>,
+}
+
+impl Reader<'_> {
+    /// Checks what the gltf crate's accessor iterators assume (its debug assertions and unchecked
+    /// arithmetic would otherwise panic on a malformed file).
+    fn check(
+        &self,
+        a: &Accessor,
+        what: &str,
+        types: &[DataType],
+        dims: Dimensions,
+    ) -> Result<(), Problem> {
+        let name = format!("{what} accessor {}", a.index());
+        if !types.contains(&a.data_type()) || a.dimensions() != dims {
+            return Err(Problem::bad(format!(
+                "{name} has type {:?} {:?}",
+                a.data_type(),
+                a.dimensions()
+            )));
+        }
+        if a.sparse().is_some() {
+            return Err(Problem::Unsupported(format!("{name} is sparse")));
+        }
+        let view = a
+            .view()
+            .ok_or_else(|| Problem::Unsupported(format!("{name} has no buffer view")))?;
+        if a.count() == 0 {
+            return Err(Problem::bad(format!("{name} is empty")));
+        }
+        let elem = a.size();
+        let stride = view.stride().unwrap_or(elem);
+        let end = stride
+            .checked_mul(a.count() - 1)
+            .and_then(|x| x.checked_add(elem))
+            .and_then(|x| x.checked_add(a.offset()));
+        if stride < elem || end.is_none_or(|e| e > view.length()) {
+            return Err(Problem::bad(format!("{name} runs past its buffer view")));
+        }
+        let buffer_len = self
+            .buffers
+            .get(view.buffer().index())
+            .map_or(0, |b| b.len());
+        if view
+            .offset()
+            .checked_add(view.length())
+            .is_none_or(|e| e > buffer_len)
+        {
+            return Err(Problem::bad(format!(
+                "buffer view {} runs past its buffer",
+                view.index()
+            )));
+        }
+        Ok(())
+    }
+
+    fn primitive(
+        &mut self,
+        prim: &gltf::Primitive,
+        world: &DMat4,
+        name: String,
+    ) -> Result<(), Problem> {
+        let mode = prim.mode();
+        if !matches!(
+            mode,
+            Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+        ) {
+            self.warnings
+                .push(format!("skipped primitive {name:?} of mode {mode:?}"));
+            return Ok(());
+        }
+        let positions = prim
+            .get(&Semantic::Positions)
+            .ok_or_else(|| Problem::bad(format!("primitive {name:?} has no POSITION")))?;
+        self.check(&positions, "POSITION", &[DataType::F32], Dimensions::Vec3)?;
+        if let Some(ind) = prim.indices() {
+            self.check(
+                &ind,
+                "index",
+                &[DataType::U8, DataType::U16, DataType::U32],
+                Dimensions::Scalar,
+            )?;
+        }
+        let buffers = self.buffers;
+        let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
+        let points: Vec<DVec3> = reader
+            .read_positions()
+            .ok_or_else(|| Problem::bad(format!("primitive {name:?}: unreadable positions")))?
+            .map(|p| world.transform_point3(DVec3::new(p[0].into(), p[1].into(), p[2].into())))
+            .collect();
+        if let Some(bad) = points.iter().find(|p| !p.is_finite()) {
+            return Err(Problem::bad(format!(
+                "primitive {name:?} has a non-finite vertex {bad}"
+            )));
+        }
+        let n = points.len() as u32;
+        let indices: Vec<u32> = match reader.read_indices() {
+            Some(ind) => ind.into_u32().collect(),
+            None => (0..n).collect(),
+        };
+        if let Some(bad) = indices.iter().find(|&&i| i >= n) {
+            return Err(Problem::bad(format!(
+                "primitive {name:?}: index {bad} out of range (only {n} vertices)"
+            )));
+        }
+        let k = indices.len();
+        let mut tris: Vec<[u32; 3]> = match mode {
+            Mode::Triangles => {
+                if k % 3 != 0 {
+                    self.warnings.push(format!(
+                        "primitive {name:?}: {k} indices is not a multiple of 3"
+                    ));
+                }
+                indices
+                    .chunks_exact(3)
+                    .map(|t| [t[0], t[1], t[2]])
+                    .collect()
+            }
+            // Every other strip triangle is reversed to keep one orientation; the degenerate
+            // triangles that join strips are dropped.
+            Mode::TriangleStrip => (0..k.saturating_sub(2))
+                .map(|i| {
+                    let (a, b, c) = (indices[i], indices[i + 1], indices[i + 2]);
+                    if i % 2 == 0 { [a, b, c] } else { [b, a, c] }
+                })
+                .filter(|t| t[0] != t[1] && t[1] != t[2] && t[0] != t[2])
+                .collect(),
+            _ => (1..k.saturating_sub(1))
+                .map(|i| [indices[0], indices[i], indices[i + 1]])
+                .collect(),
+        };
+        // A mirroring transform turns counter-clockwise triangles clockwise.
+        if world.determinant() < 0.0 {
+            tris.iter_mut().for_each(|t| t.swap(1, 2));
+        }
+        let m = &mut self.mesh;
+        let base = m.positions.len() as u32;
+        let patch = PatchId(m.patch_names.len() as u32);
+        m.patch_names.push(name);
+        m.positions.extend(points);
+        m.patches.extend(std::iter::repeat_n(patch, tris.len()));
+        m.triangles
+            .extend(tris.into_iter().map(|t| t.map(|v| v + base)));
+        Ok(())
+    }
+}

@@ -1,0 +1,429 @@
+//! VTK legacy (`.vtk`) and XML (`.vtu`, `.vtp`) readers through `vtkio`: unstructured grids and poly
+//! data; tetrahedra, triangles (polygons and strips triangulated), lines as feature edges, with the
+//! cell data `subdomain`, `patch`, `curve` and any other one-component cell array on tets.
+
+use crate::error::Problem;
+use crate::{AnyMesh, Format};
+use delamesh_core::mesh::{CellField, CurveId, PatchId, SubdomainId, TetMesh};
+use glam::DVec3;
+use vtkio::model::{Attribute, CellType, DataSet, IOBuffer, Piece, VertexNumbers};
+
+pub(crate) fn read(bytes: &[u8], format: Format) -> Result<(AnyMesh, Vec<String>), Problem> {
+    let reencoded = match format {
+        Format::Vtk => spell_nan_for_vtkio(bytes),
+        _ => raw_appended_to_base64(bytes)?,
+    };
+    let bytes = reencoded.as_deref().unwrap_or(bytes);
+    // vtkio 0.7.0-rc2 indexes some buffers without bounds checks: contain its panics so that a
+    // malformed file is an error like any other.
+    let parsed = std::panic::catch_unwind(|| match format {
+        Format::Vtk => vtkio::Vtk::parse_legacy_be(bytes),
+        _ => vtkio::Vtk::parse_xml(bytes),
+    })
+    .map_err(|_| Problem::bad("malformed VTK file (the vtkio parser gave up)"))?;
+    let vtk = parsed.map_err(|e| Problem::bad(format!("not a readable VTK file: {e}")))?;
+    let mut b = Builder::default();
+    let poly = matches!(vtk.data, DataSet::PolyData { .. });
+    match vtk.data {
+        DataSet::UnstructuredGrid { pieces, .. } => {
+            for piece in pieces {
+                let p = inline(piece)?;
+                let cells = cell_list(p.cells.cell_verts)?;
+                let types: Vec<u8> = p.cells.types.iter().map(|&t| t as u8).collect();
+                if types.len() != cells.len() {
+                    return Err(Problem::bad(format!(
+                        "{} cell types for {} cells",
+                        types.len(),
+                        cells.len()
+                    )));
+                }
+                b.piece(&p.points, cells.iter().zip(types), &p.data.cell)?;
+            }
+        }
+        DataSet::PolyData { pieces, .. } => {
+            for piece in pieces {
+                let p = inline(piece)?;
+                // VTK numbers poly data cells verts, then lines, then polys, then strips.
+                let mut all = Vec::new();
+                for (topo, ty) in [
+                    (p.verts, CellType::Vertex),
+                    (p.lines, CellType::PolyLine),
+                    (p.polys, CellType::Polygon),
+                    (p.strips, CellType::TriangleStrip),
+                ] {
+                    if let Some(t) = topo {
+                        all.extend(cell_list(t)?.into_iter().map(|c| (c, ty as u8)));
+                    }
+                }
+                b.piece(&p.points, all.iter().map(|(c, t)| (c, *t)), &p.data.cell)?;
+            }
+        }
+        _ => {
+            return Err(Problem::Unsupported(
+                "only UnstructuredGrid and PolyData VTK data sets hold meshes".into(),
+            ));
+        }
+    }
+    let Builder {
+        mesh,
+        mut warnings,
+        skipped,
+    } = b;
+    for (ty, n) in skipped {
+        warnings.push(format!("skipped {n} cells of VTK type {ty}"));
+    }
+    if poly || (mesh.tets.is_empty() && format == Format::Vtp) {
+        let mut s = mesh.boundary_surface();
+        if mesh.boundary_patches.iter().all(|p| p.0 == 0) {
+            s.patch_names = vec!["surface".into()];
+        }
+        Ok((AnyMesh::Surface(s), warnings))
+    } else {
+        Ok((AnyMesh::Volume(mesh), warnings))
+    }
+}
+
+/// vtkio's ASCII number parser rejects `nan`, which VTK writes (and we write for the cells a per-tet
+/// field does not apply to): spell it as a number that overflows to infinity. `None` if no `nan`.
+fn spell_nan_for_vtkio(bytes: &[u8]) -> Option<Vec<u8>> {
+    let ascii = bytes
+        .split(|&b| b == b'\n')
+        .nth(2)
+        .is_some_and(|l| l.trim_ascii().eq_ignore_ascii_case(b"ASCII"));
+    if !ascii {
+        return None;
+    }
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut changed = false;
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i].is_ascii_whitespace() {
+            out.push(bytes[i]);
+            i += 1;
+            continue;
+        }
+        let end = bytes[i..]
+            .iter()
+            .position(u8::is_ascii_whitespace)
+            .map_or(bytes.len(), |k| i + k);
+        let word = &bytes[i..end];
+        if word.eq_ignore_ascii_case(b"nan") {
+            out.extend_from_slice(b"1e999");
+            changed = true;
+        } else {
+            out.extend_from_slice(word);
+        }
+        i = end;
+    }
+    changed.then_some(out)
+}
+
+/// vtkio reads appended data only base64-encoded, while VTK and ParaView (and our writer) default to
+/// raw bytes: re-encode each raw block as base64 and rewrite the offsets. `None` when there is no raw
+/// appended data.
+fn raw_appended_to_base64(bytes: &[u8]) -> Result<Option<Vec<u8>>, Problem> {
+    use base64::Engine;
+    let find = |hay: &[u8], needle: &[u8]| hay.windows(needle.len()).position(|w| w == needle);
+    let Some(tag) = find(bytes, b"<AppendedData") else {
+        return Ok(None);
+    };
+    let tag_len = find(&bytes[tag..], b">")
+        .ok_or_else(|| Problem::at_byte(tag as u64, "unterminated AppendedData tag"))?;
+    if find(&bytes[tag..tag + tag_len], b"\"raw\"").is_none() {
+        return Ok(None);
+    }
+    let head = &bytes[..tag];
+    if find(head, b"compressor=").is_some() {
+        return Err(Problem::Unsupported(
+            "compressed raw appended data is not supported; save as base64 or uncompressed".into(),
+        ));
+    }
+    let underscore = find(&bytes[tag + tag_len..], b"_")
+        .map(|i| tag + tag_len + i)
+        .ok_or_else(|| Problem::at_byte(tag as u64, "AppendedData without the '_' marker"))?;
+    let start = underscore + 1;
+    let end = bytes[start..]
+        .windows(b"</AppendedData>".len())
+        .rposition(|w| w == b"</AppendedData>")
+        .map(|i| start + i)
+        .ok_or_else(|| {
+            Problem::at_byte(bytes.len() as u64, "truncated file: no </AppendedData>")
+        })?;
+    let raw = &bytes[start..end];
+
+    // Offsets of the DataArrays, in file order.
+    let mut marks = Vec::new();
+    let mut at = 0;
+    while let Some(i) = find(&head[at..], b" offset=\"") {
+        let value_start = at + i + b" offset=\"".len();
+        let len = find(&head[value_start..], b"\"")
+            .ok_or_else(|| Problem::at_byte(value_start as u64, "unterminated offset attribute"))?;
+        let value = std::str::from_utf8(&head[value_start..value_start + len])
+            .ok()
+            .and_then(|v| v.trim().parse::<usize>().ok());
+        let value = value.filter(|&v| v <= raw.len()).ok_or_else(|| {
+            Problem::at_byte(
+                value_start as u64,
+                format!("offset outside the {} bytes of appended data", raw.len()),
+            )
+        })?;
+        marks.push((value_start, value_start + len, value));
+        at = value_start + len;
+    }
+    let mut blocks: Vec<usize> = marks.iter().map(|m| m.2).collect();
+    blocks.sort_unstable();
+    blocks.dedup();
+    let mut encoded = Vec::with_capacity(raw.len() * 4 / 3 + 8);
+    let mut new_offset = std::collections::BTreeMap::new();
+    for (k, &b) in blocks.iter().enumerate() {
+        let block_end = blocks.get(k + 1).copied().unwrap_or(raw.len());
+        new_offset.insert(b, encoded.len());
+        encoded.extend(
+            base64::engine::general_purpose::STANDARD
+                .encode(&raw[b..block_end])
+                .bytes(),
+        );
+    }
+    let mut out = Vec::with_capacity(bytes.len() * 4 / 3 + 64);
+    let mut copied = 0;
+    for (s, e, v) in marks {
+        out.extend_from_slice(&head[copied..s]);
+        out.extend(new_offset.get(&v).copied().unwrap_or(0).to_string().bytes());
+        copied = e;
+    }
+    out.extend_from_slice(&head[copied..]);
+    out.extend_from_slice(b"<AppendedData encoding=\"base64\">_");
+    out.extend_from_slice(&encoded);
+    out.extend_from_slice(&bytes[end..]);
+    Ok(Some(out))
+}
+
+fn inline<P>(piece: Piece<P>) -> Result<P, Problem> {
+    match piece {
+        Piece::Inline(p) => Ok(*p),
+        _ => Err(Problem::Unsupported(
+            "pieces stored in other files are not supported".into(),
+        )),
+    }
+}
+
+/// Cells as vertex lists, checking the counts and offsets that vtkio leaves unchecked.
+fn cell_list(v: VertexNumbers) -> Result<Vec<Vec<u64>>, Problem> {
+    let mut cells = Vec::new();
+    match v {
+        VertexNumbers::Legacy {
+            num_cells,
+            vertices,
+        } => {
+            let mut rest = vertices.as_slice();
+            while let Some((&n, tail)) = rest.split_first() {
+                let n = n as usize;
+                let verts = tail.get(..n).ok_or_else(|| {
+                    Problem::bad(format!(
+                        "cell {} has {n} vertices but the cell list ends first",
+                        cells.len()
+                    ))
+                })?;
+                cells.push(verts.iter().map(|&x| u64::from(x)).collect());
+                rest = &tail[n..];
+            }
+            if cells.len() != num_cells as usize {
+                return Err(Problem::bad(format!(
+                    "the CELLS header announces {num_cells} cells, the list holds {}",
+                    cells.len()
+                )));
+            }
+        }
+        VertexNumbers::XML {
+            connectivity,
+            offsets,
+        } => {
+            let mut start = 0usize;
+            for &end in &offsets {
+                let end = usize::try_from(end).unwrap_or(usize::MAX);
+                let verts = connectivity.get(start..end).ok_or_else(|| {
+                    Problem::bad(format!(
+                        "cell {} has offset {end} outside the connectivity array",
+                        cells.len()
+                    ))
+                })?;
+                cells.push(verts.to_vec());
+                start = end;
+            }
+        }
+    }
+    Ok(cells)
+}
+
+/// Where a file cell went in the mesh, to distribute cell data.
+#[derive(Clone, Copy)]
+enum Slot {
+    Tet(usize),
+    Triangles(usize, usize),
+    Edges(usize, usize),
+    Skipped,
+}
+
+#[derive(Default)]
+struct Builder {
+    mesh: TetMesh,
+    warnings: Vec<String>,
+    /// Skipped cells per VTK type, sorted so warnings come out in a fixed order.
+    skipped: std::collections::BTreeMap<u8, usize>,
+}
+
+impl Builder {
+    fn piece<'a>(
+        &mut self,
+        points: &IOBuffer,
+        cells: impl Iterator<Item = (&'a Vec<u64>, u8)>,
+        cell_data: &[Attribute],
+    ) -> Result<(), Problem> {
+        let coords: Vec<f64> = points
+            .cast_into()
+            .ok_or_else(|| Problem::bad("points are not numbers"))?;
+        if coords.len() % 3 != 0 {
+            return Err(Problem::bad(format!(
+                "{} point coordinates is not a multiple of 3",
+                coords.len()
+            )));
+        }
+        let base = self.mesh.positions.len();
+        let n = coords.len() / 3;
+        self.mesh
+            .positions
+            .extend(coords.chunks_exact(3).map(|c| DVec3::new(c[0], c[1], c[2])));
+        let index = |cell: usize, v: u64| -> Result<u32, Problem> {
+            if v >= n as u64 {
+                return Err(Problem::bad(format!(
+                    "cell {cell} refers to point {v}, there are {n} points"
+                )));
+            }
+            u32::try_from(base as u64 + v)
+                .map_err(|_| Problem::Unsupported("more than 2^32 points".into()))
+        };
+        let m = &mut self.mesh;
+        let mut slots = Vec::new();
+        for (i, (verts, ty)) in cells.enumerate() {
+            let ids = verts
+                .iter()
+                .map(|&v| index(i, v))
+                .collect::<Result<Vec<u32>, _>>()?;
+            let (t0, e0) = (m.boundary.len(), m.feature_edges.len());
+            let slot = match (ty, ids.len()) {
+                (t, 4) if t == CellType::Tetra as u8 => {
+                    m.tets.push([ids[0], ids[1], ids[2], ids[3]]);
+                    Slot::Tet(m.tets.len() - 1)
+                }
+                (t, k)
+                    if (t == CellType::Triangle as u8 && k == 3)
+                        || ((t == CellType::Polygon as u8 || t == CellType::Quad as u8)
+                            && k >= 3) =>
+                {
+                    m.boundary
+                        .extend((1..k - 1).map(|j| [ids[0], ids[j], ids[j + 1]]));
+                    Slot::Triangles(t0, m.boundary.len())
+                }
+                (t, k) if t == CellType::Pixel as u8 && k == 4 => {
+                    m.boundary
+                        .extend([[ids[0], ids[1], ids[3]], [ids[0], ids[3], ids[2]]]);
+                    Slot::Triangles(t0, m.boundary.len())
+                }
+                (t, k) if t == CellType::TriangleStrip as u8 && k >= 3 => {
+                    m.boundary.extend((0..k - 2).map(|j| {
+                        if j % 2 == 0 {
+                            [ids[j], ids[j + 1], ids[j + 2]]
+                        } else {
+                            [ids[j + 1], ids[j], ids[j + 2]]
+                        }
+                    }));
+                    Slot::Triangles(t0, m.boundary.len())
+                }
+                (t, k)
+                    if (t == CellType::Line as u8 || t == CellType::PolyLine as u8) && k >= 2 =>
+                {
+                    m.feature_edges.extend(ids.windows(2).map(|w| [w[0], w[1]]));
+                    Slot::Edges(e0, m.feature_edges.len())
+                }
+                _ => {
+                    *self.skipped.entry(ty).or_default() += 1;
+                    Slot::Skipped
+                }
+            };
+            slots.push(slot);
+        }
+        let tets_before = m.subdomains.len();
+        m.subdomains.resize(m.tets.len(), SubdomainId(0));
+        m.boundary_patches.resize(m.boundary.len(), PatchId(0));
+        m.feature_curves.resize(m.feature_edges.len(), CurveId(0));
+        for field in &mut m.cell_fields {
+            field.values.resize(m.tets.len(), f64::NAN);
+        }
+        // Arrays of one component, whether SCALARS / DataArray or legacy FIELD arrays.
+        let arrays = cell_data.iter().flat_map(|attr| match attr {
+            Attribute::DataArray(a) => vec![(a.name.as_str(), a.num_comp(), &a.data)],
+            Attribute::Field { data_array, .. } => data_array
+                .iter()
+                .map(|f| (f.name.as_str(), f.num_comp(), &f.data))
+                .collect(),
+        });
+        for (name, components, data) in arrays {
+            if components != 1 {
+                continue;
+            }
+            let Some(values) = data.cast_into::<f64>() else {
+                continue;
+            };
+            if values.len() != slots.len() {
+                return Err(Problem::bad(format!(
+                    "cell array {:?} has {} values for {} cells",
+                    name,
+                    values.len(),
+                    slots.len()
+                )));
+            }
+            let label = |x: f64| -> Result<u32, Problem> {
+                if x.fract() == 0.0 && (0.0..=u32::MAX as f64).contains(&x) {
+                    Ok(x as u32)
+                } else {
+                    Err(Problem::bad(format!(
+                        "cell array {name:?} holds {x}, not a label"
+                    )))
+                }
+            };
+            for (slot, &x) in slots.iter().zip(&values) {
+                match (name, *slot) {
+                    ("subdomain", Slot::Tet(t)) => m.subdomains[t] = SubdomainId(label(x)?),
+                    ("patch", Slot::Triangles(s, e)) => {
+                        m.boundary_patches[s..e].fill(PatchId(label(x)?))
+                    }
+                    ("curve", Slot::Edges(s, e)) => m.feature_curves[s..e].fill(CurveId(label(x)?)),
+                    ("subdomain" | "patch" | "curve", _) => {}
+                    (name, Slot::Tet(t)) => {
+                        let at = match m.cell_fields.iter().position(|f| f.name == name) {
+                            Some(i) => i,
+                            None => {
+                                m.cell_fields.push(CellField {
+                                    name: name.into(),
+                                    values: vec![f64::NAN; m.tets.len()],
+                                });
+                                m.cell_fields.len() - 1
+                            }
+                        };
+                        m.cell_fields[at].values[t] = x;
+                    }
+                    _ => {}
+                }
+            }
+        }
+        if tets_before > 0
+            && m.cell_fields
+                .iter()
+                .any(|f| f.values[..tets_before].iter().all(|v| v.is_nan()))
+        {
+            self.warnings
+                .push("a cell field is missing from some pieces (filled with NaN)".into());
+        }
+        Ok(())
+    }
+}

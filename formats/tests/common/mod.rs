@@ -1,0 +1,96 @@
+//! Meshes shared by the integration tests, built from coordinates with awkward binary expansions so
+//! that lossy number formatting would show.
+
+#![allow(dead_code)]
+
+use delamesh_core::mesh::{CellField, CurveId, PatchId, SubdomainId, SurfaceMesh, TetMesh};
+use glam::DVec3;
+
+/// Corner `i` of a box with bit 0 → x, bit 1 → y, bit 2 → z; coordinates inexact in decimal (0.1,
+/// 1/3...), rounded to f32 when `f32_exact` so that f32 formats can round-trip them.
+pub fn corner(i: u32, f32_exact: bool) -> DVec3 {
+    let (lo, hi) = (0.1, 1.0 / 3.0 + 1.0);
+    let p = DVec3::new(
+        if i & 1 == 0 { lo } else { hi },
+        if i & 2 == 0 { lo * 2.0 } else { hi * 3.0 },
+        if i & 4 == 0 { -lo } else { hi + 7.0 },
+    );
+    if f32_exact { p.as_vec3().as_dvec3() } else { p }
+}
+
+/// An outward-oriented box of 12 triangles with one patch per side pair.
+pub fn cube_surface(f32_exact: bool) -> SurfaceMesh {
+    let quads = [
+        [0, 2, 3, 1],
+        [4, 5, 7, 6],
+        [0, 1, 5, 4],
+        [2, 6, 7, 3],
+        [0, 4, 6, 2],
+        [1, 3, 7, 5],
+    ];
+    let triangles: Vec<[u32; 3]> = quads
+        .iter()
+        .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
+        .collect();
+    let patches = (0..12).map(|t| PatchId(t / 4)).collect();
+    SurfaceMesh {
+        positions: (0..8).map(|i| corner(i, f32_exact)).collect(),
+        triangles,
+        patches,
+        patch_names: vec![
+            "bottom-top".into(),
+            "front-back".into(),
+            "left-right".into(),
+        ],
+    }
+}
+
+/// The box split into 6 positive tets around the diagonal 0–7, two subdomains, its 12 boundary
+/// triangles, the 12 box edges as feature edges and two quality fields.
+pub fn cube_tets() -> TetMesh {
+    let s = cube_surface(false);
+    let tets: Vec<[u32; 4]> = [
+        [0, 1, 3, 7],
+        [0, 3, 2, 7],
+        [0, 2, 6, 7],
+        [0, 6, 4, 7],
+        [0, 4, 5, 7],
+        [0, 5, 1, 7],
+    ]
+    .to_vec();
+    let mut m = TetMesh {
+        positions: s.positions,
+        subdomains: (0..6).map(|t| SubdomainId(1 + t / 3)).collect(),
+        tets,
+        boundary: s.triangles,
+        boundary_patches: s.patches.iter().map(|p| PatchId(p.0 + 1)).collect(),
+        feature_edges: vec![
+            [0, 1],
+            [2, 3],
+            [4, 5],
+            [6, 7],
+            [0, 2],
+            [1, 3],
+            [4, 6],
+            [5, 7],
+            [0, 4],
+            [1, 5],
+            [2, 6],
+            [3, 7],
+        ],
+        feature_curves: (0..12).map(|e| CurveId(e / 4 + 1)).collect(),
+        cell_fields: vec![],
+    };
+    let vol: Vec<f64> = (0..6).map(|t| m.tet_volume(t)).collect();
+    m.cell_fields = vec![
+        CellField {
+            name: "volume".into(),
+            values: vol,
+        },
+        CellField {
+            name: "radius_edge".into(),
+            values: (0..6).map(|t| 0.1 * t as f64 + 1.0 / 7.0).collect(),
+        },
+    ];
+    m
+}
