@@ -61,9 +61,15 @@ fn cargo_build(package: &str, features: &[&str]) -> PathBuf {
     dir
 }
 
-/// The `delamesh` binary (package `delamesh-cli`, which `cargo test -p delamesh` does not build).
+/// The `delamesh` binary. `cargo test --workspace` builds it next to the test executables (as
+/// `Command::cargo_bin` expects); a narrower `cargo test -p delamesh` may not, so it is built then.
 pub fn delamesh_bin() -> PathBuf {
-    cargo_build("delamesh-cli", &[]).join(format!("delamesh{}", std::env::consts::EXE_SUFFIX))
+    let binary = profile_dir().join(format!("delamesh{}", std::env::consts::EXE_SUFFIX));
+    if binary.is_file() {
+        return binary;
+    }
+    cargo_build("delamesh-cli", &[]);
+    binary
 }
 
 /// Builds the cdylib of workspace package `package` (library name `lib`) with `features`, in the
