@@ -1,9 +1,12 @@
 //! Oracle plugins on the command line: `--plugin` / `--plugin-config` / `DELAMESH_PLUGIN_PATH`
 //! resolution shared by the commands that mesh, and the `delamesh plugins` subcommand.
 
+use crate::mesh::{MeshArgs, criteria, progress_bar};
 use anyhow::{Context, Result, bail};
 use delamesh_core::oracle::Oracle;
 use delamesh_core::plugin::{DynOracle, PluginLibrary};
+use delamesh_core::refine::{Limits, MeshError, MeshOptions, mesh_domain};
+use delamesh_formats::{WriteOptions, write_tet_mesh};
 use std::path::{Path, PathBuf};
 
 /// Environment variable listing directories searched for plugins named without a path.
@@ -45,6 +48,63 @@ pub fn load_oracle(spec: &str, config: &str) -> Result<DynOracle> {
     let oracle = library.create(config)?;
     oracle.self_check()?;
     Ok(oracle)
+}
+
+/// `delamesh mesh --plugin SPEC`: the same refinement and output as for a surface file, with the
+/// domain answered by the plugin. Nothing is written if the plugin faulted during meshing.
+pub fn mesh(args: &MeshArgs, spec: &str) -> Result<()> {
+    if args.report.is_some() {
+        bail!(
+            "--report compares the mesh with an input surface and is not available with --plugin"
+        );
+    }
+    let oracle = load_oracle(spec, &args.plugin.plugin_config)?;
+    let options = MeshOptions {
+        criteria: criteria(args, &oracle)?,
+        limits: Limits {
+            max_vertices: args.max_vertices,
+            ..Limits::default()
+        },
+        keep_partial: args.keep_partial,
+    };
+    let bar = progress_bar(args.quiet);
+    let outcome = mesh_domain(&oracle, &options, &mut |p| {
+        bar.set_message(format!("{} vertices", p.vertices));
+        bar.tick();
+    });
+    bar.finish_and_clear();
+    oracle
+        .check()
+        .context("the plugin failed while meshing; nothing was written")?;
+    let (complex, partial_error) = match outcome {
+        Ok(outcome) => (outcome.complex, None),
+        Err(MeshError::Refinement {
+            source,
+            partial: Some(complex),
+        }) => (*complex, Some(source)),
+        Err(e) => {
+            return Err(
+                anyhow::Error::new(e).context(format!("meshing the domain of plugin `{spec}`"))
+            );
+        }
+    };
+    if complex.tets.is_empty() {
+        bail!(
+            "plugin `{spec}`: the mesh has no tetrahedron inside the domain (criteria too coarse?)"
+        );
+    }
+    let write_options = WriteOptions {
+        ascii: args.ascii,
+        ..WriteOptions::default()
+    };
+    write_tet_mesh(&args.output, &complex.to_tet_mesh(), &write_options)?;
+    match partial_error {
+        Some(e) => Err(anyhow::Error::new(e).context(format!(
+            "plugin `{spec}`: stopped early; the partial mesh was written to {}",
+            args.output.display()
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// Directories of `DELAMESH_PLUGIN_PATH`, in order.

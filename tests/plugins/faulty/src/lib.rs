@@ -1,11 +1,13 @@
 //! Test-only plugin: a unit sphere that breaks the plugin contract in the way its configuration
 //! names, so the host's fault containment can be tested. Configuration: `fault=KIND` with KIND one
 //! of `none`, `fail-create`, `panic-create`, `panic-subdomain`, `panic-hits`, `nan-hits`,
-//! `outside-hits`, `outside-initial-points`.
+//! `outside-hits`, `outside-initial-points`, and `panic-after-N` (subdomain panics from its N-th
+//! point on: a fault that passes the host's self-check and strikes in the middle of meshing).
 
 use delamesh_core::kernel::Point3;
 use delamesh_core::oracle::{Aabb, OUTSIDE, Oracle, SubdomainId, SurfaceHit, SurfacePoint};
 use delamesh_core::plugin::PluginOracle;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Fault {
@@ -15,10 +17,12 @@ enum Fault {
     NanHits,
     OutsideHits,
     OutsideInitialPoints,
+    PanicAfter(usize),
 }
 
 struct FaultySphere {
     fault: Fault,
+    located: AtomicUsize,
 }
 
 impl Oracle for FaultySphere {
@@ -30,8 +34,13 @@ impl Oracle for FaultySphere {
     }
 
     fn subdomain(&self, p: Point3) -> SubdomainId {
-        if self.fault == Fault::PanicSubdomain {
-            panic!("deliberate panic in subdomain");
+        let located = self.located.fetch_add(1, Ordering::Relaxed);
+        match self.fault {
+            Fault::PanicSubdomain => panic!("deliberate panic in subdomain"),
+            Fault::PanicAfter(n) if located >= n => {
+                panic!("deliberate panic in subdomain after {n} points")
+            }
+            _ => {}
         }
         if p.length() < 1.0 { 1 } else { OUTSIDE }
     }
@@ -97,9 +106,15 @@ impl PluginOracle for FaultySphere {
             "nan-hits" => Fault::NanHits,
             "outside-hits" => Fault::OutsideHits,
             "outside-initial-points" => Fault::OutsideInitialPoints,
-            other => return Err(format!("unknown fault `{other}`")),
+            other => match other.strip_prefix("panic-after-").map(str::parse) {
+                Some(Ok(n)) => Fault::PanicAfter(n),
+                _ => return Err(format!("unknown fault `{other}`")),
+            },
         };
-        Ok(FaultySphere { fault })
+        Ok(FaultySphere {
+            fault,
+            located: AtomicUsize::new(0),
+        })
     }
 }
 
