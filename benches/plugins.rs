@@ -2,6 +2,7 @@
 //! the plugin library loaded with libloading (`DynOracle`).
 //!
 //! Run: `cargo bench --bench plugins` (builds the example plugin in the release profile first).
+//! The requirement is on `mesh_torus`: dynamic / static ≤ 1.10.
 
 #[path = "../tests/plugins_support/mod.rs"]
 mod common;
@@ -10,6 +11,8 @@ use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use delamesh::core::kernel::Point3;
 use delamesh::core::oracle::{OUTSIDE, Oracle};
 use delamesh::core::plugin::{PluginLibrary, PluginOracle};
+use delamesh::core::refine::criteria::MeshCriteria;
+use delamesh::core::refine::{MeshOptions, mesh_domain};
 use delamesh_implicit::ImplicitOracle;
 use std::hint::black_box;
 
@@ -80,5 +83,33 @@ fn oracle_calls(c: &mut Criterion) {
     assert!(dynamic.fault().is_none(), "{:?}", dynamic.fault());
 }
 
-criterion_group!(benches, oracle_calls);
+/// The figure that matters: a whole refinement run, where oracle calls are one cost among many.
+fn meshing(c: &mut Criterion) {
+    let library =
+        PluginLibrary::open(&common::implicit_plugin()).expect("the example plugin loads");
+    let dynamic = library.create(CONFIG).expect("valid config");
+    let direct = ImplicitOracle::from_config(CONFIG).expect("valid config");
+    let options = MeshOptions {
+        criteria: MeshCriteria::default_for(&direct.bounding_box()),
+        limits: Default::default(),
+        keep_partial: false,
+    };
+    let mut group = c.benchmark_group("mesh_torus");
+    group.sample_size(10);
+    for (name, oracle) in [("static", &direct as &dyn Oracle), ("dynamic", &dynamic)] {
+        group.bench_function(BenchmarkId::from_parameter(name), |b| {
+            b.iter(|| {
+                mesh_domain(oracle, &options, &mut |_| {})
+                    .expect("the torus meshes")
+                    .complex
+                    .tets
+                    .len()
+            })
+        });
+    }
+    group.finish();
+    assert!(dynamic.fault().is_none(), "{:?}", dynamic.fault());
+}
+
+criterion_group!(benches, oracle_calls, meshing);
 criterion_main!(benches);

@@ -34,7 +34,7 @@ fn failure_of(command: &mut Command) -> String {
 #[test]
 fn lists_built_in_and_installed_plugins_with_versions() {
     let dir = tempfile::tempdir().expect("temporary directory");
-    let listing = stdout_of(&mut delamesh().arg("plugins"));
+    let listing = stdout_of(delamesh().arg("plugins"));
     assert!(
         listing.contains("polyhedral") && listing.contains(env!("CARGO_PKG_VERSION")),
         "{listing}"
@@ -48,7 +48,7 @@ fn lists_built_in_and_installed_plugins_with_versions() {
     }
     std::fs::write(dir.path().join("libnot_a_plugin.so"), b"garbage").expect("write");
     let listing = stdout_of(
-        &mut delamesh()
+        delamesh()
             .arg("plugins")
             .env("DELAMESH_PLUGIN_PATH", dir.path()),
     );
