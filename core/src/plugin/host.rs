@@ -421,6 +421,9 @@ impl DynOracle {
     }
 
     /// Batch point location: one call into the plugin for all of `points`.
+    ///
+    /// # Panics
+    /// If `out` and `points` differ in length (a caller bug, not a plugin fault).
     pub fn try_subdomains(
         &self,
         points: &[Point3],
