@@ -30,13 +30,11 @@ pub(crate) fn read(bytes: &[u8], format: Format) -> Result<(AnyMesh, Vec<String>
         _ => raw_appended_to_base64(bytes)?,
     };
     let bytes = reencoded.as_deref().unwrap_or(bytes);
-    // vtkio 0.7.0-rc2 indexes some buffers without bounds checks: contain its panics so that a
-    // malformed file is an error like any other.
-    let parsed = std::panic::catch_unwind(|| match format {
+    let parsed = contain_panics(|| match format {
         Format::Vtk => vtkio::Vtk::parse_legacy_be(bytes),
         _ => vtkio::Vtk::parse_xml(bytes),
     })
-    .map_err(|_| Problem::bad("malformed VTK file (the vtkio parser gave up)"))?;
+    .map_err(|why| Problem::bad(format!("malformed VTK file (vtkio gave up: {why})")))?;
     let vtk = parsed.map_err(|e| Problem::bad(format!("not a readable VTK file: {e}")))?;
     let mut b = Builder::default();
     let poly = matches!(vtk.data, DataSet::PolyData { .. });
@@ -101,6 +99,39 @@ pub(crate) fn read(bytes: &[u8], format: Format) -> Result<(AnyMesh, Vec<String>
 
 /// vtkio's ASCII number parser rejects `nan`, which VTK writes (and we write for the cells a per-tet
 /// field does not apply to): spell it as a number that overflows to infinity. `None` if no `nan`.
+/// Runs vtkio, turning its panics into errors. vtkio 0.7.0-rc2 slices appended data without bounds
+/// checks (found by fuzzing), so a malformed file can make it panic. The panic hook is silenced for
+/// this thread meanwhile, so the user sees one error line instead of a backtrace; panics of other
+/// threads still reach the previous hook.
+fn contain_panics<T>(parse: impl FnOnce() -> T + std::panic::UnwindSafe) -> Result<T, String> {
+    use std::sync::{Arc, Mutex};
+    static HOOK_SWAP: Mutex<()> = Mutex::new(());
+    let _one_at_a_time = HOOK_SWAP
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
+    let previous = Arc::new(std::panic::take_hook());
+    let forward = Arc::clone(&previous);
+    let me = std::thread::current().id();
+    std::panic::set_hook(Box::new(move |info| {
+        if std::thread::current().id() != me {
+            forward(info);
+        }
+    }));
+    let result = std::panic::catch_unwind(parse);
+    drop(std::panic::take_hook());
+    match Arc::try_unwrap(previous) {
+        Ok(hook) => std::panic::set_hook(hook),
+        Err(shared) => std::panic::set_hook(Box::new(move |info| shared(info))),
+    }
+    result.map_err(|payload| {
+        payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown panic".into())
+    })
+}
+
 fn spell_nan_for_vtkio(bytes: &[u8]) -> Option<Vec<u8>> {
     let ascii = bytes
         .split(|&b| b == b'\n')
