@@ -78,6 +78,10 @@ pub struct CellField {
 }
 
 /// A tetrahedral mesh with its boundary triangles and optional feature edges.
+///
+/// Tets are positively oriented as VTK, MEDIT and Gmsh expect: `det[b-a, c-a, d-a] > 0` (the
+/// opposite of Shewchuk's `orient3d` sign used inside the triangulations). Boundary triangles of a
+/// closed boundary are oriented with outward normals.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TetMesh {
     pub positions: Vec<DVec3>,

@@ -15,6 +15,8 @@ mod msh;
 mod obj;
 mod off;
 mod ply;
+mod points;
+pub mod poly;
 mod stl;
 mod text;
 mod vtk;
@@ -23,6 +25,7 @@ mod vtu;
 
 pub use error::{Error, Location, Problem, Result};
 pub use format::{Format, UnknownFormat};
+pub use points::{parse_xyz, read_points};
 
 use delamesh_core::mesh::{PatchId, SurfaceMesh, TetMesh, weld_exact};
 use std::io::Write;

@@ -1,0 +1,102 @@
+//! `delamesh mesh2d`: quality triangle mesh of a planar straight-line graph (Ruppert/Shewchuk).
+
+use anyhow::{Context, Result};
+use delamesh_core::mesh::{CurveId, PatchId, TetMesh};
+use delamesh_core::mesh2d::Point2;
+use delamesh_core::mesh2d::mesher::{MeshOptions, mesh};
+use delamesh_core::mesh2d::quality::min_angle_deg;
+use delamesh_formats::WriteOptions;
+use std::path::PathBuf;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// Input planar straight-line graph (Triangle `.poly`: points, segments, holes, regions).
+    pub input: PathBuf,
+    /// Output mesh (`.vtu`, `.vtk`, `.mesh`, `.msh`...): domain triangles in the z = 0 plane, with
+    /// the region attribute as `patch`, and the constraint sub-segments as lines.
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Smallest angle of the triangles, in degrees (at most 34).
+    #[arg(long, default_value_t = 20.0)]
+    pub min_angle: f64,
+    /// Largest triangle area (regions of the `.poly` file may set their own).
+    #[arg(long)]
+    pub max_area: Option<f64>,
+    /// Stop with an error beyond this many vertices.
+    #[arg(long, default_value_t = 10_000_000)]
+    pub max_vertices: usize,
+}
+
+pub fn run(args: &Args) -> Result<()> {
+    let pslg = delamesh_formats::poly::read_poly(&args.input)?;
+    let start = std::time::Instant::now();
+    let options = MeshOptions {
+        min_angle_deg: args.min_angle,
+        max_area: args.max_area,
+        max_vertices: args.max_vertices,
+    };
+    let m = mesh(&pslg, &options).with_context(|| format!("meshing {}", args.input.display()))?;
+    let elapsed = start.elapsed();
+    let worst = m
+        .triangles
+        .iter()
+        .map(|t| {
+            let p = t.map(|i| m.points[i as usize]);
+            min_angle_deg(p[0], p[1], p[2])
+        })
+        .fold(f64::INFINITY, f64::min);
+    let out = planar_mesh(
+        &m.points,
+        &m.triangles,
+        &patches(&m.triangle_attributes),
+        &m.segments,
+        &m.segment_origins,
+    );
+    delamesh_formats::write_tet_mesh(&args.output, &out, &WriteOptions::default())?;
+    println!(
+        "{} vertices, {} triangles, {} sub-segments, smallest angle {:.2}°, {:.3} s -> {}",
+        m.points.len(),
+        m.triangles.len(),
+        m.segments.len(),
+        worst,
+        elapsed.as_secs_f64(),
+        args.output.display()
+    );
+    Ok(())
+}
+
+/// Patch ids for regional attributes: the attribute itself when it is a small non-negative
+/// integer (the usual case), otherwise its rank among the distinct attributes.
+fn patches(attributes: &[f64]) -> Vec<PatchId> {
+    let integral = attributes
+        .iter()
+        .all(|&a| a >= 0.0 && a.fract() == 0.0 && a < 1e6);
+    if integral {
+        return attributes.iter().map(|&a| PatchId(a as u32)).collect();
+    }
+    let mut distinct: Vec<f64> = attributes.to_vec();
+    distinct.sort_by(f64::total_cmp);
+    distinct.dedup();
+    attributes
+        .iter()
+        .map(|a| PatchId(distinct.partition_point(|d| d.total_cmp(a).is_lt()) as u32))
+        .collect()
+}
+
+/// A planar triangle mesh in the z = 0 plane, as the writers' mesh model (triangles and lines).
+pub fn planar_mesh(
+    points: &[Point2],
+    triangles: &[[u32; 3]],
+    patches: &[PatchId],
+    segments: &[[u32; 2]],
+    segment_origins: &[u32],
+) -> TetMesh {
+    TetMesh {
+        positions: points.iter().map(|p| p.extend(0.0)).collect(),
+        boundary: triangles.to_vec(),
+        boundary_patches: patches.to_vec(),
+        feature_edges: segments.to_vec(),
+        feature_curves: segment_origins.iter().map(|&s| CurveId(s)).collect(),
+        ..TetMesh::default()
+    }
+}

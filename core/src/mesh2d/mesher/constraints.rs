@@ -1,0 +1,175 @@
+//! What both mesher levels share: the constrained sub-segments (with the region on each side), which
+//! vertices are input vertices, and the segments each vertex lies on.
+
+use crate::triangulation::Triangulation;
+use crate::triangulation::delaunay2::predicates::dot_sign;
+use crate::triangulation::delaunay2::{CellId, Delaunay2, VertexId};
+use std::cmp::Ordering;
+use std::collections::HashMap;
+
+/// Where a triangle lies.
+#[derive(Copy, Clone, Debug, PartialEq, Eq)]
+pub(crate) enum Label {
+    /// Not decided yet (created while some sub-segment was missing from the triangulation).
+    Unknown,
+    /// Outside the domain: beyond the outer boundary or in a hole.
+    Outside,
+    /// Inside the domain, in the region with this index (see `Mesher::regions`).
+    Region(u32),
+}
+
+/// A piece of an input segment, oriented like it, with the region on each side.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub(crate) struct SubSegment {
+    pub a: VertexId,
+    pub b: VertexId,
+    pub origin: u32,
+    pub left: Label,
+    pub right: Label,
+}
+
+#[derive(Debug, Default)]
+pub(crate) struct Constraints {
+    /// Input segments, as triangulation vertices.
+    pub segments: Vec<[VertexId; 2]>,
+    /// Per vertex: input segments it is an endpoint of (input vertices) or the one segment it was
+    /// inserted on (Steiner vertices); empty for free vertices.
+    pub on_segments: Vec<Vec<u32>>,
+    /// Per vertex: whether it is an input vertex.
+    pub is_input: Vec<bool>,
+    /// Per vertex: the other ends of the sub-segments at it.
+    around: Vec<Vec<VertexId>>,
+    subs: HashMap<(VertexId, VertexId), SubSegment>,
+}
+
+fn key(a: VertexId, b: VertexId) -> (VertexId, VertexId) {
+    (a.min(b), a.max(b))
+}
+
+impl Constraints {
+    pub(crate) fn new(num_vertices: usize, segments: Vec<[VertexId; 2]>) -> Self {
+        let mut c = Constraints {
+            is_input: vec![true; num_vertices],
+            on_segments: vec![Vec::new(); num_vertices],
+            around: vec![Vec::new(); num_vertices],
+            ..Default::default()
+        };
+        for (s, &[a, b]) in segments.iter().enumerate() {
+            c.on_segments[a.0 as usize].push(s as u32);
+            c.on_segments[b.0 as usize].push(s as u32);
+            c.add(SubSegment {
+                a,
+                b,
+                origin: s as u32,
+                left: Label::Unknown,
+                right: Label::Unknown,
+            });
+        }
+        c.segments = segments;
+        c
+    }
+
+    fn ensure(&mut self, v: VertexId) {
+        let n = v.0 as usize + 1;
+        if self.is_input.len() < n {
+            self.is_input.resize(n, false);
+            self.on_segments.resize(n, Vec::new());
+            self.around.resize(n, Vec::new());
+        }
+    }
+
+    fn add(&mut self, s: SubSegment) {
+        self.ensure(s.a.max(s.b));
+        self.around[s.a.0 as usize].push(s.b);
+        self.around[s.b.0 as usize].push(s.a);
+        self.subs.insert(key(s.a, s.b), s);
+    }
+
+    pub(crate) fn get(&self, a: VertexId, b: VertexId) -> Option<&SubSegment> {
+        self.subs.get(&key(a, b))
+    }
+
+    pub(crate) fn get_mut(&mut self, a: VertexId, b: VertexId) -> Option<&mut SubSegment> {
+        self.subs.get_mut(&key(a, b))
+    }
+
+    /// Other ends of the sub-segments at `v`.
+    pub(crate) fn around(&self, v: VertexId) -> &[VertexId] {
+        self.around.get(v.0 as usize).map_or(&[], |x| x.as_slice())
+    }
+
+    /// All sub-segments, in a deterministic order.
+    pub(crate) fn sorted(&self) -> Vec<SubSegment> {
+        let mut all: Vec<SubSegment> = self.subs.values().copied().collect();
+        all.sort_by_key(|s| key(s.a, s.b));
+        all
+    }
+
+    /// Replaces sub-segment `(a, b)` by its two halves at the new vertex `m`.
+    pub(crate) fn split(&mut self, a: VertexId, b: VertexId, m: VertexId) {
+        let Some(s) = self.subs.remove(&key(a, b)) else {
+            return;
+        };
+        for (x, y) in [(s.a, s.b), (s.b, s.a)] {
+            self.around[x.0 as usize].retain(|&z| z != y);
+        }
+        self.ensure(m);
+        self.is_input[m.0 as usize] = false;
+        self.on_segments[m.0 as usize] = vec![s.origin];
+        self.add(SubSegment { b: m, ..s });
+        self.add(SubSegment { a: m, ..s });
+    }
+
+    /// Whether `v` is an input vertex where two input segments meet at less than `max_deg`.
+    pub(crate) fn is_small_angle_apex(&self, tr: &Delaunay2, v: VertexId, max_deg: f64) -> bool {
+        if !self.is_input.get(v.0 as usize).copied().unwrap_or(false) {
+            return false;
+        }
+        let segs = &self.on_segments[v.0 as usize];
+        let pv = tr.point(v);
+        let dir = |s: u32| {
+            let [a, b] = self.segments[s as usize];
+            let w = if a == v { b } else { a };
+            (tr.point(w) - pv).normalize()
+        };
+        let cos_max = max_deg.to_radians().cos();
+        segs.iter()
+            .enumerate()
+            .any(|(i, &s)| segs[i + 1..].iter().any(|&t| dir(s).dot(dir(t)) > cos_max))
+    }
+}
+
+/// The cell with the edge `a → b` counter-clockwise, and the index of its third vertex.
+pub(crate) fn edge_cell(
+    tr: &Delaunay2,
+    a: VertexId,
+    b: VertexId,
+    scratch: &mut Vec<CellId>,
+) -> Option<(CellId, usize)> {
+    tr.incident_cells(a, scratch);
+    scratch.iter().find_map(|&c| {
+        let v = tr.cell(c);
+        (0..3)
+            .find(|&i| v[(i + 1) % 3] == a && v[(i + 2) % 3] == b)
+            .map(|i| (c, i))
+    })
+}
+
+/// Ruppert's test: the sub-segment is missing from the triangulation, or a vertex lies in its
+/// closed diametral disk (then one of the two apices does).
+pub(crate) fn is_encroached(
+    tr: &Delaunay2,
+    a: VertexId,
+    b: VertexId,
+    scratch: &mut Vec<CellId>,
+) -> bool {
+    let Some((c, i)) = edge_cell(tr, a, b, scratch) else {
+        return true;
+    };
+    let (pa, pb) = (tr.point(a), tr.point(b));
+    let n = tr.neighbor(c, i);
+    let apices = [tr.cell(c)[i], tr.cell(n)[tr.mirror_index(c, i)]];
+    apices
+        .iter()
+        .any(|&w| !tr.is_infinite_vertex(w) && dot_sign(tr.point(w), pa, pb) != Ordering::Greater)
+}

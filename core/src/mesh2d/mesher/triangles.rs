@@ -1,0 +1,262 @@
+//! Level 1 of the 2D mesher: triangles of the domain whose smallest angle is below the bound or
+//! whose area is above the (regional) bound. Their refinement point is Üngör's off-centre (the
+//! circumcentre, pulled towards the shortest edge when that still gives an angle at the bound),
+//! which is what Triangle uses and needs fewer points than circumcentres.
+
+use super::constraints::{Constraints, Label};
+use super::engine::{Candidate, Check};
+use crate::mesh2d::quality::signed_area;
+use crate::triangulation::Triangulation;
+use crate::triangulation::delaunay2::{CellId, Delaunay2, InsertReport, VertexId};
+use glam::DVec2;
+use std::cell::RefCell;
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+use std::rc::Rc;
+
+/// Quality bounds of the triangle level.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct TriangleCriteria {
+    /// Sine of the smallest allowed angle.
+    pub sin_min_angle: f64,
+    /// Off-centre distance factor, from the angle bound.
+    pub off_constant: f64,
+    /// Area bound of each region (`INFINITY` for none).
+    pub max_area: Vec<f64>,
+}
+
+impl TriangleCriteria {
+    pub(crate) fn new(min_angle_deg: f64, max_area: Vec<f64>) -> Self {
+        let cos = min_angle_deg.to_radians().cos();
+        TriangleCriteria {
+            sin_min_angle: min_angle_deg.to_radians().sin(),
+            off_constant: if min_angle_deg > 0.0 {
+                0.475 * ((1.0 + cos) / (1.0 - cos)).sqrt()
+            } else {
+                0.0
+            },
+            max_area,
+        }
+    }
+}
+
+type Queued = (Reverse<u64>, Reverse<u64>, CellId, [VertexId; 3]);
+
+pub(crate) struct TriangleLevel {
+    cons: Rc<RefCell<Constraints>>,
+    criteria: TriangleCriteria,
+    /// Region label of each cell slot.
+    labels: Vec<Label>,
+    /// Cells created since the last labelling, to label and assess.
+    pending: Vec<CellId>,
+    heap: BinaryHeap<Queued>,
+    seq: u64,
+}
+
+impl TriangleLevel {
+    pub(crate) fn new(
+        cons: Rc<RefCell<Constraints>>,
+        criteria: TriangleCriteria,
+        labels: Vec<Label>,
+    ) -> Self {
+        TriangleLevel {
+            cons,
+            criteria,
+            labels,
+            pending: Vec::new(),
+            heap: BinaryHeap::new(),
+            seq: 0,
+        }
+    }
+
+    pub(crate) fn label(&self, c: CellId) -> Label {
+        self.labels
+            .get(c.0 as usize)
+            .copied()
+            .unwrap_or(Label::Unknown)
+    }
+
+    /// Labels the pending cells from their neighbours and the sides of sub-segments. Valid when
+    /// every sub-segment is an edge of the triangulation (the segment level has nothing queued),
+    /// so that no cell straddles a constraint.
+    pub(crate) fn resolve_labels(&mut self, tr: &Delaunay2) {
+        let cons = self.cons.borrow();
+        let mut work: Vec<CellId> = std::mem::take(&mut self.pending)
+            .into_iter()
+            .filter(|&c| tr.is_live(c) && self.label(c) == Label::Unknown)
+            .collect();
+        let mut assess = work.clone();
+        let labels = &mut self.labels;
+        loop {
+            let before = work.len();
+            work.retain(|&c| {
+                let label = if tr.is_infinite_cell(c) {
+                    Label::Outside
+                } else {
+                    let v = tr.cell(c);
+                    (0..3)
+                        .map(|i| {
+                            let (x, y) = (v[(i + 1) % 3], v[(i + 2) % 3]);
+                            match cons.get(x, y) {
+                                Some(s) if s.a == x => s.left,
+                                Some(s) => s.right,
+                                None => labels[tr.neighbor(c, i).0 as usize],
+                            }
+                        })
+                        .find(|&l| l != Label::Unknown)
+                        .unwrap_or(Label::Unknown)
+                };
+                labels[c.0 as usize] = label;
+                label == Label::Unknown
+            });
+            if work.is_empty() || work.len() == before {
+                break;
+            }
+        }
+        for &c in &work {
+            self.labels[c.0 as usize] = Label::Outside;
+        }
+        drop(cons);
+        assess.sort_unstable();
+        for c in assess {
+            self.assess(tr, c);
+        }
+    }
+
+    /// Queues `c` if it is a bad triangle of the domain.
+    fn assess(&mut self, tr: &Delaunay2, c: CellId) {
+        let Label::Region(r) = self.label(c) else {
+            return;
+        };
+        let v = tr.cell(c);
+        let p = v.map(|x| tr.point(x));
+        let (shortest, _) = shortest_edge(&p);
+        let radius = tr.circumcenter(c).distance(p[0]);
+        let ratio = shortest / (2.0 * radius);
+        let area = signed_area(p[0], p[1], p[2]);
+        let too_big = area > self.criteria.max_area[r as usize];
+        let skinny = ratio < self.criteria.sin_min_angle && !self.spans_small_angle(tr, &v);
+        if too_big || skinny {
+            self.seq += 1;
+            let priority = if skinny { ratio } else { 1.0 + 1.0 / area };
+            self.heap
+                .push((Reverse(priority.to_bits()), Reverse(self.seq), c, v));
+        }
+    }
+
+    /// Triangle's rule against cascades at small input angles: a skinny triangle whose shortest
+    /// edge joins two Steiner points on different segments sharing an apex, equally far from it (on the
+    /// same concentric shell), cannot be improved by splitting and is left alone.
+    fn spans_small_angle(&self, tr: &Delaunay2, v: &[VertexId; 3]) -> bool {
+        let p = v.map(|x| tr.point(x));
+        let (_, i) = shortest_edge(&p);
+        let (x, y) = (v[i], v[(i + 1) % 3]);
+        let cons = self.cons.borrow();
+        let steiner = |v: VertexId| !cons.is_input.get(v.0 as usize).copied().unwrap_or(true);
+        if !steiner(x) || !steiner(y) {
+            return false;
+        }
+        let (Some(sx), Some(sy)) = (
+            cons.on_segments.get(x.0 as usize),
+            cons.on_segments.get(y.0 as usize),
+        ) else {
+            return false;
+        };
+        for &s in sx {
+            for &t in sy {
+                if s == t {
+                    continue;
+                }
+                let [s0, s1] = cons.segments[s as usize];
+                let [t0, t1] = cons.segments[t as usize];
+                for apex in [s0, s1] {
+                    if apex == x || apex == y || (apex != t0 && apex != t1) {
+                        continue;
+                    }
+                    let pa = tr.point(apex);
+                    let (dx, dy) = (tr.point(x).distance(pa), tr.point(y).distance(pa));
+                    if dx < 1.001 * dy && dx > 0.999 * dy {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
+    }
+
+    pub(crate) fn scan(&mut self, tr: &Delaunay2) {
+        self.labels.resize(tr.cell_capacity(), Label::Unknown);
+        let cells: Vec<CellId> = tr.finite_cells().collect();
+        for c in cells {
+            self.assess(tr, c);
+        }
+    }
+
+    pub(crate) fn next_element(&mut self, tr: &Delaunay2) -> Option<(CellId, [VertexId; 3])> {
+        if !self.pending.is_empty() {
+            self.resolve_labels(tr);
+        }
+        while let Some(&(_, _, c, v)) = self.heap.peek() {
+            if tr.is_live(c) && tr.cell(c) == v {
+                return Some((c, v));
+            }
+            self.heap.pop();
+        }
+        None
+    }
+
+    pub(crate) fn pop_element(&mut self) {
+        self.heap.pop();
+    }
+
+    pub(crate) fn refinement_point(
+        &mut self,
+        tr: &Delaunay2,
+        &(c, v): &(CellId, [VertexId; 3]),
+    ) -> Option<Candidate<DVec2>> {
+        let p = v.map(|x| tr.point(x));
+        let center = tr.circumcenter(c);
+        let (_, i) = shortest_edge(&p);
+        // The triangle is counter-clockwise, so the left normal of its shortest edge points inside.
+        let (a, b) = (p[i], p[(i + 1) % 3]);
+        let d = b - a;
+        let off = (a + b) * 0.5 + self.criteria.off_constant * d.perp();
+        let point = if off.distance_squared(a) < center.distance_squared(a) {
+            off
+        } else {
+            center
+        };
+        point.is_finite().then_some(Candidate {
+            point,
+            hint: Some(c),
+        })
+    }
+
+    pub(crate) fn check(&mut self, _tr: &Delaunay2, _c: &Candidate<DVec2>, _own: bool) -> Check {
+        Check::Accepted
+    }
+
+    pub(crate) fn after_insertion(
+        &mut self,
+        tr: &Delaunay2,
+        _v: VertexId,
+        report: &InsertReport,
+        _own: bool,
+    ) {
+        if self.labels.len() < tr.cell_capacity() {
+            self.labels.resize(tr.cell_capacity(), Label::Unknown);
+        }
+        for &c in &report.created {
+            self.labels[c.0 as usize] = Label::Unknown;
+            self.pending.push(c);
+        }
+    }
+}
+
+/// Length of the shortest edge and the index `i` of its start (the edge `p[i] → p[i + 1]`).
+fn shortest_edge(p: &[DVec2; 3]) -> (f64, usize) {
+    (0..3)
+        .map(|i| (p[i].distance(p[(i + 1) % 3]), i))
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+        .unwrap_or((0.0, 0))
+}

@@ -1,0 +1,177 @@
+//! The planar straight-line graph: points, constraint segments, holes and regional attributes
+//! (the content of Triangle's `.poly` files), and its validation (Pébay's Def. 1.5).
+
+use super::grid::PointGrid;
+use crate::triangulation::delaunay2::predicates::{lex_cmp, orient2d};
+use glam::DVec2;
+use std::cmp::Ordering;
+
+/// A region seed: the connected part of the domain containing `point` gets `attribute`, and an
+/// optional area bound of its own.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Region {
+    pub point: DVec2,
+    pub attribute: f64,
+    pub max_area: Option<f64>,
+}
+
+/// Points, segments between them (indices into `points`), hole seeds and region seeds.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Pslg {
+    pub points: Vec<DVec2>,
+    pub segments: Vec<[u32; 2]>,
+    /// Boundary marker of each segment (0 when the input gives none).
+    pub segment_markers: Vec<i32>,
+    pub holes: Vec<DVec2>,
+    pub regions: Vec<Region>,
+}
+
+/// Why a PSLG is not a valid constraint field.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PslgError {
+    #[error("point {0} has a non-finite coordinate")]
+    NonFinite(usize),
+    #[error("points {0} and {1} coincide")]
+    DuplicatePoint(usize, usize),
+    #[error("segment {0} names point {1}, but there are only {2} points")]
+    BadIndex(usize, u32, usize),
+    #[error("segment {0} has both ends at point {1}")]
+    Degenerate(usize, u32),
+    #[error("segments {0} and {1} join the same two points")]
+    DuplicateSegment(usize, usize),
+    #[error("point {1} lies inside segment {0}")]
+    PointOnSegment(usize, usize),
+    #[error("segments {0} and {1} cross")]
+    Crossing(usize, usize),
+}
+
+impl Pslg {
+    /// Bounding box of the points (`None` when there are none).
+    pub fn bounds(&self) -> Option<(DVec2, DVec2)> {
+        let first = *self.points.first()?;
+        Some(
+            self.points
+                .iter()
+                .fold((first, first), |(lo, hi), &p| (lo.min(p), hi.max(p))),
+        )
+    }
+
+    /// Checks Def. 1.5: distinct finite points, segments between two distinct existing points, no
+    /// point inside a segment, segments meeting only at shared endpoints.
+    pub fn validate(&self) -> Result<(), PslgError> {
+        let n = self.points.len();
+        if let Some(i) = self.points.iter().position(|p| !p.is_finite()) {
+            return Err(PslgError::NonFinite(i));
+        }
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&i, &j| lex_cmp(self.points[i], self.points[j]).then(i.cmp(&j)));
+        for w in order.windows(2) {
+            if self.points[w[0]] == self.points[w[1]] {
+                return Err(PslgError::DuplicatePoint(w[0], w[1]));
+            }
+        }
+        let mut keys = Vec::with_capacity(self.segments.len());
+        for (s, &[a, b]) in self.segments.iter().enumerate() {
+            for v in [a, b] {
+                if v as usize >= n {
+                    return Err(PslgError::BadIndex(s, v, n));
+                }
+            }
+            if a == b {
+                return Err(PslgError::Degenerate(s, a));
+            }
+            keys.push(((a.min(b), a.max(b)), s));
+        }
+        keys.sort_unstable();
+        for w in keys.windows(2) {
+            if w[0].0 == w[1].0 {
+                return Err(PslgError::DuplicateSegment(w[0].1, w[1].1));
+            }
+        }
+        let Some((lo, hi)) = self.bounds() else {
+            return Ok(());
+        };
+        self.check_points_off_segments(lo, hi)?;
+        self.check_crossings(lo, hi)
+    }
+
+    fn segment(&self, s: usize) -> (DVec2, DVec2) {
+        let [a, b] = self.segments[s];
+        (self.points[a as usize], self.points[b as usize])
+    }
+
+    fn check_points_off_segments(&self, lo: DVec2, hi: DVec2) -> Result<(), PslgError> {
+        let mut grid = PointGrid::new(lo, hi, self.points.len());
+        for (i, &p) in self.points.iter().enumerate() {
+            grid.insert(p, i as u32);
+        }
+        let mut cand = Vec::new();
+        for s in 0..self.segments.len() {
+            let (a, b) = self.segment(s);
+            grid.candidates(a.min(b), a.max(b), &mut cand);
+            for &i in &cand {
+                let p = self.points[i as usize];
+                if orient2d(a, b, p) == Ordering::Equal
+                    && lex_cmp(a, p) == lex_cmp(p, b)
+                    && lex_cmp(a, p) != Ordering::Equal
+                {
+                    return Err(PslgError::PointOnSegment(s, i as usize));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Proper crossings, found by bucketing segment bounding boxes on a uniform grid.
+    fn check_crossings(&self, lo: DVec2, hi: DVec2) -> Result<(), PslgError> {
+        let m = self.segments.len();
+        let ext = (hi - lo).max_element().max(f64::MIN_POSITIVE);
+        let k = ((m as f64).sqrt().ceil() as usize).clamp(1, 1024);
+        let side = ext / k as f64;
+        let cell = |p: DVec2| {
+            let g = (p - lo) / side;
+            (
+                (g.x.max(0.0) as usize).min(k - 1),
+                (g.y.max(0.0) as usize).min(k - 1),
+            )
+        };
+        let mut buckets: Vec<Vec<usize>> = vec![Vec::new(); k * k];
+        for s in 0..m {
+            let (a, b) = self.segment(s);
+            let (i0, j0) = cell(a.min(b));
+            let (i1, j1) = cell(a.max(b));
+            for j in j0..=j1 {
+                for i in i0..=i1 {
+                    buckets[j * k + i].push(s);
+                }
+            }
+        }
+        for bucket in &buckets {
+            for (x, &s) in bucket.iter().enumerate() {
+                for &t in &bucket[x + 1..] {
+                    if self.cross(s, t) {
+                        return Err(PslgError::Crossing(s.min(t), s.max(t)));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether segments `s` and `t` cross at a point interior to both (touching at a vertex is
+    /// handled by the point-on-segment test).
+    fn cross(&self, s: usize, t: usize) -> bool {
+        let [a, b] = self.segments[s];
+        let [c, d] = self.segments[t];
+        if a == c || a == d || b == c || b == d {
+            return false;
+        }
+        let (pa, pb) = self.segment(s);
+        let (pc, pd) = self.segment(t);
+        let o1 = orient2d(pa, pb, pc);
+        let o2 = orient2d(pa, pb, pd);
+        let o3 = orient2d(pc, pd, pa);
+        let o4 = orient2d(pc, pd, pb);
+        o1 != Ordering::Equal && o1 == o2.reverse() && o3 != Ordering::Equal && o3 == o4.reverse()
+    }
+}
