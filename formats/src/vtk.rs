@@ -180,11 +180,15 @@ fn raw_appended_to_base64(bytes: &[u8]) -> Result<Option<Vec<u8>>, Problem> {
         return Ok(None);
     }
     let head = &bytes[..tag];
-    if find(head, b"compressor=").is_some() {
-        return Err(Problem::Unsupported(
-            "compressed raw appended data is not supported; save as base64 or uncompressed".into(),
-        ));
-    }
+    let layout = BlockLayout {
+        header_bytes: if find(head, b"\"UInt64\"").is_some() {
+            8
+        } else {
+            4
+        },
+        big_endian: find(head, b"\"BigEndian\"").is_some(),
+        compressed: find(head, b"compressor=").is_some(),
+    };
     let underscore = find(&bytes[tag + tag_len..], b"_")
         .map(|i| tag + tag_len + i)
         .ok_or_else(|| Problem::at_byte(tag as u64, "AppendedData without the '_' marker"))?;
@@ -223,13 +227,17 @@ fn raw_appended_to_base64(bytes: &[u8]) -> Result<Option<Vec<u8>>, Problem> {
     let mut encoded = Vec::with_capacity(raw.len() * 4 / 3 + 8);
     let mut new_offset = std::collections::BTreeMap::new();
     for (k, &b) in blocks.iter().enumerate() {
-        let block_end = blocks.get(k + 1).copied().unwrap_or(raw.len());
+        let limit = blocks.get(k + 1).copied().unwrap_or(raw.len());
         new_offset.insert(b, encoded.len());
-        encoded.extend(
-            base64::engine::general_purpose::STANDARD
-                .encode(&raw[b..block_end])
-                .bytes(),
-        );
+        // VTK base64-encodes a compressed block's header and its data separately, an uncompressed
+        // block's header and data together: mirror that, which is what vtkio decodes.
+        for part in layout.split(&raw[b..limit], start + b)? {
+            encoded.extend(
+                base64::engine::general_purpose::STANDARD
+                    .encode(part)
+                    .bytes(),
+            );
+        }
     }
     let mut out = Vec::with_capacity(bytes.len() * 4 / 3 + 64);
     let mut copied = 0;
@@ -243,6 +251,67 @@ fn raw_appended_to_base64(bytes: &[u8]) -> Result<Option<Vec<u8>>, Problem> {
     out.extend_from_slice(&encoded);
     out.extend_from_slice(&bytes[end..]);
     Ok(Some(out))
+}
+
+/// How the blocks of raw appended data are framed (VTKFile attributes `header_type`, `byte_order`,
+/// `compressor`).
+struct BlockLayout {
+    header_bytes: usize,
+    big_endian: bool,
+    compressed: bool,
+}
+
+impl BlockLayout {
+    fn uint(&self, b: &[u8], at: usize) -> Option<usize> {
+        let field = b.get(at..at.checked_add(self.header_bytes)?)?;
+        let mut v: u64 = 0;
+        for i in 0..self.header_bytes {
+            let byte = if self.big_endian {
+                field[i]
+            } else {
+                field[self.header_bytes - 1 - i]
+            };
+            v = (v << 8) | u64::from(byte);
+        }
+        usize::try_from(v).ok()
+    }
+
+    /// The header and data of one block (which may be followed by padding up to the next block),
+    /// checked against the space the block has; `file_offset` locates errors.
+    fn split<'a>(&self, block: &'a [u8], file_offset: usize) -> Result<Vec<&'a [u8]>, Problem> {
+        let overrun = || {
+            Problem::at_byte(
+                file_offset as u64,
+                "appended data block runs past its end (truncated or corrupt)",
+            )
+        };
+        let h = self.header_bytes;
+        if !self.compressed {
+            let n = self.uint(block, 0).ok_or_else(overrun)?;
+            let end = n
+                .checked_add(h)
+                .filter(|&e| e <= block.len())
+                .ok_or_else(overrun)?;
+            return Ok(vec![&block[..end]]);
+        }
+        // [number of blocks, block size, last block size, compressed size of each block], then data.
+        let count = self.uint(block, 0).ok_or_else(overrun)?;
+        let header_len = count
+            .checked_add(3)
+            .and_then(|c| c.checked_mul(h))
+            .filter(|&l| l <= block.len())
+            .ok_or_else(overrun)?;
+        let mut data_len = 0usize;
+        for i in 0..count {
+            let size = self.uint(block, (3 + i) * h).ok_or_else(overrun)?;
+            data_len = data_len.checked_add(size).ok_or_else(overrun)?;
+        }
+        let end = header_len
+            .checked_add(data_len)
+            .filter(|&e| e <= block.len())
+            .ok_or_else(overrun)?;
+        Ok(vec![&block[..header_len], &block[header_len..end]])
+    }
 }
 
 fn inline<P>(piece: Piece<P>) -> Result<P, Problem> {
