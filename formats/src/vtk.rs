@@ -264,15 +264,12 @@ struct BlockLayout {
 impl BlockLayout {
     fn uint(&self, b: &[u8], at: usize) -> Option<usize> {
         let field = b.get(at..at.checked_add(self.header_bytes)?)?;
-        let mut v: u64 = 0;
-        for i in 0..self.header_bytes {
-            let byte = if self.big_endian {
-                field[i]
-            } else {
-                field[self.header_bytes - 1 - i]
-            };
-            v = (v << 8) | u64::from(byte);
-        }
+        let fold = |v: u64, &b: &u8| (v << 8) | u64::from(b);
+        let v = if self.big_endian {
+            field.iter().fold(0, fold)
+        } else {
+            field.iter().rev().fold(0, fold)
+        };
         usize::try_from(v).ok()
     }
 
