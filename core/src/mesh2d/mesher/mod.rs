@@ -106,6 +106,7 @@ pub fn mesh(pslg: &Pslg, options: &MeshOptions) -> Result<Mesh, MeshError> {
     set_side_labels(&tr, &mut cons.borrow_mut(), &labels);
 
     // Phase 2: quality refinement.
+    seg_level.recover_only = false;
     let global_area = options.max_area.unwrap_or(f64::INFINITY);
     let region_area = std::iter::once(global_area)
         .chain(

@@ -2,7 +2,7 @@
 //! encroached (a vertex in its closed diametral disk, or missing from the triangulation); a point
 //! proposed by the triangle level that would encroach one is refused and the sub-segment queued.
 
-use super::constraints::{Constraints, edge_cell, is_encroached};
+use super::constraints::{Constraints, edge_cell, needs_split};
 use super::engine::{Candidate, Check};
 use crate::triangulation::Triangulation;
 use crate::triangulation::delaunay2::predicates::dot_sign;
@@ -26,6 +26,9 @@ pub(crate) struct SegmentLevel {
     proposed: Option<(VertexId, VertexId)>,
     /// Sub-segments shorter than this are never split (a guard against runaway refinement).
     min_length: f64,
+    /// Only split sub-segments missing from the triangulation (segment recovery, before the
+    /// domain sides are known).
+    pub(crate) recover_only: bool,
     scratch: Vec<CellId>,
     zone: ConflictZone,
 }
@@ -38,9 +41,21 @@ impl SegmentLevel {
             queued: HashSet::new(),
             proposed: None,
             min_length,
+            recover_only: true,
             scratch: Vec::new(),
             zone: ConflictZone::default(),
         }
+    }
+
+    fn needs_split(&mut self, tr: &Delaunay2, a: VertexId, b: VertexId) -> bool {
+        needs_split(
+            tr,
+            &self.cons.borrow(),
+            a,
+            b,
+            self.recover_only,
+            &mut self.scratch,
+        )
     }
 
     fn push(&mut self, a: VertexId, b: VertexId, forced: bool) {
@@ -80,7 +95,7 @@ impl SegmentLevel {
     pub(crate) fn scan(&mut self, tr: &Delaunay2) {
         let subs = self.cons.borrow().sorted();
         for s in subs {
-            if is_encroached(tr, s.a, s.b, &mut self.scratch) {
+            if self.needs_split(tr, s.a, s.b) {
                 self.push(s.a, s.b, false);
             }
         }
@@ -89,7 +104,7 @@ impl SegmentLevel {
     pub(crate) fn next_element(&mut self, tr: &Delaunay2) -> Option<(VertexId, VertexId)> {
         while let Some(&(a, b, forced)) = self.queue.front() {
             let live = self.cons.borrow().get(a, b).is_some();
-            if live && (forced || is_encroached(tr, a, b, &mut self.scratch)) {
+            if live && (forced || self.needs_split(tr, a, b)) {
                 return Some((a, b));
             }
             self.pop_element();
@@ -227,7 +242,7 @@ impl SegmentLevel {
         for x in ends {
             let others = self.cons.borrow().around(x).to_vec();
             for y in others {
-                if x < y && is_encroached(tr, x, y, &mut self.scratch) {
+                if x < y && self.needs_split(tr, x, y) {
                     self.push(x, y, false);
                 }
             }
