@@ -1,6 +1,12 @@
 //! `delamesh`: quality tetrahedral meshing from the command line.
+//!
+//! Exit codes: 0 success, 1 the work failed (bad input, I/O, refinement guard), 2 bad usage.
 
 mod conform2d;
+mod convert;
+mod delaunay;
+mod info;
+mod mesh;
 mod mesh2d;
 
 use clap::{Parser, Subcommand};
@@ -19,6 +25,14 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Mesh the volume bounded by a closed surface.
+    Mesh(mesh::MeshArgs),
+    /// Delaunay tetrahedralisation of a point set.
+    Delaunay(delaunay::DelaunayArgs),
+    /// Convert a mesh from one file format to another
+    Convert(convert::ConvertArgs),
+    /// Describe a mesh: counts, bounding box, patches, closedness, manifoldness, genus
+    Info(info::InfoArgs),
     /// Subdivide a planar constraint until it is Delaunay-admissible (Pébay) and triangulate it.
     Conform2d(conform2d::Args),
     /// Quality triangle mesh of a planar straight-line graph.
@@ -27,14 +41,18 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    let result = match &cli.command {
-        Command::Conform2d(args) => conform2d::run(args),
-        Command::Mesh2d(args) => mesh2d::run(args),
+    let result = match cli.command {
+        Command::Mesh(args) => mesh::run(&args),
+        Command::Delaunay(args) => delaunay::run(&args),
+        Command::Convert(args) => convert::run(args),
+        Command::Info(args) => info::run(args),
+        Command::Conform2d(args) => conform2d::run(&args),
+        Command::Mesh2d(args) => mesh2d::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("delamesh: error: {e:#}");
             ExitCode::FAILURE
         }
     }

@@ -78,6 +78,10 @@ pub struct CellField {
 }
 
 /// A tetrahedral mesh with its boundary triangles and optional feature edges.
+///
+/// Tets are positively oriented as VTK, MEDIT and Gmsh expect: `det[b-a, c-a, d-a] > 0` (the
+/// opposite of Shewchuk's `orient3d` sign used inside the triangulations). Boundary triangles of a
+/// closed boundary are oriented with outward normals.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TetMesh {
     pub positions: Vec<DVec3>,
@@ -178,6 +182,24 @@ impl fmt::Display for Aabb {
             self.min.x, self.min.y, self.min.z, self.max.x, self.max.y, self.max.z
         )
     }
+}
+
+/// Names `"patch {label}"` for patch labels read from a file, making `patches` valid indices into
+/// them. Labels stay the patch ids when the name table they index is no longer than the triangle list
+/// (always the case for meshes delamesh writes); otherwise they are renumbered densely in increasing
+/// order, so that a hostile label of 4 billion cannot make us allocate 4 billion names.
+pub fn name_patch_labels(patches: &mut [PatchId]) -> Vec<String> {
+    let max = patches.iter().map(|p| p.0 as usize).max().unwrap_or(0);
+    if max <= patches.len().max(64) {
+        return (0..=max).map(|p| format!("patch {p}")).collect();
+    }
+    let mut labels: Vec<u32> = patches.iter().map(|p| p.0).collect();
+    labels.sort_unstable();
+    labels.dedup();
+    for p in patches.iter_mut() {
+        p.0 = labels.binary_search(&p.0).map_or(0, |i| i as u32);
+    }
+    labels.iter().map(|l| format!("patch {l}")).collect()
 }
 
 fn check_positions(positions: &[DVec3]) -> Result<(), MeshError> {
@@ -316,14 +338,16 @@ impl TetMesh {
         (b - a).cross(c - a).dot(d - a) / 6.0
     }
 
-    /// The boundary triangles as a surface, one patch name per distinct patch id.
+    /// The boundary triangles as a surface, patches named after their labels (see
+    /// [`name_patch_labels`]).
     pub fn boundary_surface(&self) -> SurfaceMesh {
-        let max_patch = self.boundary_patches.iter().map(|p| p.0).max().unwrap_or(0);
+        let mut patches = self.boundary_patches.clone();
+        let patch_names = name_patch_labels(&mut patches);
         SurfaceMesh {
             positions: self.positions.clone(),
             triangles: self.boundary.clone(),
-            patches: self.boundary_patches.clone(),
-            patch_names: (0..=max_patch).map(|p| format!("patch {p}")).collect(),
+            patches,
+            patch_names,
         }
     }
 
@@ -422,6 +446,20 @@ mod tests {
             Err(MeshError::LengthMismatch { .. })
         ));
         assert!(TetMesh::default().validate().is_err());
+    }
+
+    #[test]
+    fn huge_patch_labels_are_renumbered_not_allocated() {
+        let mut small = vec![PatchId(3), PatchId(1)];
+        assert_eq!(name_patch_labels(&mut small).len(), 4);
+        assert_eq!(small, vec![PatchId(3), PatchId(1)]);
+        let mut huge = vec![PatchId(4_000_000_000), PatchId(7), PatchId(4_000_000_000)];
+        let names = name_patch_labels(&mut huge);
+        assert_eq!(
+            names,
+            vec!["patch 7".to_string(), "patch 4000000000".to_string()]
+        );
+        assert_eq!(huge, vec![PatchId(1), PatchId(0), PatchId(1)]);
     }
 
     #[test]

@@ -1,1 +1,144 @@
 //! The `Oracle` trait: everything a mesher may ask of a domain.
+//!
+//! Rineau's meshers need exactly two questions answered about a smooth domain (thesis, ch. 3): is a
+//! point inside, and where does a segment (or a ray) cross the boundary. A plugin answers them for
+//! its own representation (triangle soup, subdivision surface, labelled image...). Piecewise-smooth
+//! domains add 1D features (curves and corners); they have default empty answers here so that a
+//! smooth-only plugin does not have to mention them.
+
+use crate::kernel::Point3;
+
+/// Label of a subdomain (a cell of the input complex). `OUTSIDE` (0) is the complement of the domain.
+pub type SubdomainId = u32;
+/// Label of a boundary surface patch. Patches are numbered from 1.
+pub type PatchId = u32;
+/// Label of a 1D feature curve. Curves are numbered from 1.
+pub type CurveId = u32;
+
+/// The subdomain label of every point outside the domain.
+pub const OUTSIDE: SubdomainId = 0;
+
+/// An axis-aligned box, used for default sizes and for rays that must leave the domain.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    pub min: Point3,
+    pub max: Point3,
+}
+
+impl Aabb {
+    /// The smallest box containing `points`; `None` when there are none.
+    pub fn from_points(points: impl IntoIterator<Item = Point3>) -> Option<Self> {
+        let mut it = points.into_iter();
+        let first = it.next()?;
+        Some(it.fold(
+            Aabb {
+                min: first,
+                max: first,
+            },
+            |b, p| Aabb {
+                min: b.min.min(p),
+                max: b.max.max(p),
+            },
+        ))
+    }
+
+    /// Length of the main diagonal: the scale default criteria are derived from.
+    pub fn diagonal(&self) -> f64 {
+        (self.max - self.min).length()
+    }
+
+    pub fn center(&self) -> Point3 {
+        0.5 * (self.min + self.max)
+    }
+
+    pub fn contains(&self, p: Point3) -> bool {
+        p.cmpge(self.min).all() && p.cmple(self.max).all()
+    }
+}
+
+/// One crossing of a segment or a ray with a boundary surface.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceHit {
+    pub point: Point3,
+    /// Parameter along the query: `a + t (b - a)` for a segment (t ∈ [0, 1]), `o + t d` for a ray.
+    pub t: f64,
+    pub patch: PatchId,
+}
+
+/// A point on a boundary surface, with the patch it lies on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfacePoint {
+    pub point: Point3,
+    pub patch: PatchId,
+}
+
+/// A 1D feature (sharp edge, patch border) as a polyline. Used by piecewise-smooth domains.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FeatureCurve {
+    pub id: CurveId,
+    pub points: Vec<Point3>,
+    /// The last point joins the first.
+    pub closed: bool,
+}
+
+/// What a mesher may ask of a domain. Object safe: the engine and the C ABI hold `&dyn Oracle`.
+pub trait Oracle: Send + Sync {
+    /// A box containing the whole domain.
+    fn bounding_box(&self) -> Aabb;
+
+    /// The subdomain containing `p`, or [`OUTSIDE`].
+    fn subdomain(&self, p: Point3) -> SubdomainId;
+
+    /// Every crossing of the closed segment `[a, b]` with the boundary surfaces, sorted by `t`.
+    /// Appends to `out` (which the caller clears) so that hot loops reuse one buffer.
+    fn segment_hits(&self, a: Point3, b: Point3, out: &mut Vec<SurfaceHit>);
+
+    /// Every crossing of the ray `origin + t dir` (t ≥ 0) with the boundary surfaces, sorted by `t`.
+    fn ray_hits(&self, origin: Point3, dir: Point3, out: &mut Vec<SurfaceHit>);
+
+    /// Points on the boundary, several on every connected component, so that the restricted
+    /// Delaunay triangulation of these points has facets on every component (P0 in the thesis).
+    fn initial_points(&self) -> Vec<SurfacePoint>;
+
+    /// 1D features the mesh must follow. Smooth domains have none.
+    fn feature_curves(&self) -> Vec<FeatureCurve> {
+        Vec::new()
+    }
+
+    /// 0D features (corners) the mesh must contain as vertices. Smooth domains have none.
+    fn corners(&self) -> Vec<Point3> {
+        Vec::new()
+    }
+
+    /// The first crossing of `[a, b]` with the boundary, if any.
+    fn first_segment_hit(&self, a: Point3, b: Point3) -> Option<SurfaceHit> {
+        let mut hits = Vec::new();
+        self.segment_hits(a, b, &mut hits);
+        hits.first().copied()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn aabb_of_points_contains_them() {
+        let pts = [
+            Point3::new(1.0, -2.0, 3.0),
+            Point3::new(-1.0, 4.0, 0.5),
+            Point3::ZERO,
+        ];
+        let b = Aabb::from_points(pts).expect("non-empty");
+        assert!(pts.iter().all(|&p| b.contains(p)));
+        assert_eq!(b.min, Point3::new(-1.0, -2.0, 0.0));
+        assert_eq!(b.max, Point3::new(1.0, 4.0, 3.0));
+        assert!(Aabb::from_points([]).is_none());
+    }
+
+    #[test]
+    fn oracle_is_object_safe_and_shareable() {
+        fn assert_send_sync<T: Send + Sync + ?Sized>() {}
+        assert_send_sync::<dyn Oracle>();
+    }
+}

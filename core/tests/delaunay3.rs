@@ -406,3 +406,79 @@ fn circumcenters_are_equidistant() {
         }
     }
 }
+
+#[test]
+fn cavities_are_connected_contain_the_located_cell_and_are_star_shaped() {
+    let pts = uniform(1500, 51);
+    let dt = Delaunay3::from_points(&pts[..1000]).unwrap();
+    let mut zone = ConflictZone::default();
+    for &p in pts[1000..].iter().chain(grid(3).iter()) {
+        dt.conflict_zone(p, None, &mut zone);
+        assert!(!zone.cells.is_empty());
+        let located = dt.locate(p, None).unwrap();
+        assert!(zone.cells.contains(&located));
+        // Connected through facets between zone cells.
+        let inside: BTreeSet<CellId> = zone.cells.iter().copied().collect();
+        let mut reached = BTreeSet::from([zone.cells[0]]);
+        let mut stack = vec![zone.cells[0]];
+        while let Some(c) = stack.pop() {
+            for i in 0..4 {
+                let n = dt.neighbor(c, i);
+                if inside.contains(&n) && reached.insert(n) {
+                    stack.push(n);
+                }
+            }
+        }
+        assert_eq!(reached, inside);
+        // Star-shaped from p: p sees every finite boundary facet from the cavity side.
+        for &(c, i) in &zone.boundary_facets {
+            let mut t = dt
+                .cell(c)
+                .map(|v| (!dt.is_infinite_vertex(v)).then(|| dt.point(v)));
+            t[i] = Some(p);
+            if let [Some(a), Some(b), Some(cc), Some(d)] = t {
+                assert_eq!(orient3d(a, b, cc, d), Sign::Positive);
+            }
+        }
+    }
+}
+
+#[test]
+fn facets_and_edges_are_listed_once() {
+    let pts = uniform(400, 61);
+    let dt = Delaunay3::from_points(&pts).unwrap();
+    // Closed 3-manifold: every cell has four facets, each shared by two cells.
+    assert_eq!(dt.facets().count() * 2, dt.num_cells() * 4);
+    let edges = dt.edges();
+    assert!(edges.windows(2).all(|w| w[0] < w[1]));
+    // Euler characteristic of the 3-sphere, counted independently of the checker.
+    let chi = (dt.num_vertices() + 1) as i64 - edges.len() as i64 + dt.facets().count() as i64
+        - dt.num_cells() as i64;
+    assert_eq!(chi, 0);
+}
+
+#[test]
+fn one_ulp_perturbations_of_a_degenerate_grid() {
+    // Devillers' stress case: exactly degenerate configurations nudged by one ulp in turn.
+    let mut pts = grid(5);
+    let mut rng = StdRng::seed_from_u64(71);
+    for p in &mut pts {
+        let axis = rng.random_range(0..3);
+        let bits = p[axis].to_bits();
+        if p[axis] != 0.0 && rng.random_bool(0.5) {
+            p[axis] = f64::from_bits(if rng.random_bool(0.5) {
+                bits + 1
+            } else {
+                bits - 1
+            });
+        }
+    }
+    let dt = Delaunay3::from_points(&pts).unwrap();
+    assert_valid(&dt);
+    assert_empty_spheres(&dt);
+    let order: Vec<usize> = (0..pts.len()).rev().collect();
+    assert_eq!(
+        tet_set(&insert_one_by_one(&pts, &order), &pts),
+        tet_set(&dt, &pts)
+    );
+}

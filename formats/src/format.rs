@@ -35,7 +35,7 @@ const TABLE: &[(Format, &str, &[&str])] = &[
     (Format::Vtk, "vtk", &["vtk"]),
     (Format::Vtu, "vtu", &["vtu"]),
     (Format::Vtp, "vtp", &["vtp"]),
-    (Format::Medit, "mesh", &["mesh", "meshb"]),
+    (Format::Medit, "mesh", &["mesh", "medit"]),
     (Format::Msh, "msh", &["msh"]),
 ];
 
@@ -75,14 +75,6 @@ impl Format {
             self,
             Format::Vtk | Format::Vtu | Format::Medit | Format::Msh
         )
-    }
-
-    pub fn can_read(self) -> bool {
-        self != Format::Msh
-    }
-
-    pub fn can_write(self) -> bool {
-        !matches!(self, Format::Gltf | Format::Vtp)
     }
 }
 

@@ -17,8 +17,27 @@ pub(crate) fn read(
     bytes: &[u8],
     dir: Option<&Path>,
 ) -> Result<(SurfaceMesh, Vec<String>), Problem> {
-    let gltf = gltf::Gltf::from_slice(bytes)
-        .map_err(|e| Problem::bad(format!("not a readable glTF file: {e}")))?;
+    let not_gltf = |e: gltf::Error| Problem::bad(format!("not a readable glTF file: {e}"));
+    let raw = gltf::Gltf::from_slice_without_validation(bytes).map_err(not_gltf)?;
+    // gltf-json's validation indexes the POSITION accessor without a bounds check: check it first.
+    let json = raw.document.into_json();
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            for (semantic, accessor) in &prim.attributes {
+                if accessor.value() >= json.accessors.len() {
+                    return Err(Problem::bad(format!(
+                        "mesh {m} primitive {p}: attribute {semantic:?} refers to accessor {} of {}",
+                        accessor.value(),
+                        json.accessors.len()
+                    )));
+                }
+            }
+        }
+    }
+    let gltf = gltf::Gltf {
+        document: gltf::Document::from_json(json).map_err(not_gltf)?,
+        blob: raw.blob,
+    };
     let mut buffers: Vec<Cow<[u8]>> = Vec::new();
     for buffer in gltf.buffers() {
         let data = match buffer.source() {

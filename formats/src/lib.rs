@@ -15,6 +15,7 @@ mod msh;
 mod obj;
 mod off;
 mod ply;
+mod points;
 pub mod poly;
 mod stl;
 mod text;
@@ -24,6 +25,7 @@ mod vtu;
 
 pub use error::{Error, Location, Problem, Result};
 pub use format::{Format, UnknownFormat};
+pub use points::{parse_xyz, read_points};
 
 use delamesh_core::mesh::{PatchId, SurfaceMesh, TetMesh, weld_exact};
 use std::io::Write;
@@ -129,6 +131,10 @@ pub fn read_bytes(bytes: &[u8], format: Format, dir: Option<&Path>) -> Result<Me
         AnyMesh::Surface(mut s) => {
             if soup {
                 welded_vertices = weld_exact(&mut s.positions, &mut s.triangles);
+            }
+            if format == Format::Obj {
+                // tobj copies shared vertices into every group; count only the file's own duplicates.
+                welded_vertices = obj::vertex_count(bytes).saturating_sub(s.positions.len());
             }
             s.validate()?;
             AnyMesh::Surface(s)

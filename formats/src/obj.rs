@@ -57,6 +57,14 @@ pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
     Ok(m)
 }
 
+/// Number of `v` lines: what the file holds before tobj splits it into groups.
+pub(crate) fn vertex_count(bytes: &[u8]) -> usize {
+    bytes
+        .split(|&b| b == b'\n')
+        .filter(|l| matches!(l.trim_ascii_start(), [b'v', b' ' | b'\t', ..]))
+        .count()
+}
+
 /// One `g` group per run of triangles of the same patch.
 pub(crate) fn write(w: &mut dyn Write, m: &SurfaceMesh) -> Result<(), Problem> {
     writeln!(w, "# written by delamesh")?;

@@ -3,7 +3,7 @@
 //! with double coordinates and an int `patch` per face.
 
 use crate::error::Problem;
-use delamesh_core::mesh::{PatchId, SurfaceMesh};
+use delamesh_core::mesh::{PatchId, SurfaceMesh, name_patch_labels};
 use glam::DVec3;
 use ply_rs_bw::parser::Parser;
 use ply_rs_bw::ply::{
@@ -42,7 +42,18 @@ fn index_list(p: &Property) -> Option<Vec<i64>> {
 pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
     let ply = Parser::<DefaultElement>::new()
         .read_ply(&mut Cursor::new(bytes))
-        .map_err(|e| Problem::bad(format!("not a readable PLY file: {e}")))?;
+        .map_err(|e| {
+            // ply-rs-bw's messages run over several lines; the first says what and where.
+            let msg = e.to_string();
+            let first = msg.lines().next().unwrap_or("unknown error");
+            match first.strip_prefix("Line ").and_then(|r| r.split_once(": ")) {
+                Some((line, what)) if line.parse::<usize>().is_ok() => Problem::at_line(
+                    line.parse().unwrap_or(0),
+                    format!("not a readable PLY file: {what}"),
+                ),
+                _ => Problem::bad(format!("not a readable PLY file: {first}")),
+            }
+        })?;
     let vertices = ply
         .payload
         .get("vertex")
@@ -89,8 +100,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
             m.patches.push(PatchId(patch));
         }
     }
-    let max_patch = m.patches.iter().map(|p| p.0).max().unwrap_or(0);
-    m.patch_names = (0..=max_patch).map(|p| format!("patch {p}")).collect();
+    m.patch_names = name_patch_labels(&mut m.patches);
     Ok(m)
 }
 

@@ -9,6 +9,22 @@ use glam::DVec3;
 use vtkio::model::{Attribute, CellType, DataSet, IOBuffer, Piece, VertexNumbers};
 
 pub(crate) fn read(bytes: &[u8], format: Format) -> Result<(AnyMesh, Vec<String>), Problem> {
+    let start = bytes.trim_ascii_start();
+    let magic_ok = match format {
+        Format::Vtk => start.starts_with(b"# vtk DataFile"),
+        _ => start.starts_with(b"<"),
+    };
+    if !magic_ok {
+        let want = if format == Format::Vtk {
+            "\"# vtk DataFile Version\""
+        } else {
+            "an XML tag"
+        };
+        return Err(Problem::at_byte(
+            0,
+            format!("wrong magic: a {format} file starts with {want}"),
+        ));
+    }
     let reencoded = match format {
         Format::Vtk => spell_nan_for_vtkio(bytes),
         _ => raw_appended_to_base64(bytes)?,

@@ -312,3 +312,23 @@ fn malformed_accessors_are_errors_not_panics() {
         .to_string();
     assert!(err.contains("index 7 out of range"), "{err}");
 }
+
+#[test]
+fn mirroring_node_keeps_the_surface_outward() {
+    let (p, t) = cube();
+    let mut b = Bin::default();
+    let pos = b.positions(&p);
+    let idx = b.indices(&t, 2);
+    let nodes = json!([{"scale": [-1.0, 1.0, 1.0], "mesh": 0}]);
+    let meshes = json!([{"primitives": [{"attributes": {"POSITION": pos}, "indices": idx}]}]);
+    let doc = b.document(nodes, meshes, None);
+    let (s, _) = surface(read_bytes(&glb(&doc, &b.data), Format::Gltf, None).unwrap());
+    assert!(s.positions.iter().all(|p| p.x <= 0.0));
+    let topo = s.topology();
+    assert!(topo.is_watertight());
+    assert!(
+        (topo.signed_volume - 1.0).abs() < 1e-12,
+        "{}",
+        topo.signed_volume
+    );
+}

@@ -82,3 +82,35 @@ fn medit_with_skipped_sections_warns() {
     };
     assert_eq!(v.boundary_patches[0].0, 5);
 }
+
+#[test]
+fn vtp_poly_data_with_polygons() {
+    let src = r#"<?xml version="1.0"?>
+<VTKFile type="PolyData" version="1.0" byte_order="LittleEndian">
+  <PolyData>
+    <Piece NumberOfPoints="5" NumberOfVerts="0" NumberOfLines="0" NumberOfStrips="0" NumberOfPolys="2">
+      <Points>
+        <DataArray type="Float64" NumberOfComponents="3" format="ascii">0 0 0 1 0 0 1 1 0 0 1 0 0.5 0.5 1</DataArray>
+      </Points>
+      <Polys>
+        <DataArray type="Int64" Name="connectivity" format="ascii">0 3 2 1 0 1 4</DataArray>
+        <DataArray type="Int64" Name="offsets" format="ascii">4 7</DataArray>
+      </Polys>
+    </Piece>
+  </PolyData>
+</VTKFile>
+"#;
+    let s = surface(src.as_bytes(), Format::Vtp);
+    assert_eq!(s.triangles, vec![[0, 3, 2], [0, 2, 1], [0, 1, 4]]);
+    assert_eq!(s.positions[4].to_array(), [0.5, 0.5, 1.0]);
+}
+
+#[test]
+fn off_header_variants_and_counts_on_the_header_line() {
+    let s = surface(
+        b"NOFF 3 1 0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n3 0 1 2\n",
+        Format::Off,
+    );
+    assert_eq!(s.triangles, vec![[0, 1, 2]]);
+    assert_eq!(s.positions[1].to_array(), [1.0, 0.0, 0.0]);
+}

@@ -12,8 +12,8 @@
 //! cofactor of a cell vertex `v` is the orientation of the cell with `v` replaced by the query
 //! point; the cofactor of the query point is minus the (positive) orientation of the cell.
 
-use super::Point2;
-use super::{Point3, Sign, insphere, orient2d, orient3d};
+use super::power::off_plane_point;
+use super::{Point3, Sign, insphere, orient3d};
 use std::cmp::Ordering;
 
 /// The total order of the perturbation: lexicographic on `(x, y, z)`. Inputs are finite.
@@ -72,42 +72,6 @@ fn in_sphere_tie_break(cell: [Point3; 4], e: Point3) -> bool {
         }
     }
     unreachable!("the query point is one of the ranked points")
-}
-
-/// A point off the plane of the non-collinear triangle `tri`, and the sign of `orient3d(tri, q)`.
-///
-/// Moves a vertex along an axis on which the triangle's normal has an exactly non-zero component,
-/// so the returned point is exactly off the plane.
-fn off_plane_point(tri: [Point3; 3]) -> (Point3, Sign) {
-    let [a, b, c] = tri;
-    let proj = [
-        (
-            Point2::new(a.y, a.z),
-            Point2::new(b.y, b.z),
-            Point2::new(c.y, c.z),
-        ),
-        (
-            Point2::new(a.z, a.x),
-            Point2::new(b.z, b.x),
-            Point2::new(c.z, c.x),
-        ),
-        (
-            Point2::new(a.x, a.y),
-            Point2::new(b.x, b.y),
-            Point2::new(c.x, c.y),
-        ),
-    ];
-    for (axis, (pa, pb, pc)) in proj.into_iter().enumerate() {
-        if orient2d(pa, pb, pc) != Sign::Zero {
-            let mut q = a;
-            q[axis] += 1.0 + q[axis].abs();
-            let s = orient3d(a, b, c, q);
-            if s != Sign::Zero {
-                return (q, s);
-            }
-        }
-    }
-    unreachable!("a non-collinear triangle has a non-zero normal component")
 }
 
 /// For `e` coplanar with the non-collinear triangle `tri`: is `e` strictly inside the perturbed
@@ -214,5 +178,37 @@ mod tests {
             [a, b, c],
             Point3::new(3.0, 0.5, 5.0)
         ));
+    }
+
+    #[test]
+    fn perturbed_in_sphere_is_consistent_across_a_cospherical_grid() {
+        // For every positively oriented tetrahedron of lattice points and every fifth lattice
+        // point, even permutations of the cell leave the answer unchanged.
+        let pts: Vec<Point3> = (0..27)
+            .map(|i| Point3::new((i % 3) as f64, (i / 3 % 3) as f64, (i / 9) as f64))
+            .collect();
+        let mut checked = 0;
+        for a in 0..27 {
+            for b in (a + 1)..27 {
+                for c in (b + 1)..27 {
+                    let (d, e) = ((a + b + c) % 27, (a * 7 + c) % 27);
+                    if [a, b, c].contains(&d) || [a, b, c, d].contains(&e) {
+                        continue;
+                    }
+                    let mut cell = [pts[a], pts[b], pts[c], pts[d]];
+                    match orient3d(cell[0], cell[1], cell[2], cell[3]) {
+                        Sign::Zero => continue,
+                        Sign::Negative => cell.swap(0, 1),
+                        Sign::Positive => {}
+                    }
+                    let inside = in_sphere_perturbed(cell, pts[e]);
+                    for perm in [[1, 2, 0, 3], [2, 0, 1, 3], [1, 0, 3, 2], [3, 2, 1, 0]] {
+                        assert_eq!(in_sphere_perturbed(perm.map(|k| cell[k]), pts[e]), inside);
+                    }
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 100);
     }
 }

@@ -39,6 +39,34 @@ pub struct Topology {
     pub orientation_consistent: bool,
 }
 
+impl Topology {
+    /// Closed, manifold and consistently oriented: what a volume mesher needs to tell inside from
+    /// outside.
+    pub fn is_watertight(&self) -> bool {
+        self.closed && self.manifold && self.orientation_consistent
+    }
+
+    /// Human-readable list of what keeps the surface from being watertight (empty when it is).
+    pub fn defects(&self) -> Vec<String> {
+        [
+            (self.boundary_edges, "boundary edges (holes)"),
+            (
+                self.non_manifold_edges,
+                "edges shared by more than two triangles",
+            ),
+            (self.non_manifold_vertices, "non-manifold vertices"),
+            (
+                self.misoriented_edges,
+                "edges where neighbouring triangles disagree on orientation",
+            ),
+        ]
+        .into_iter()
+        .filter(|(n, _)| *n > 0)
+        .map(|(n, what)| format!("{n} {what}"))
+        .collect()
+    }
+}
+
 /// Disjoint sets over `0..n` with path halving; used for components and vertex fans.
 struct UnionFind(Vec<u32>);
 
@@ -224,7 +252,7 @@ mod tests {
     fn cube_is_a_closed_oriented_sphere_of_volume_one() {
         let (p, t) = cube();
         let topo = surface_topology(&p, &t);
-        assert!(topo.closed && topo.manifold && topo.orientation_consistent);
+        assert!(topo.is_watertight() && topo.defects().is_empty());
         assert_eq!(topo.euler_characteristic, 2);
         assert_eq!(topo.genus, Some(0));
         assert_eq!(topo.components, 1);
@@ -249,6 +277,7 @@ mod tests {
         assert!(!topo.closed);
         assert_eq!(topo.boundary_edges, 3);
         assert_eq!(topo.genus, None);
+        assert_eq!(topo.defects(), vec!["3 boundary edges (holes)".to_string()]);
         // Flip one triangle → its three edges are misoriented.
         let (p, mut t) = cube();
         t[0].swap(1, 2);

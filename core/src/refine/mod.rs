@@ -1,1 +1,22 @@
-//! Delaunay refinement: the `MesherLevel` trait, the engine that stacks levels, criteria.
+//! Delaunay refinement: the `MesherLevel` trait, the engine that stacks levels, criteria, and the
+//! levels of the 3D mesher (surface facets, cells).
+//!
+//! The design follows Rineau's thesis, chapter 5: every rule of a Delaunay-refinement algorithm is
+//! a *level* owning a queue of elements to refine. Levels are ordered by priority; a point proposed
+//! by a level is checked by every level of higher priority and by itself, and is inserted only if
+//! all accept it. The engine is generic over [`Triangulation`](crate::triangulation::Triangulation)
+//! so that 2D meshers (Ruppert: segments, triangles) reuse it unchanged.
+
+pub mod cells;
+pub mod criteria;
+mod engine;
+pub mod facets;
+mod geometry;
+mod mesh3;
+mod queue;
+
+pub use engine::{
+    Candidate, Check, Engine, Limits, MesherLevel, Progress, RefineError, RefineStats,
+};
+pub(crate) use geometry::{cell_vertices, facet_vertices};
+pub use mesh3::{MeshError, MeshOptions, MeshOutcome, PhaseTimes, mesh_domain};

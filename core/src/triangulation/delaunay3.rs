@@ -23,6 +23,9 @@ const INFINITE: u32 = u32::MAX;
 const NO_CELL: u32 = u32::MAX;
 /// `v[0]` of a free cell slot.
 const FREE: u32 = u32::MAX - 1;
+/// Neighbour references pack a cell index in 30 bits; with about 6.7 cells per vertex (and room
+/// for less favourable distributions) this many vertices keep every cell index below 2^30.
+pub const MAX_VERTICES: usize = 1 << 27;
 /// Coordinates beyond this magnitude could overflow the in-sphere determinant (degree 5).
 pub const MAX_COORDINATE: f64 = 1e50;
 /// Expected number of cells per vertex of a uniform 3D point set (≈ 6.75 in a cube), rounded up: capacity
@@ -151,7 +154,7 @@ impl Delaunay3 {
             validate_point(p, i)?;
         }
         let total = self.points.len() + points.len();
-        if total >= (u32::MAX >> 3) as usize {
+        if total >= MAX_VERTICES {
             return Err(TriangulationError::TooManyElements);
         }
         self.points.reserve(points.len());
@@ -251,7 +254,7 @@ impl Delaunay3 {
         hint: Option<CellId>,
         report: Option<&mut InsertReport>,
     ) -> Result<InsertOutcome, TriangulationError> {
-        if self.points.len() >= (u32::MAX >> 3) as usize {
+        if self.points.len() >= MAX_VERTICES {
             return Err(TriangulationError::TooManyElements);
         }
         if let Some(lower) = &self.lower {

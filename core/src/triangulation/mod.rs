@@ -169,6 +169,32 @@ pub trait Triangulation {
     fn finite_cells(&self) -> impl Iterator<Item = CellId> + '_ {
         self.cells().filter(move |&c| !self.is_infinite_cell(c))
     }
+    /// Every facet once, as `(cell, index)` seen from the cell with the smaller id.
+    fn facets(&self) -> impl Iterator<Item = (CellId, usize)> + '_ {
+        self.cells().flat_map(move |c| {
+            let n = self.cell(c).as_ref().len();
+            (0..n)
+                .filter(move |&i| c < self.neighbor(c, i))
+                .map(move |i| (c, i))
+        })
+    }
+    /// Every edge once, as a sorted vertex pair, in increasing order (including edges to the
+    /// infinite vertex).
+    fn edges(&self) -> Vec<(VertexId, VertexId)> {
+        let mut edges = Vec::new();
+        for c in self.cells() {
+            let cell = self.cell(c);
+            let v = cell.as_ref();
+            for i in 0..v.len() {
+                for j in i + 1..v.len() {
+                    edges.push((v[i].min(v[j]), v[i].max(v[j])));
+                }
+            }
+        }
+        edges.sort_unstable();
+        edges.dedup();
+        edges
+    }
     /// Centre of the circumsphere of a finite cell (floating point construction).
     fn circumcenter(&self, c: CellId) -> Self::Point;
     /// All cells (finite and infinite) incident to `v`, written to `out` (cleared first).

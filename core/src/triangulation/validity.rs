@@ -167,20 +167,11 @@ fn check_vertices(dt: &Delaunay3) -> Result<(), ValidityError> {
 }
 
 fn check_euler(dt: &Delaunay3) -> Result<(), ValidityError> {
-    let mut edges = Vec::with_capacity(dt.num_cells() * 6);
-    for c in dt.cells() {
-        let v = dt.cell(c);
-        for i in 0..4 {
-            for j in i + 1..4 {
-                edges.push((v[i].min(v[j]), v[i].max(v[j])));
-            }
-        }
-    }
-    edges.sort_unstable();
-    edges.dedup();
     let v = dt.num_vertices() as i64 + 1;
+    let e = dt.edges().len() as i64;
+    let f = dt.facets().count() as i64;
     let c = dt.num_cells() as i64;
-    let chi = v - edges.len() as i64 + 2 * c - c;
+    let chi = v - e + f - c;
     if chi != 0 {
         return Err(ValidityError::Euler(chi));
     }

@@ -1,0 +1,446 @@
+//! `delamesh mesh`: a quality tetrahedral mesh of the volume bounded by a closed surface.
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use delamesh_core::complex::MeshComplex;
+use delamesh_core::oracle::Oracle;
+use delamesh_core::quality::{self, TetQuality};
+use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
+use delamesh_core::refine::{Limits, MeshError, MeshOptions, MeshOutcome, Progress, mesh_domain};
+use delamesh_formats::{WriteOptions, read_surface, write_tet_mesh};
+use delamesh_polyhedral::{PolyhedralOracle, TriangleTree};
+use glam::DVec3;
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use serde::Serialize;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+#[derive(Args, Debug)]
+pub struct MeshArgs {
+    /// Closed triangle surface bounding the volume (STL, OFF, OBJ, PLY, glTF...).
+    pub input: PathBuf,
+    /// Output tet mesh; the format follows the extension (.vtu .vtk .mesh .msh, or a surface format
+    /// for the boundary only).
+    #[arg(short, long)]
+    pub output: PathBuf,
+    /// Smallest facet angle, in degrees (0 disables; ≤ 30 guarantees termination).
+    #[arg(long)]
+    pub facet_angle: Option<f64>,
+    /// Largest surface Delaunay ball radius (default: bounding-box diagonal / 20).
+    #[arg(long)]
+    pub facet_size: Option<f64>,
+    /// Largest distance between a facet's circumcentre and the surface (default: diagonal / 400).
+    #[arg(long)]
+    pub facet_distance: Option<f64>,
+    /// Largest tetrahedron circumradius / shortest edge (0 disables; default 3).
+    #[arg(long)]
+    pub cell_radius_edge_ratio: Option<f64>,
+    /// Largest tetrahedron circumradius (default: diagonal / 20).
+    #[arg(long)]
+    pub cell_size: Option<f64>,
+    /// Stop with an error past this many vertices.
+    #[arg(long, default_value_t = 2_000_000)]
+    pub max_vertices: usize,
+    /// When --max-vertices stops refinement, still write the mesh reached.
+    #[arg(long)]
+    pub keep_partial: bool,
+    /// Write a JSON report (counts, timings, quality, approximation, topology) here.
+    #[arg(long)]
+    pub report: Option<PathBuf>,
+    /// ASCII instead of binary for .vtu / .vtk.
+    #[arg(long)]
+    pub ascii: bool,
+    /// No progress bar.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+pub fn run(args: &MeshArgs) -> Result<()> {
+    let started = Instant::now();
+    let mut times = Times::default();
+
+    let t = Instant::now();
+    let surface = read_surface(&args.input, None)?.mesh;
+    times.read = t.elapsed();
+
+    let t = Instant::now();
+    let patches: Vec<u32> = surface.patches.iter().map(|p| p.0 + 1).collect();
+    let oracle = PolyhedralOracle::new(&surface.positions, &surface.triangles, Some(&patches))
+        .map_err(|e| {
+            anyhow::anyhow!(
+                "{}: cannot mesh this surface: {e}\n(run `delamesh info {}` for a full diagnosis)",
+                args.input.display(),
+                args.input.display()
+            )
+        })?;
+    times.oracle = t.elapsed();
+
+    let criteria = criteria(args, &oracle)?;
+    let options = MeshOptions {
+        criteria: criteria.clone(),
+        limits: Limits {
+            max_vertices: args.max_vertices,
+            ..Limits::default()
+        },
+        keep_partial: args.keep_partial,
+    };
+    let bar = progress_bar(args.quiet);
+    let mut on_progress = |p: &Progress| {
+        let queues: Vec<String> = p
+            .pending
+            .iter()
+            .map(|(name, n)| format!("{name} {n}"))
+            .collect();
+        bar.set_message(format!(
+            "{} vertices; queued: {}",
+            p.vertices,
+            queues.join(", ")
+        ));
+        bar.tick();
+    };
+    let outcome = mesh_domain(&oracle, &options, &mut on_progress);
+    bar.finish_and_clear();
+    let (outcome, partial_error) = match outcome {
+        Ok(o) => (o, None),
+        Err(MeshError::Refinement {
+            source,
+            partial: Some(complex),
+        }) => {
+            let outcome = MeshOutcome {
+                complex: *complex,
+                stats: Default::default(),
+                times: Default::default(),
+            };
+            (outcome, Some(source))
+        }
+        Err(e) => {
+            return Err(anyhow::Error::new(e).context(format!("meshing {}", args.input.display())));
+        }
+    };
+    times.initial_points = outcome.times.initial_points;
+    times.refinement = outcome.times.refinement;
+    times.complex = outcome.times.complex;
+    if outcome.complex.tets.is_empty() {
+        bail!(
+            "{}: the mesh has no tetrahedron inside the surface (criteria too coarse?)",
+            args.input.display()
+        );
+    }
+
+    let t = Instant::now();
+    let tet_mesh = outcome.complex.to_tet_mesh();
+    let write_options = WriteOptions {
+        ascii: args.ascii,
+        ..WriteOptions::default()
+    };
+    write_tet_mesh(&args.output, &tet_mesh, &write_options)?;
+    times.write = t.elapsed();
+
+    if let Some(path) = &args.report {
+        let t = Instant::now();
+        let mut report = Report::new(
+            args,
+            &surface.positions,
+            &surface.triangles,
+            &oracle,
+            &criteria,
+            &outcome,
+        );
+        times.quality = t.elapsed();
+        times.total = started.elapsed();
+        report.times_s = times.seconds();
+        write_json_atomically(path, &report)?;
+    }
+    match partial_error {
+        Some(e) => Err(anyhow::Error::new(e).context(format!(
+            "{}: stopped early; the partial mesh was written to {}",
+            args.input.display(),
+            args.output.display()
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// The CGAL-style criteria: defaults from the bounding box, overridden by the options.
+fn criteria(args: &MeshArgs, oracle: &PolyhedralOracle) -> Result<MeshCriteria> {
+    let mut c = MeshCriteria::default_for(&oracle.bounding_box());
+    let positive = |name: &str, v: f64| -> Result<f64> {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            bail!("--{name} must be a positive number, got {v}")
+        }
+    };
+    let non_negative = |name: &str, v: f64| -> Result<f64> {
+        if v.is_finite() && v >= 0.0 {
+            Ok(v)
+        } else {
+            bail!("--{name} must be a number ≥ 0, got {v}")
+        }
+    };
+    if let Some(v) = args.facet_angle {
+        c.facet.angle_deg = non_negative("facet-angle", v)?;
+        if v > 30.0 {
+            eprintln!("warning: --facet-angle above 30° may not terminate before --max-vertices");
+        }
+    }
+    if let Some(v) = args.facet_size {
+        c.facet.size = Sizing::Constant(positive("facet-size", v)?);
+    }
+    if let Some(v) = args.facet_distance {
+        c.facet.distance = Sizing::Constant(positive("facet-distance", v)?);
+    }
+    if let Some(v) = args.cell_radius_edge_ratio {
+        c.cell.radius_edge_ratio = non_negative("cell-radius-edge-ratio", v)?;
+        if v > 0.0 && v < 2.0 {
+            eprintln!(
+                "warning: --cell-radius-edge-ratio below 2 may not terminate before --max-vertices"
+            );
+        }
+    }
+    if let Some(v) = args.cell_size {
+        c.cell.size = Sizing::Constant(positive("cell-size", v)?);
+    }
+    Ok(c)
+}
+
+fn progress_bar(quiet: bool) -> ProgressBar {
+    if quiet || !std::io::stderr().is_terminal() {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+    bar.set_style(
+        ProgressStyle::with_template("{spinner} {elapsed} {msg}")
+            .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+    );
+    bar.enable_steady_tick(Duration::from_millis(200));
+    bar
+}
+
+#[derive(Default, Serialize)]
+struct Times {
+    #[serde(skip)]
+    read: Duration,
+    #[serde(skip)]
+    oracle: Duration,
+    #[serde(skip)]
+    initial_points: Duration,
+    #[serde(skip)]
+    refinement: Duration,
+    #[serde(skip)]
+    complex: Duration,
+    #[serde(skip)]
+    quality: Duration,
+    #[serde(skip)]
+    write: Duration,
+    #[serde(skip)]
+    total: Duration,
+}
+
+#[derive(Default, Serialize)]
+struct TimesSeconds {
+    read: f64,
+    oracle: f64,
+    initial_points: f64,
+    refinement: f64,
+    complex: f64,
+    write: f64,
+    quality: f64,
+    total: f64,
+}
+
+impl Times {
+    fn seconds(&self) -> TimesSeconds {
+        TimesSeconds {
+            read: self.read.as_secs_f64(),
+            oracle: self.oracle.as_secs_f64(),
+            initial_points: self.initial_points.as_secs_f64(),
+            refinement: self.refinement.as_secs_f64(),
+            complex: self.complex.as_secs_f64(),
+            write: self.write.as_secs_f64(),
+            quality: self.quality.as_secs_f64(),
+            total: self.total.as_secs_f64(),
+        }
+    }
+}
+
+#[derive(Serialize)]
+struct Report {
+    input: String,
+    output: String,
+    criteria: CriteriaReport,
+    counts: Counts,
+    refinement: RefinementReport,
+    times_s: TimesSeconds,
+    quality: QualityReport,
+    approximation: Approximation,
+    boundary: BoundaryReport,
+}
+
+#[derive(Serialize)]
+struct CriteriaReport {
+    facet_angle_deg: f64,
+    facet_size: f64,
+    facet_distance: f64,
+    cell_radius_edge_ratio: f64,
+    cell_size: f64,
+}
+
+#[derive(Serialize)]
+struct Counts {
+    input_vertices: usize,
+    input_triangles: usize,
+    vertices: usize,
+    surface_vertices: usize,
+    tets: usize,
+    boundary_facets: usize,
+    subdomains: usize,
+}
+
+#[derive(Serialize)]
+struct RefinementReport {
+    insertions_per_level: Vec<usize>,
+    rejections: usize,
+    dropped: usize,
+}
+
+#[derive(Serialize)]
+struct QualityReport {
+    min_dihedral_deg: f64,
+    max_dihedral_deg: f64,
+    max_radius_edge: f64,
+    mean_radius_edge: f64,
+    inverted_tets: usize,
+    /// Tets per 10° bin of their smallest dihedral angle, from 0° to 180°.
+    min_dihedral_histogram: Vec<u64>,
+}
+
+#[derive(Serialize)]
+struct Approximation {
+    /// Largest distance from the mesh boundary to the input surface (sampled).
+    hausdorff_mesh_to_input: f64,
+    /// Largest distance from the input surface to the mesh boundary (sampled).
+    hausdorff_input_to_mesh: f64,
+    hausdorff: f64,
+    volume: f64,
+    input_volume: f64,
+    volume_ratio: f64,
+}
+
+#[derive(Serialize)]
+struct BoundaryReport {
+    closed: bool,
+    manifold: bool,
+    euler_characteristic: i64,
+    components: usize,
+    input_euler_characteristic: i64,
+    input_components: usize,
+    /// Boundary facets whose dual Voronoi edge the surface level did not find crossing the input.
+    unrestricted_facets: usize,
+}
+
+impl Report {
+    fn new(
+        args: &MeshArgs,
+        input_points: &[DVec3],
+        input_triangles: &[[u32; 3]],
+        oracle: &PolyhedralOracle,
+        criteria: &MeshCriteria,
+        outcome: &MeshOutcome,
+    ) -> Report {
+        let c = &outcome.complex;
+        let center = oracle.bounding_box().center();
+        let q: TetQuality = quality::tet_quality((0..c.tets.len()).map(|t| c.tet_points(t)));
+        let (to_input, to_mesh) = hausdorff(c, oracle);
+        let input_topology = quality::surface_topology(input_triangles);
+        let topology = quality::surface_topology(&c.facets);
+        let _ = input_points;
+        let mut subdomains: Vec<u32> = c.tet_subdomain.clone();
+        subdomains.sort_unstable();
+        subdomains.dedup();
+        Report {
+            input: args.input.display().to_string(),
+            output: args.output.display().to_string(),
+            criteria: CriteriaReport {
+                facet_angle_deg: criteria.facet.angle_deg,
+                facet_size: criteria.facet.size.at(center, 1),
+                facet_distance: criteria.facet.distance.at(center, 1),
+                cell_radius_edge_ratio: criteria.cell.radius_edge_ratio,
+                cell_size: criteria.cell.size.at(center, 1),
+            },
+            counts: Counts {
+                input_vertices: input_points.len(),
+                input_triangles: input_triangles.len(),
+                vertices: c.num_vertices(),
+                surface_vertices: c
+                    .vertex_dimension
+                    .iter()
+                    .filter(|d| **d == delamesh_core::complex::VertexDimension::Surface)
+                    .count(),
+                tets: c.tets.len(),
+                boundary_facets: c.facets.len(),
+                subdomains: subdomains.len(),
+            },
+            refinement: RefinementReport {
+                insertions_per_level: outcome.stats.insertions.clone(),
+                rejections: outcome.stats.rejections,
+                dropped: outcome.stats.dropped,
+            },
+            times_s: TimesSeconds::default(),
+            quality: QualityReport {
+                min_dihedral_deg: q.min_dihedral_deg,
+                max_dihedral_deg: q.max_dihedral_deg,
+                max_radius_edge: q.max_radius_edge,
+                mean_radius_edge: q.mean_radius_edge,
+                inverted_tets: q.inverted,
+                min_dihedral_histogram: q.min_dihedral_histogram.counts.clone(),
+            },
+            approximation: Approximation {
+                hausdorff_mesh_to_input: to_input,
+                hausdorff_input_to_mesh: to_mesh,
+                hausdorff: to_input.max(to_mesh),
+                volume: q.volume,
+                input_volume: oracle.domain_volume(),
+                volume_ratio: q.volume / oracle.domain_volume(),
+            },
+            boundary: BoundaryReport {
+                closed: topology.border_edges == 0,
+                manifold: topology.non_manifold_edges == 0 && topology.non_manifold_vertices == 0,
+                euler_characteristic: topology.euler_characteristic,
+                components: topology.components,
+                input_euler_characteristic: input_topology.euler_characteristic,
+                input_components: input_topology.components,
+                unrestricted_facets: c.facet_patch.iter().filter(|&&p| p == 0).count(),
+            },
+        }
+    }
+}
+
+/// The two sides of the sampled Hausdorff distance between the mesh boundary and the input.
+fn hausdorff(c: &MeshComplex, oracle: &PolyhedralOracle) -> (f64, f64) {
+    let spacing = oracle.bounding_box().diagonal() / 300.0;
+    let boundary: Vec<[DVec3; 3]> = (0..c.facets.len()).map(|f| c.facet_points(f)).collect();
+    let mesh_samples = quality::sample_triangles(boundary.iter().copied(), spacing);
+    let to_input = quality::one_sided_distance(&mesh_samples, |p| oracle.distance_to_surface(p));
+    let tree = TriangleTree::new(&boundary);
+    let input_samples = quality::sample_triangles(oracle.triangles().iter().copied(), spacing);
+    let to_mesh = quality::one_sided_distance(&input_samples, |p| tree.distance(p, &boundary));
+    (to_input, to_mesh)
+}
+
+/// Write JSON next to its destination, then rename: readers never see half a report.
+fn write_json_atomically(path: &Path, value: &impl Serialize) -> Result<()> {
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let mut tmp = tempfile::NamedTempFile::new_in(dir)
+        .with_context(|| format!("{}: cannot create the report", path.display()))?;
+    serde_json::to_writer_pretty(&mut tmp, value)
+        .with_context(|| format!("{}: cannot write the report", path.display()))?;
+    tmp.write_all(b"\n")?;
+    tmp.persist(path)
+        .with_context(|| format!("{}: cannot write the report", path.display()))?;
+    Ok(())
+}

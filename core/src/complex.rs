@@ -1,0 +1,164 @@
+//! The result of refinement: the tetrahedra of the restricted Delaunay triangulation with their
+//! subdomains, the boundary facets with their surface patches, and each vertex's dimension.
+
+use crate::kernel::Point3;
+use crate::mesh::{self, CellField, TetMesh};
+use crate::oracle::{OUTSIDE, PatchId, SubdomainId};
+use crate::quality;
+use crate::refine::cells::CellLevel;
+use crate::refine::facets::SurfaceLevel;
+use crate::triangulation::{Triangulation, VertexId};
+
+/// Where a vertex lies: on the boundary surfaces or inside a subdomain.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum VertexDimension {
+    Surface = 2,
+    Volume = 3,
+}
+
+/// A mesh complex with compact vertex numbering (vertices of no tetrahedron are dropped).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshComplex {
+    pub points: Vec<Point3>,
+    pub vertex_dimension: Vec<VertexDimension>,
+    /// Positively oriented tetrahedra (signed volume > 0).
+    pub tets: Vec<[u32; 4]>,
+    pub tet_subdomain: Vec<SubdomainId>,
+    /// Facets between tetrahedra of different subdomains (or a tetrahedron and the outside),
+    /// oriented so that the normal points to the side with the smaller subdomain id.
+    pub facets: Vec<[u32; 3]>,
+    /// Patch of each facet's surface Delaunay ball; 0 for a facet the surface level did not
+    /// find restricted (the thesis shows none are left for a fine enough mesh).
+    pub facet_patch: Vec<PatchId>,
+    /// The subdomains on the two sides of each facet: `[behind the normal, in front]`.
+    pub facet_subdomains: Vec<[SubdomainId; 2]>,
+}
+
+impl MeshComplex {
+    /// Collect the complex from a refined triangulation and the levels that refined it.
+    pub fn from_refinement<T: Triangulation<Point = Point3>>(
+        tr: &T,
+        surface: &SurfaceLevel<'_>,
+        cells: &CellLevel<'_>,
+    ) -> Self {
+        let mut complex = MeshComplex::default();
+        // Number vertices in `VertexId` order so the output does not depend on cell order.
+        let mut used: Vec<VertexId> = Vec::new();
+        for c in tr.finite_cells() {
+            if cells.subdomain(c) != OUTSIDE {
+                used.extend_from_slice(tr.cell(c).as_ref());
+            }
+        }
+        used.sort_unstable();
+        used.dedup();
+        let mut new_index = vec![u32::MAX; used.last().map_or(0, |v| v.0 as usize + 1)];
+        for (i, &v) in used.iter().enumerate() {
+            new_index[v.0 as usize] = i as u32;
+            complex.points.push(tr.point(v));
+            complex.vertex_dimension.push(if surface.is_on_surface(v) {
+                VertexDimension::Surface
+            } else {
+                VertexDimension::Volume
+            });
+        }
+        let index_of = |v: VertexId| new_index[v.0 as usize];
+        for c in tr.finite_cells() {
+            let sub = cells.subdomain(c);
+            if sub == OUTSIDE {
+                continue;
+            }
+            let cell = crate::refine::cell_vertices(tr, c);
+            let p = cell.map(|v| tr.point(v));
+            let mut tet = cell.map(index_of);
+            if signed_volume(&p) < 0.0 {
+                tet.swap(0, 1);
+            }
+            complex.tets.push(tet);
+            complex.tet_subdomain.push(sub);
+            for i in 0..4 {
+                let n = tr.neighbor(c, i);
+                let other = if tr.is_infinite_cell(n) {
+                    OUTSIDE
+                } else {
+                    cells.subdomain(n)
+                };
+                if other >= sub {
+                    continue;
+                }
+                let mut f = crate::refine::facet_vertices(&cell, i);
+                let [a, b, d] = f.map(|v| tr.point(v));
+                if (b - a).cross(d - a).dot(p[i] - a) > 0.0 {
+                    f.swap(0, 1);
+                }
+                complex.facets.push(f.map(index_of));
+                complex
+                    .facet_patch
+                    .push(surface.ball(c, i).map_or(0, |b| b.patch));
+                complex.facet_subdomains.push([sub, other]);
+            }
+        }
+        complex
+    }
+
+    pub fn num_vertices(&self) -> usize {
+        self.points.len()
+    }
+
+    /// The mesh as the formats crate writes it: subdomain per tet, patch per boundary facet, and
+    /// the cell fields `min_dihedral_deg` and `radius_edge` that ParaView users colour by.
+    pub fn to_tet_mesh(&self) -> TetMesh {
+        let (min_dihedral, radius_edge): (Vec<f64>, Vec<f64>) = (0..self.tets.len())
+            .map(|t| {
+                let p = self.tet_points(t);
+                let min = quality::dihedral_angles_deg(&p)
+                    .into_iter()
+                    .fold(f64::INFINITY, f64::min);
+                (min, quality::radius_edge_ratio(&p))
+            })
+            .unzip();
+        TetMesh {
+            positions: self.points.clone(),
+            tets: self.tets.clone(),
+            subdomains: self
+                .tet_subdomain
+                .iter()
+                .map(|&s| mesh::SubdomainId(s))
+                .collect(),
+            boundary: self.facets.clone(),
+            boundary_patches: self.facet_patch.iter().map(|&p| mesh::PatchId(p)).collect(),
+            feature_edges: Vec::new(),
+            feature_curves: Vec::new(),
+            cell_fields: vec![
+                CellField {
+                    name: "min_dihedral_deg".into(),
+                    values: min_dihedral,
+                },
+                CellField {
+                    name: "radius_edge".into(),
+                    values: radius_edge,
+                },
+            ],
+        }
+    }
+
+    /// The corner points of tetrahedron `t`.
+    pub fn tet_points(&self, t: usize) -> [Point3; 4] {
+        self.tets[t].map(|v| self.points[v as usize])
+    }
+
+    /// The corner points of boundary facet `f`.
+    pub fn facet_points(&self, f: usize) -> [Point3; 3] {
+        self.facets[f].map(|v| self.points[v as usize])
+    }
+}
+
+/// Six times the signed volume of a tetrahedron, positive when `p[0] p[1] p[2]` turn
+/// counterclockwise seen from `p[3]`. The sign is exact (robust predicates).
+pub fn signed_volume(p: &[Point3; 4]) -> f64 {
+    let c = |q: Point3| robust::Coord3D {
+        x: q.x,
+        y: q.y,
+        z: q.z,
+    };
+    -robust::orient3d(c(p[0]), c(p[1]), c(p[2]), c(p[3]))
+}

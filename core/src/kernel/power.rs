@@ -1,0 +1,322 @@
+//! The exact power test for regular (weighted Delaunay) triangulations.
+//!
+//! A weighted point `(p, w)` lifts to `|p|² − w`; the power test is the sign of the 5×5 lifted
+//! determinant, i.e. whether a fifth weighted point has a negative power distance to the sphere
+//! orthogonal to four others. With all weights zero it is the in-sphere test, with the same sign
+//! convention. A semi-static floating-point filter decides almost every call; the rest are
+//! evaluated exactly on the doubles' exact dyadic values with big integers.
+
+use super::{Point2, Point3, Sign, orient2d, orient3d};
+use num_bigint::BigInt;
+
+/// A point with a weight (a squared radius): the vertex type of a regular triangulation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WeightedPoint3 {
+    pub point: Point3,
+    pub weight: f64,
+}
+
+impl WeightedPoint3 {
+    pub fn new(point: Point3, weight: f64) -> Self {
+        WeightedPoint3 { point, weight }
+    }
+}
+
+/// Positive when `e` has a negative power distance to the sphere orthogonal to `a, b, c, d`
+/// (`e` conflicts with the cell), given `orient3d(a, b, c, d)` positive; the sign is reversed for
+/// a negatively oriented tetrahedron. Zero exactly when `e` is orthogonal to that sphere.
+pub fn power_test(
+    a: WeightedPoint3,
+    b: WeightedPoint3,
+    c: WeightedPoint3,
+    d: WeightedPoint3,
+    e: WeightedPoint3,
+) -> Sign {
+    let rows = [a, b, c, d].map(|q| {
+        let t = q.point - e.point;
+        (t, t.length_squared() - (q.weight - e.weight))
+    });
+    let [(ae, la), (be, lb), (ce, lc), (de, ld)] = rows;
+    let ab = ae.x * be.y - be.x * ae.y;
+    let bc = be.x * ce.y - ce.x * be.y;
+    let cd = ce.x * de.y - de.x * ce.y;
+    let da = de.x * ae.y - ae.x * de.y;
+    let ac = ae.x * ce.y - ce.x * ae.y;
+    let bd = be.x * de.y - de.x * be.y;
+    let abc = ae.z * bc - be.z * ac + ce.z * ab;
+    let bcd = be.z * cd - ce.z * bd + de.z * bc;
+    let cda = ce.z * da + de.z * ac + ae.z * cd;
+    let dab = de.z * ab + ae.z * bd + be.z * da;
+    let det = (ld * abc - lc * dab) + (lb * cda - la * bcd);
+    let m = ae.abs().max(be.abs()).max(ce.abs()).max(de.abs());
+    let lift_bound = [a, b, c, d]
+        .iter()
+        .zip(rows)
+        .map(|(q, (t, _))| t.length_squared() + q.weight.abs() + e.weight.abs())
+        .fold(0.0, f64::max);
+    // Same reasoning as the in-sphere filter, with the lift magnitude bounded by |t|² + |w| + |w_e|.
+    let bound = 1e-12 * m.x * m.y * m.z * lift_bound;
+    if det.is_finite() && bound.is_finite() && det.abs() > bound && m.min_element() > 1e-55 {
+        return Sign::of(det);
+    }
+    power_test_exact([a, b, c, d, e])
+}
+
+/// For weighted points `a, b, c, e` with coplanar positions (`a, b, c` not collinear): positive
+/// when `e` has a negative power distance to the circle orthogonal to `a, b, c` in their plane —
+/// the conflict test of a hull facet with a point on its plane in a regular triangulation.
+/// Orientation-free: the result does not depend on the order of `a, b, c`.
+pub fn coplanar_power_test(
+    a: WeightedPoint3,
+    b: WeightedPoint3,
+    c: WeightedPoint3,
+    e: WeightedPoint3,
+) -> Sign {
+    let (q, plane_sign) = off_plane_point([a.point, b.point, c.point]);
+    // A sphere orthogonal to a, b, c and any fourth weighted point cuts their plane along the
+    // circle orthogonal to a, b, c, and power distances in the plane are preserved up to a
+    // constant, so the 3D power test answers the planar one.
+    let s = power_test(a, b, c, WeightedPoint3::new(q, 0.0), e);
+    if plane_sign == Sign::Negative {
+        s.flip()
+    } else {
+        s
+    }
+}
+
+/// A point exactly off the plane of the non-collinear triangle `tri`, with `orient3d(tri, q)`.
+pub(crate) fn off_plane_point(tri: [Point3; 3]) -> (Point3, Sign) {
+    let [a, b, c] = tri;
+    let proj = |p: Point3, i: usize, j: usize| Point2::new(p[i], p[j]);
+    for (axis, (i, j)) in [(1, 2), (2, 0), (0, 1)].into_iter().enumerate() {
+        // The normal's component along `axis` is the orientation of the projection on (i, j).
+        if orient2d(proj(a, i, j), proj(b, i, j), proj(c, i, j)) != Sign::Zero {
+            let mut q = a;
+            q[axis] += 1.0 + q[axis].abs();
+            let s = orient3d(a, b, c, q);
+            if s != Sign::Zero {
+                return (q, s);
+            }
+        }
+    }
+    unreachable!("a non-collinear triangle has a non-zero normal component")
+}
+
+/// `x = mantissa · 2^exponent` exactly (zero has mantissa 0).
+fn dyadic(x: f64) -> (i64, i32) {
+    let bits = x.to_bits();
+    let sign = if bits >> 63 == 1 { -1 } else { 1 };
+    let biased = ((bits >> 52) & 0x7ff) as i32;
+    let frac = (bits & ((1u64 << 52) - 1)) as i64;
+    let (m, e) = if biased == 0 {
+        (frac, -1074)
+    } else {
+        (frac | (1i64 << 52), biased - 1075)
+    };
+    (sign * m, e)
+}
+
+/// `x · 2^-unit` as an exact integer; `unit` must not exceed the exponent of `x`.
+fn scaled(x: f64, unit: i32) -> BigInt {
+    let (m, e) = dyadic(x);
+    BigInt::from(m) << ((e - unit) as usize)
+}
+
+/// The exact sign of the lifted 5×5 determinant, rows `[x y z |p|²−w 1]`.
+#[cold]
+fn power_test_exact(p: [WeightedPoint3; 5]) -> Sign {
+    // Smallest exponents of the coordinates and of the weights: scaling a column by a power of
+    // two keeps the determinant's sign, so every entry becomes an integer.
+    let exp = |x: f64| if x == 0.0 { i32::MAX } else { dyadic(x).1 };
+    let ec = p
+        .iter()
+        .flat_map(|q| [q.point.x, q.point.y, q.point.z])
+        .map(exp)
+        .min()
+        .unwrap_or(0)
+        .min(0);
+    let ew = p.iter().map(|q| exp(q.weight)).min().unwrap_or(0);
+    let lift_unit = (2 * ec).min(ew);
+    let rows: Vec<[BigInt; 4]> = p
+        .iter()
+        .map(|q| {
+            let xyz = [q.point.x, q.point.y, q.point.z].map(|x| scaled(x, ec));
+            let square: BigInt = xyz.iter().map(|v| v * v).sum();
+            let lift = (square << ((2 * ec - lift_unit) as usize)) - scaled(q.weight, lift_unit);
+            let [x, y, z] = xyz;
+            [x, y, z, lift]
+        })
+        .collect();
+    // Subtract the last row (the column of ones), leaving a 4×4 determinant.
+    let m: Vec<[BigInt; 4]> = rows[..4]
+        .iter()
+        .map(|r| std::array::from_fn(|j| &r[j] - &rows[4][j]))
+        .collect();
+    let det = det4(&m);
+    // det[rows - e] is the 5×5 determinant up to the sign (-1)^(4) of expanding along the ones.
+    match det.sign() {
+        num_bigint::Sign::Plus => Sign::Positive,
+        num_bigint::Sign::Minus => Sign::Negative,
+        num_bigint::Sign::NoSign => Sign::Zero,
+    }
+}
+
+fn det3(m: [[&BigInt; 3]; 3]) -> BigInt {
+    m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+}
+
+fn det4(m: &[[BigInt; 4]]) -> BigInt {
+    let mut total = BigInt::from(0);
+    for col in 0..4 {
+        let minor: [[&BigInt; 3]; 3] = std::array::from_fn(|r| {
+            let row = &m[r + 1];
+            let cols: Vec<usize> = (0..4).filter(|&c| c != col).collect();
+            [&row[cols[0]], &row[cols[1]], &row[cols[2]]]
+        });
+        let term = &m[0][col] * det3(minor);
+        if col % 2 == 0 {
+            total += term;
+        } else {
+            total -= term;
+        }
+    }
+    total
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernel::insphere;
+
+    fn w(x: f64, y: f64, z: f64, weight: f64) -> WeightedPoint3 {
+        WeightedPoint3::new(Point3::new(x, y, z), weight)
+    }
+
+    #[test]
+    fn unweighted_power_test_is_the_in_sphere_test() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for k in 0..2000 {
+            let scale = if k % 2 == 0 { 1.0 } else { 3.0 };
+            let p: [Point3; 5] = std::array::from_fn(|_| {
+                // Coarse coordinates make many exact ties.
+                Point3::new((next() * 4.0).floor(), (next() * 4.0).floor(), next()) * scale
+            });
+            let wp = p.map(|q| WeightedPoint3::new(q, 0.0));
+            let expected = insphere(p[0], p[1], p[2], p[3], p[4]);
+            assert_eq!(power_test(wp[0], wp[1], wp[2], wp[3], wp[4]), expected);
+            assert_eq!(power_test_exact(wp), expected);
+        }
+    }
+
+    #[test]
+    fn weights_move_the_orthogonal_sphere() {
+        // Unit tetrahedron corner: circumsphere centre (0.5,0.5,0.5), radius² 0.75.
+        let cell = [
+            w(1.0, 0.0, 0.0, 0.0),
+            w(0.0, 1.0, 0.0, 0.0),
+            w(0.0, 0.0, 1.0, 0.0),
+            w(0.0, 0.0, 0.0, 0.0),
+        ];
+        let on = w(1.0, 1.0, 1.0, 0.0);
+        assert_eq!(
+            power_test(cell[0], cell[1], cell[2], cell[3], on),
+            Sign::Zero
+        );
+        // A positive weight on the query makes it reach into the sphere: conflict.
+        let heavy = w(1.0, 1.0, 1.0, 0.25);
+        assert_eq!(
+            power_test(cell[0], cell[1], cell[2], cell[3], heavy),
+            Sign::Positive
+        );
+        assert_eq!(
+            power_test_exact([cell[0], cell[1], cell[2], cell[3], heavy]),
+            Sign::Positive
+        );
+        // Weight exactly cancelling the power distance: orthogonal, hence zero.
+        let far = w(2.0, 0.5, 0.5, 1.5);
+        // |far - centre|² - 0.75 = 2.25 - 0.75 = 1.5.
+        assert_eq!(
+            power_test(cell[0], cell[1], cell[2], cell[3], far),
+            Sign::Zero
+        );
+        assert_eq!(
+            power_test_exact([cell[0], cell[1], cell[2], cell[3], far]),
+            Sign::Zero
+        );
+    }
+
+    #[test]
+    fn exact_fallback_handles_tiny_and_huge_magnitudes() {
+        let t = 1e-200;
+        let cell = [
+            w(t, 0.0, 0.0, 0.0),
+            w(0.0, t, 0.0, 0.0),
+            w(0.0, 0.0, t, 0.0),
+            w(0.0, 0.0, 0.0, 0.0),
+        ];
+        assert_eq!(
+            power_test(cell[0], cell[1], cell[2], cell[3], w(t, t, t, 0.0)),
+            Sign::Zero
+        );
+        assert_eq!(
+            power_test(
+                cell[0],
+                cell[1],
+                cell[2],
+                cell[3],
+                w(t / 4.0, t / 4.0, t / 4.0, 0.0)
+            ),
+            Sign::Positive
+        );
+        let big = [
+            w(1e40, 0.0, 0.0, 1e70),
+            w(0.0, 1e40, 0.0, 0.0),
+            w(0.0, 0.0, 1e40, 0.0),
+            w(0.0, 0.0, 0.0, 0.0),
+        ];
+        let s = power_test(big[0], big[1], big[2], big[3], w(1e40, 1e40, 1e40, 0.0));
+        assert_eq!(
+            s,
+            power_test_exact([big[0], big[1], big[2], big[3], w(1e40, 1e40, 1e40, 0.0)])
+        );
+    }
+
+    #[test]
+    fn coplanar_power_test_matches_the_planar_geometry() {
+        let (a, b, c) = (
+            w(0.0, 0.0, 2.0, 0.0),
+            w(2.0, 0.0, 2.0, 0.0),
+            w(0.0, 2.0, 2.0, 0.0),
+        );
+        // Circumcircle centre (1,1), radius² 2.
+        assert_eq!(
+            coplanar_power_test(a, b, c, w(1.0, 1.0, 2.0, 0.0)),
+            Sign::Positive
+        );
+        assert_eq!(
+            coplanar_power_test(b, a, c, w(1.0, 1.0, 2.0, 0.0)),
+            Sign::Positive
+        );
+        assert_eq!(
+            coplanar_power_test(a, b, c, w(2.0, 2.0, 2.0, 0.0)),
+            Sign::Zero
+        );
+        assert_eq!(
+            coplanar_power_test(a, b, c, w(3.0, 3.0, 2.0, 0.0)),
+            Sign::Negative
+        );
+        // Weight 6 on the far point: power distance 8 - 2 - 6 = 0.
+        assert_eq!(
+            coplanar_power_test(a, b, c, w(3.0, 3.0, 2.0, 6.0)),
+            Sign::Zero
+        );
+    }
+}

@@ -1,0 +1,389 @@
+//! Quality measures of tetrahedral meshes and of their boundaries: dihedral angles, radius-edge
+//! ratio, volumes, histograms, sampled Hausdorff distance, and surface topology.
+
+use crate::kernel::Point3;
+use std::collections::BTreeMap;
+
+/// The six dihedral angles of a tetrahedron, in degrees (edge order 01, 02, 03, 12, 13, 23).
+pub fn dihedral_angles_deg(p: &[Point3; 4]) -> [f64; 6] {
+    // The dihedral angle at edge (i, j) is π minus the angle between the outward normals of the
+    // two faces containing the edge, which are the faces opposite k and l.
+    const EDGES: [(usize, usize, usize, usize); 6] = [
+        (0, 1, 2, 3),
+        (0, 2, 1, 3),
+        (0, 3, 1, 2),
+        (1, 2, 0, 3),
+        (1, 3, 0, 2),
+        (2, 3, 0, 1),
+    ];
+    let normal_opposite = |k: usize| {
+        let f: Vec<Point3> = (0..4).filter(|&m| m != k).map(|m| p[m]).collect();
+        let mut n = (f[1] - f[0]).cross(f[2] - f[0]);
+        if n.dot(p[k] - f[0]) > 0.0 {
+            n = -n;
+        }
+        n
+    };
+    EDGES.map(|(_, _, k, l)| {
+        let (nk, nl) = (normal_opposite(k), normal_opposite(l));
+        180.0 - nk.angle_between(nl).to_degrees()
+    })
+}
+
+/// Circumcentre of a tetrahedron (`None` when it is flat).
+pub fn tet_circumcenter(p: &[Point3; 4]) -> Option<Point3> {
+    let (a, b, c) = (p[1] - p[0], p[2] - p[0], p[3] - p[0]);
+    let det = 2.0 * a.dot(b.cross(c));
+    if det == 0.0 {
+        return None;
+    }
+    let num = a.length_squared() * b.cross(c)
+        + b.length_squared() * c.cross(a)
+        + c.length_squared() * a.cross(b);
+    Some(p[0] + num / det)
+}
+
+/// Circumradius over shortest edge (√6/4 ≈ 0.612 for the regular tetrahedron; ∞ when flat).
+pub fn radius_edge_ratio(p: &[Point3; 4]) -> f64 {
+    let Some(c) = tet_circumcenter(p) else {
+        return f64::INFINITY;
+    };
+    let mut shortest = f64::INFINITY;
+    for i in 0..4 {
+        for j in i + 1..4 {
+            shortest = shortest.min(p[i].distance(p[j]));
+        }
+    }
+    c.distance(p[0]) / shortest
+}
+
+/// Signed volume (positive for positively oriented tetrahedra).
+pub fn tet_volume(p: &[Point3; 4]) -> f64 {
+    (p[1] - p[0]).dot((p[2] - p[0]).cross(p[3] - p[0])) / 6.0
+}
+
+/// Volume enclosed by a closed, outward-oriented triangle surface (divergence theorem).
+pub fn enclosed_volume(points: &[Point3], triangles: &[[u32; 3]]) -> f64 {
+    triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|v| points[v as usize]);
+            a.dot(b.cross(c)) / 6.0
+        })
+        .sum()
+}
+
+/// Counts of values in equal-width bins over `[lo, hi]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Histogram {
+    pub lo: f64,
+    pub hi: f64,
+    pub counts: Vec<u64>,
+}
+
+impl Histogram {
+    pub fn new(lo: f64, hi: f64, bins: usize) -> Self {
+        Histogram {
+            lo,
+            hi,
+            counts: vec![0; bins.max(1)],
+        }
+    }
+
+    /// Values outside the range go to the first or last bin.
+    pub fn add(&mut self, x: f64) {
+        let n = self.counts.len();
+        let t = ((x - self.lo) / (self.hi - self.lo) * n as f64).floor();
+        let i = if t.is_nan() {
+            0
+        } else {
+            (t.max(0.0) as usize).min(n - 1)
+        };
+        self.counts[i] += 1;
+    }
+}
+
+/// Quality figures of a set of tetrahedra.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TetQuality {
+    pub min_dihedral_deg: f64,
+    pub max_dihedral_deg: f64,
+    pub max_radius_edge: f64,
+    pub mean_radius_edge: f64,
+    /// Smallest dihedral angle of each tetrahedron, 18 bins of 10°.
+    pub min_dihedral_histogram: Histogram,
+    pub volume: f64,
+    /// Tetrahedra with non-positive volume.
+    pub inverted: usize,
+}
+
+pub fn tet_quality(tets: impl IntoIterator<Item = [Point3; 4]>) -> TetQuality {
+    let mut q = TetQuality {
+        min_dihedral_deg: 180.0,
+        max_dihedral_deg: 0.0,
+        max_radius_edge: 0.0,
+        mean_radius_edge: 0.0,
+        min_dihedral_histogram: Histogram::new(0.0, 180.0, 18),
+        volume: 0.0,
+        inverted: 0,
+    };
+    let mut n = 0usize;
+    for p in tets {
+        let angles = dihedral_angles_deg(&p);
+        let lo = angles.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = angles.iter().copied().fold(0.0, f64::max);
+        q.min_dihedral_deg = q.min_dihedral_deg.min(lo);
+        q.max_dihedral_deg = q.max_dihedral_deg.max(hi);
+        q.min_dihedral_histogram.add(lo);
+        let re = radius_edge_ratio(&p);
+        q.max_radius_edge = q.max_radius_edge.max(re);
+        q.mean_radius_edge += re;
+        let v = tet_volume(&p);
+        q.volume += v;
+        if v <= 0.0 {
+            q.inverted += 1;
+        }
+        n += 1;
+    }
+    if n > 0 {
+        q.mean_radius_edge /= n as f64;
+    }
+    q
+}
+
+/// Topology of a triangle surface.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SurfaceTopology {
+    pub vertices: usize,
+    pub edges: usize,
+    pub faces: usize,
+    /// Edges with one incident triangle.
+    pub border_edges: usize,
+    /// Edges with more than two incident triangles.
+    pub non_manifold_edges: usize,
+    /// Vertices whose incident triangles do not form a single fan.
+    pub non_manifold_vertices: usize,
+    /// Connected components (through shared edges).
+    pub components: usize,
+    pub euler_characteristic: i64,
+}
+
+impl SurfaceTopology {
+    /// A closed 2-manifold: every edge in exactly two triangles, every vertex link one cycle.
+    pub fn is_closed_manifold(&self) -> bool {
+        self.border_edges == 0 && self.non_manifold_edges == 0 && self.non_manifold_vertices == 0
+    }
+}
+
+/// Topology of the surface made of `triangles` (only the vertices they use count).
+pub fn surface_topology(triangles: &[[u32; 3]]) -> SurfaceTopology {
+    let mut edges: BTreeMap<(u32, u32), Vec<usize>> = BTreeMap::new();
+    for (f, t) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            edges.entry((a.min(b), a.max(b))).or_default().push(f);
+        }
+    }
+    let mut vertices: Vec<u32> = triangles.iter().flatten().copied().collect();
+    vertices.sort_unstable();
+    vertices.dedup();
+    let slot = |v: u32| vertices.binary_search(&v).unwrap_or(0);
+
+    let mut faces_uf = UnionFind::new(triangles.len());
+    for fs in edges.values() {
+        for w in fs.windows(2) {
+            faces_uf.union(w[0], w[1]);
+        }
+    }
+    let components = (0..triangles.len())
+        .filter(|&f| faces_uf.find(f) == f)
+        .count();
+
+    // A vertex is manifold when its incident triangles are connected through edges at the vertex
+    // (a single fan), counted with a union-find over the triangles of each vertex.
+    let mut incident: Vec<Vec<usize>> = vec![Vec::new(); vertices.len()];
+    for (f, t) in triangles.iter().enumerate() {
+        for &v in t {
+            incident[slot(v)].push(f);
+        }
+    }
+    let mut fan_uf = UnionFind::new(triangles.len());
+    for (&(a, b), fs) in &edges {
+        let _ = (a, b);
+        for w in fs.windows(2) {
+            fan_uf.union(w[0], w[1]);
+        }
+    }
+    let mut non_manifold_vertices = 0;
+    let mut local = UnionFind::new(0);
+    for (s, fs) in incident.iter().enumerate() {
+        let v = vertices[s];
+        local.reset(fs.len());
+        for (x, &f) in fs.iter().enumerate() {
+            for (y, &g) in fs.iter().enumerate().skip(x + 1) {
+                let shares_edge_at_v = triangles[f]
+                    .iter()
+                    .filter(|&&w| w != v && triangles[g].contains(&w))
+                    .count()
+                    > 0;
+                if shares_edge_at_v {
+                    local.union(x, y);
+                }
+            }
+        }
+        if (0..fs.len()).filter(|&x| local.find(x) == x).count() > 1 {
+            non_manifold_vertices += 1;
+        }
+    }
+
+    SurfaceTopology {
+        vertices: vertices.len(),
+        edges: edges.len(),
+        faces: triangles.len(),
+        border_edges: edges.values().filter(|f| f.len() == 1).count(),
+        non_manifold_edges: edges.values().filter(|f| f.len() > 2).count(),
+        non_manifold_vertices,
+        components,
+        euler_characteristic: vertices.len() as i64 - edges.len() as i64 + triangles.len() as i64,
+    }
+}
+
+struct UnionFind {
+    parent: Vec<usize>,
+}
+
+impl UnionFind {
+    fn new(n: usize) -> Self {
+        UnionFind {
+            parent: (0..n).collect(),
+        }
+    }
+    fn reset(&mut self, n: usize) {
+        self.parent.clear();
+        self.parent.extend(0..n);
+    }
+    fn find(&mut self, mut x: usize) -> usize {
+        while self.parent[x] != x {
+            self.parent[x] = self.parent[self.parent[x]];
+            x = self.parent[x];
+        }
+        x
+    }
+    fn union(&mut self, a: usize, b: usize) {
+        let (ra, rb) = (self.find(a), self.find(b));
+        if ra != rb {
+            self.parent[ra.max(rb)] = ra.min(rb);
+        }
+    }
+}
+
+/// Points spread over triangles about `spacing` apart (at least the centroid of each), for
+/// sampled distance measurements. Deterministic.
+pub fn sample_triangles(
+    triangles: impl IntoIterator<Item = [Point3; 3]>,
+    spacing: f64,
+) -> Vec<Point3> {
+    let mut out = Vec::new();
+    for [a, b, c] in triangles {
+        let longest = a.distance(b).max(b.distance(c)).max(c.distance(a));
+        let n = ((longest / spacing).ceil() as usize).clamp(1, 64);
+        for i in 0..n {
+            for j in 0..n - i {
+                let (u, v) = (
+                    (i as f64 + 1.0 / 3.0) / n as f64,
+                    (j as f64 + 1.0 / 3.0) / n as f64,
+                );
+                out.push(a + u * (b - a) + v * (c - a));
+            }
+        }
+    }
+    out
+}
+
+/// The largest distance from `samples` to a set measured by `distance_to_set`: one side of a
+/// Hausdorff distance.
+pub fn one_sided_distance(samples: &[Point3], distance_to_set: impl Fn(Point3) -> f64) -> f64 {
+    samples
+        .iter()
+        .map(|&p| distance_to_set(p))
+        .fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn regular() -> [Point3; 4] {
+        [
+            Point3::new(1.0, 1.0, 1.0),
+            Point3::new(1.0, -1.0, -1.0),
+            Point3::new(-1.0, 1.0, -1.0),
+            Point3::new(-1.0, -1.0, 1.0),
+        ]
+    }
+
+    #[test]
+    fn regular_tet_measures() {
+        let p = regular();
+        for a in dihedral_angles_deg(&p) {
+            assert!((a - (1.0f64 / 3.0).acos().to_degrees()).abs() < 1e-9);
+        }
+        assert!((radius_edge_ratio(&p) - 6f64.sqrt() / 4.0).abs() < 1e-12);
+        let v = tet_volume(&p).abs();
+        assert!((v - 8.0 / 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn corner_tet_has_right_dihedrals() {
+        let p = [Point3::ZERO, Point3::X, Point3::Y, Point3::Z];
+        let a = dihedral_angles_deg(&p);
+        // Edges along the axes have right dihedral angles.
+        assert!(
+            (a[0] - 90.0).abs() < 1e-9 && (a[1] - 90.0).abs() < 1e-9 && (a[2] - 90.0).abs() < 1e-9
+        );
+        assert!(tet_volume(&p) > 0.0);
+    }
+
+    #[test]
+    fn tetrahedron_surface_topology() {
+        let tris = [[0, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
+        let t = surface_topology(&tris);
+        assert!(t.is_closed_manifold());
+        assert_eq!(t.euler_characteristic, 2);
+        assert_eq!(t.components, 1);
+        let open = surface_topology(&tris[..3]);
+        assert_eq!(open.border_edges, 3);
+        // Two tetrahedra sharing only a vertex: a non-manifold vertex.
+        let mut two: Vec<[u32; 3]> = tris.to_vec();
+        two.extend(
+            tris.iter()
+                .map(|t| t.map(|v| if v == 0 { 0 } else { v + 3 })),
+        );
+        let t2 = surface_topology(&two);
+        assert_eq!(t2.non_manifold_vertices, 1);
+        assert_eq!(t2.non_manifold_edges, 0);
+        let p = [Point3::ZERO, Point3::X, Point3::Y, Point3::Z];
+        let tris_oriented = [[0u32, 2, 1], [0, 1, 3], [1, 2, 3], [0, 3, 2]];
+        assert!((enclosed_volume(&p, &tris_oriented) - 1.0 / 6.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn histogram_clamps() {
+        let mut h = Histogram::new(0.0, 10.0, 5);
+        for x in [-1.0, 0.0, 1.9, 2.0, 9.99, 10.0, 50.0] {
+            h.add(x);
+        }
+        assert_eq!(h.counts, [3, 1, 0, 0, 3]);
+    }
+
+    #[test]
+    fn samples_lie_on_the_triangle() {
+        let t = [Point3::ZERO, Point3::X, Point3::Y];
+        let s = sample_triangles([t], 0.1);
+        assert!(s.len() > 10);
+        assert!(
+            s.iter()
+                .all(|p| p.z == 0.0 && p.x >= 0.0 && p.y >= 0.0 && p.x + p.y <= 1.0)
+        );
+    }
+}

@@ -1,0 +1,154 @@
+//! The cell level: tetrahedra of the restricted Delaunay triangulation (circumcentre inside the
+//! domain) that are too big or badly shaped (thesis, ch. 3, rule R3). Their circumcentre is the
+//! refinement point; the surface level refuses it when it lies in a surface ball (R3.2).
+
+use super::criteria::CellCriteria;
+use super::engine::{Candidate, Check, MesherLevel};
+use super::geometry::{cell_vertices, crowds_a_vertex, is_same_cell, shortest_edge};
+use super::queue::RefineQueue;
+use crate::kernel::Point3;
+use crate::oracle::{OUTSIDE, Oracle, SubdomainId};
+use crate::triangulation::{CellId, InsertReport, Triangulation, VertexId};
+
+/// A queued cell and its vertices when queued (to detect that it was destroyed).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct QueuedCell {
+    pub cell: CellId,
+    pub vertices: [VertexId; 4],
+}
+
+pub struct CellLevel<'o> {
+    oracle: &'o dyn Oracle,
+    criteria: CellCriteria,
+    /// Subdomain of each cell's circumcentre, indexed by `CellId` ([`OUTSIDE`] for infinite cells).
+    subdomain: Vec<SubdomainId>,
+    queue: RefineQueue<QueuedCell>,
+    /// Squared circumradius of the cell whose circumcentre was last proposed.
+    proposed_radius2: f64,
+}
+
+impl<'o> CellLevel<'o> {
+    pub fn new(oracle: &'o dyn Oracle, criteria: CellCriteria) -> Self {
+        CellLevel {
+            oracle,
+            criteria,
+            subdomain: Vec::new(),
+            queue: RefineQueue::default(),
+            proposed_radius2: 0.0,
+        }
+    }
+
+    /// The subdomain a cell belongs to: the one containing its circumcentre.
+    pub fn subdomain(&self, c: CellId) -> SubdomainId {
+        self.subdomain.get(c.0 as usize).copied().unwrap_or(OUTSIDE)
+    }
+
+    fn update_cell<T: Triangulation<Point = Point3>>(&mut self, tr: &T, c: CellId) {
+        let i = c.0 as usize;
+        if self.subdomain.len() <= i {
+            self.subdomain
+                .resize(tr.cell_capacity().max(i + 1), OUTSIDE);
+        }
+        if tr.is_infinite_cell(c) {
+            self.subdomain[i] = OUTSIDE;
+            return;
+        }
+        let center = tr.circumcenter(c);
+        // A flat cell has no circumcentre; it lies on a planar patch and is left outside.
+        let sub = if center.is_finite() {
+            self.oracle.subdomain(center)
+        } else {
+            OUTSIDE
+        };
+        self.subdomain[i] = sub;
+        if sub == OUTSIDE {
+            return;
+        }
+        let vertices = cell_vertices(tr, c);
+        if let Some(priority) = self.badness(tr, &vertices, center, sub) {
+            self.queue.push(priority, QueuedCell { cell: c, vertices });
+        }
+    }
+
+    /// How much a cell of subdomain `sub` violates the criteria (`None`: it satisfies them).
+    fn badness<T: Triangulation<Point = Point3>>(
+        &self,
+        tr: &T,
+        vertices: &[VertexId; 4],
+        center: Point3,
+        sub: SubdomainId,
+    ) -> Option<f64> {
+        let p = vertices.map(|v| tr.point(v));
+        let radius = center.distance(p[0]);
+        let size_excess = radius / self.criteria.size.at(center, sub);
+        let shape_excess = if self.criteria.radius_edge_ratio > 0.0 {
+            radius / shortest_edge(&p) / self.criteria.radius_edge_ratio
+        } else {
+            0.0
+        };
+        let worst = size_excess.max(shape_excess);
+        (worst > 1.0).then_some(worst)
+    }
+}
+
+impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for CellLevel<'o> {
+    type Element = QueuedCell;
+
+    fn name(&self) -> &'static str {
+        "cells"
+    }
+
+    fn scan(&mut self, tr: &T) {
+        self.subdomain.resize(tr.cell_capacity(), OUTSIDE);
+        let cells: Vec<CellId> = tr.finite_cells().collect();
+        for c in cells {
+            self.update_cell(tr, c);
+        }
+    }
+
+    fn next_element(&mut self, tr: &T) -> Option<QueuedCell> {
+        while let Some(&q) = self.queue.peek() {
+            if is_same_cell(tr, q.cell, &q.vertices) {
+                return Some(q);
+            }
+            self.queue.pop();
+        }
+        None
+    }
+
+    fn pop_element(&mut self) {
+        self.queue.pop();
+    }
+
+    fn refinement_point(&mut self, tr: &T, q: &QueuedCell) -> Option<Candidate<Point3>> {
+        let center = tr.circumcenter(q.cell);
+        self.proposed_radius2 = center.distance_squared(tr.point(q.vertices[0]));
+        Some(Candidate {
+            point: center,
+            hint: Some(q.cell),
+        })
+    }
+
+    fn check(&mut self, tr: &T, c: &Candidate<Point3>, _own: bool) -> Check {
+        if crowds_a_vertex(tr, c, self.proposed_radius2) {
+            Check::RejectedForever
+        } else {
+            Check::Accepted
+        }
+    }
+
+    fn after_insertion(&mut self, tr: &T, _v: VertexId, report: &InsertReport, _own: bool) {
+        for &c in &report.removed {
+            if let Some(s) = self.subdomain.get_mut(c.0 as usize) {
+                *s = OUTSIDE;
+            }
+        }
+        for &c in &report.created {
+            self.update_cell(tr, c);
+        }
+    }
+
+    fn pending(&self) -> usize {
+        self.queue.len()
+    }
+}

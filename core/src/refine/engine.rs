@@ -1,0 +1,264 @@
+//! The refinement engine: the skeleton shared by all levels (thesis, ch. 5, `Mesher_level_base`).
+
+use crate::triangulation::{
+    CellId, InsertOutcome, InsertReport, Triangulation, TriangulationError, VertexId,
+};
+
+/// Answer of a level asked whether a refinement point may be inserted.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Check {
+    Accepted,
+    /// The point encroaches a constrained element of the checking level, which that level queued:
+    /// the element refined first, the proposing element is kept and tried again later.
+    Rejected,
+    /// The point must never be inserted: the proposing element is dropped.
+    RejectedForever,
+}
+
+/// A refinement point with a cell near it, so that checks and insertion walk a short way.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Candidate<P> {
+    pub point: P,
+    pub hint: Option<CellId>,
+}
+
+/// One rule of a Delaunay-refinement algorithm and the queue of elements it must refine.
+///
+/// The primitives of the thesis: `scan`, `next_element` / `pop_element` (the `to_be_refined`
+/// queue), `refinement_point`, `check` and `after_insertion`. The engine provides the skeleton.
+pub trait MesherLevel<T: Triangulation> {
+    /// What this level refines (a facet, a cell, a segment...), as it sits in the queue.
+    type Element;
+
+    /// Short name for progress and reports.
+    fn name(&self) -> &'static str;
+
+    /// Fill the queue from the whole triangulation.
+    fn scan(&mut self, tr: &T);
+
+    /// The element to refine next, without removing it. Stale entries (elements destroyed by
+    /// insertions since they were queued) are discarded here. `None` when nothing is left.
+    fn next_element(&mut self, tr: &T) -> Option<Self::Element>;
+
+    /// Remove the element last returned by `next_element`.
+    fn pop_element(&mut self);
+
+    /// Where to insert a point to refine `e`; `None` if `e` cannot be refined (it is then dropped).
+    fn refinement_point(&mut self, tr: &T, e: &Self::Element) -> Option<Candidate<T::Point>>;
+
+    /// May `c` be inserted? `own` is true when this level proposed it. A level that rejects a
+    /// point of another level queues the element the point encroaches.
+    fn check(&mut self, tr: &T, c: &Candidate<T::Point>, own: bool) -> Check;
+
+    /// Update the queue after `v` was inserted (by this level when `own`), creating and
+    /// destroying the cells listed in `report`.
+    fn after_insertion(&mut self, tr: &T, v: VertexId, report: &InsertReport, own: bool);
+
+    /// Number of queued elements (possibly including stale ones): for progress display only.
+    fn pending(&self) -> usize;
+}
+
+/// The element-free view of a level that the engine stacks.
+trait Level<T: Triangulation> {
+    fn name(&self) -> &'static str;
+    fn scan(&mut self, tr: &T);
+    fn next_candidate(&mut self, tr: &T) -> Option<Candidate<T::Point>>;
+    fn pop(&mut self);
+    fn check(&mut self, tr: &T, c: &Candidate<T::Point>, own: bool) -> Check;
+    fn after_insertion(&mut self, tr: &T, v: VertexId, report: &InsertReport, own: bool);
+    fn pending(&self) -> usize;
+}
+
+impl<T: Triangulation, L: MesherLevel<T>> Level<T> for L {
+    fn name(&self) -> &'static str {
+        MesherLevel::name(self)
+    }
+    fn scan(&mut self, tr: &T) {
+        MesherLevel::scan(self, tr)
+    }
+    fn next_candidate(&mut self, tr: &T) -> Option<Candidate<T::Point>> {
+        loop {
+            let e = self.next_element(tr)?;
+            match self.refinement_point(tr, &e) {
+                Some(c) => return Some(c),
+                None => self.pop_element(),
+            }
+        }
+    }
+    fn pop(&mut self) {
+        self.pop_element()
+    }
+    fn check(&mut self, tr: &T, c: &Candidate<T::Point>, own: bool) -> Check {
+        MesherLevel::check(self, tr, c, own)
+    }
+    fn after_insertion(&mut self, tr: &T, v: VertexId, report: &InsertReport, own: bool) {
+        MesherLevel::after_insertion(self, tr, v, report, own)
+    }
+    fn pending(&self) -> usize {
+        MesherLevel::pending(self)
+    }
+}
+
+/// Guards that make refinement terminate whatever the input.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// Refinement stops with [`RefineError::TooManyVertices`] past this many vertices.
+    pub max_vertices: usize,
+    /// A proposing element rejected this many times in a row without any insertion is dropped,
+    /// so that two levels cannot bounce an element between them forever.
+    pub max_rejections_in_a_row: usize,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits {
+            max_vertices: 2_000_000,
+            max_rejections_in_a_row: 64,
+        }
+    }
+}
+
+/// A snapshot handed to the progress callback.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Progress<'n> {
+    pub vertices: usize,
+    pub insertions: usize,
+    /// `(level name, queued elements)` in priority order.
+    pub pending: Vec<(&'n str, usize)>,
+}
+
+/// What happened during one refinement run.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct RefineStats {
+    /// Insertions per level, in priority order.
+    pub insertions: Vec<usize>,
+    /// Points rejected because they encroached a higher-priority element.
+    pub rejections: usize,
+    /// Elements dropped without refinement (rejected forever, duplicates, bouncing).
+    pub dropped: usize,
+}
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RefineError {
+    #[error("refinement needs more than {limit} vertices; raise the limit or coarsen the criteria")]
+    TooManyVertices { limit: usize },
+    #[error("a refinement point was refused by the triangulation: {0}")]
+    Triangulation(#[from] TriangulationError),
+}
+
+/// Levels in priority order (highest first) over one triangulation.
+pub struct Engine<'a, T: Triangulation> {
+    levels: Vec<&'a mut dyn Level<T>>,
+    limits: Limits,
+    report: InsertReport,
+}
+
+impl<'a, T: Triangulation> Engine<'a, T> {
+    pub fn new(limits: Limits) -> Self {
+        Engine {
+            levels: Vec::new(),
+            limits,
+            report: InsertReport::default(),
+        }
+    }
+
+    /// Add a level below all the levels already added. The caller keeps ownership, so that the
+    /// levels' state (restricted facets, cell labels...) can be read after refinement.
+    pub fn push_level<L: MesherLevel<T> + 'a>(&mut self, level: &'a mut L) -> &mut Self {
+        self.levels.push(level);
+        self
+    }
+
+    /// Run all levels until every queue is empty or a guard trips. The triangulation is left as
+    /// it is when an error is returned, so that callers can keep the partial mesh.
+    pub fn refine(
+        &mut self,
+        tr: &mut T,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> Result<RefineStats, RefineError> {
+        let mut stats = RefineStats {
+            insertions: vec![0; self.levels.len()],
+            ..RefineStats::default()
+        };
+        for level in self.levels.iter_mut() {
+            level.scan(tr);
+        }
+        let mut rejections_in_a_row = 0;
+        let mut total = 0usize;
+        loop {
+            let Some((i, candidate)) = self.next_candidate(tr) else {
+                break;
+            };
+            match self.check_by_all_levels(tr, &candidate, i) {
+                Check::Accepted => {
+                    if tr.num_vertices() >= self.limits.max_vertices {
+                        return Err(RefineError::TooManyVertices {
+                            limit: self.limits.max_vertices,
+                        });
+                    }
+                    self.levels[i].pop();
+                    match tr.insert_reporting(candidate.point, candidate.hint, &mut self.report)? {
+                        InsertOutcome::Inserted(v) => {
+                            rejections_in_a_row = 0;
+                            stats.insertions[i] += 1;
+                            total += 1;
+                            for (j, level) in self.levels.iter_mut().enumerate() {
+                                level.after_insertion(tr, v, &self.report, j == i);
+                            }
+                            if total % 256 == 0 {
+                                progress(&self.progress(tr, total));
+                            }
+                        }
+                        InsertOutcome::Duplicate(_) => stats.dropped += 1,
+                    }
+                }
+                Check::Rejected => {
+                    stats.rejections += 1;
+                    rejections_in_a_row += 1;
+                    if rejections_in_a_row > self.limits.max_rejections_in_a_row {
+                        self.levels[i].pop();
+                        stats.dropped += 1;
+                        rejections_in_a_row = 0;
+                    }
+                }
+                Check::RejectedForever => {
+                    self.levels[i].pop();
+                    stats.dropped += 1;
+                }
+            }
+        }
+        progress(&self.progress(tr, total));
+        Ok(stats)
+    }
+
+    /// The refinement point of the first level (in priority order) with work left.
+    fn next_candidate(&mut self, tr: &T) -> Option<(usize, Candidate<T::Point>)> {
+        self.levels
+            .iter_mut()
+            .enumerate()
+            .find_map(|(i, level)| level.next_candidate(tr).map(|c| (i, c)))
+    }
+
+    /// `check_refinement_point_by_all_levels`: levels 0..=i, stopping at the first refusal.
+    fn check_by_all_levels(&mut self, tr: &T, c: &Candidate<T::Point>, i: usize) -> Check {
+        for (j, level) in self.levels[..=i].iter_mut().enumerate() {
+            match level.check(tr, c, j == i) {
+                Check::Accepted => {}
+                refused => return refused,
+            }
+        }
+        Check::Accepted
+    }
+
+    fn progress(&self, tr: &T, insertions: usize) -> Progress<'_> {
+        Progress {
+            vertices: tr.num_vertices(),
+            insertions,
+            pending: self
+                .levels
+                .iter()
+                .map(|l| (l.name(), l.pending()))
+                .collect(),
+        }
+    }
+}

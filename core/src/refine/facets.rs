@@ -1,0 +1,345 @@
+//! The surface-facet level: restricted Delaunay facets and their surface Delaunay balls
+//! (thesis, ch. 3, rules R1 and R2; R3.2 through `check`).
+//!
+//! A facet is restricted to the boundary when its dual Voronoi edge (the segment joining the
+//! circumcentres of its two cells, or a ray when one cell is infinite) crosses the boundary. Each
+//! crossing is the centre of an empty ball through the facet's vertices: a surface Delaunay ball.
+//! The ball is stored in both cells sharing the facet, as CGAL does, so that a cell knows its
+//! boundary facets without a global facet map.
+
+use super::criteria::FacetCriteria;
+use super::engine::{Candidate, Check, MesherLevel};
+use super::geometry::{
+    cell_vertices, crowds_a_vertex, facet_vertices, is_same_cell, triangle_circumcenter,
+    triangle_min_angle_deg,
+};
+use super::queue::RefineQueue;
+use crate::kernel::Point3;
+use crate::oracle::{Oracle, PatchId, SurfaceHit};
+use crate::triangulation::{CellId, ConflictZone, InsertReport, Triangulation, VertexId};
+
+/// An empty ball centred on the boundary, through the vertices of a restricted facet.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfaceBall {
+    pub center: Point3,
+    pub radius2: f64,
+    pub patch: PatchId,
+}
+
+/// A queued facet: the cell it was seen from, the index of the opposite vertex, and the cell's
+/// vertices at that time (to detect that the cell was destroyed).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct QueuedFacet {
+    pub cell: CellId,
+    pub index: u8,
+    /// Queued by R3.2 (a cell's circumcentre lies in its ball): refined whatever its quality.
+    pub forced: bool,
+    pub vertices: [VertexId; 4],
+}
+
+/// Priority of facets with a vertex off the surface (R1) and of facets encroached by a cell's
+/// refinement point (R3.2): before any R2 facet.
+const URGENT: f64 = f64::INFINITY;
+
+pub struct SurfaceLevel<'o> {
+    oracle: &'o dyn Oracle,
+    criteria: FacetCriteria,
+    /// Surface ball of each facet of each cell, indexed by `CellId` then by opposite vertex.
+    balls: Vec<[Option<SurfaceBall>; 4]>,
+    /// Vertices lying on the boundary (P0 and surface-ball centres), indexed by `VertexId`.
+    on_surface: Vec<bool>,
+    queue: RefineQueue<QueuedFacet>,
+    /// Marks the cells created by the insertion being processed: `created_mark[c] == stamp`.
+    created_mark: Vec<u64>,
+    stamp: u64,
+    hits: Vec<SurfaceHit>,
+    zone: ConflictZone,
+    /// Squared radius of the ball whose centre was last proposed.
+    proposed_radius2: f64,
+}
+
+impl<'o> SurfaceLevel<'o> {
+    pub fn new(oracle: &'o dyn Oracle, criteria: FacetCriteria) -> Self {
+        SurfaceLevel {
+            oracle,
+            criteria,
+            balls: Vec::new(),
+            on_surface: Vec::new(),
+            queue: RefineQueue::default(),
+            created_mark: Vec::new(),
+            stamp: 0,
+            hits: Vec::new(),
+            zone: ConflictZone::default(),
+            proposed_radius2: 0.0,
+        }
+    }
+
+    /// Record that `v` lies on the boundary (the initial points are inserted by the caller).
+    pub fn mark_on_surface(&mut self, v: VertexId) {
+        let i = v.0 as usize;
+        if self.on_surface.len() <= i {
+            self.on_surface.resize(i + 1, false);
+        }
+        self.on_surface[i] = true;
+    }
+
+    pub fn is_on_surface(&self, v: VertexId) -> bool {
+        self.on_surface.get(v.0 as usize).copied().unwrap_or(false)
+    }
+
+    /// The surface ball of the facet of `c` opposite its vertex `i`, if that facet is restricted.
+    pub fn ball(&self, c: CellId, i: usize) -> Option<&SurfaceBall> {
+        self.balls.get(c.0 as usize).and_then(|b| b[i].as_ref())
+    }
+
+    fn grow(&mut self, capacity: usize) {
+        if self.balls.len() < capacity {
+            self.balls.resize(capacity, [None; 4]);
+            self.created_mark.resize(capacity, 0);
+        }
+    }
+
+    /// The surface ball of facet `(c, i)`, computed from its dual Voronoi edge. When the edge
+    /// crosses the boundary several times, the largest ball wins (thesis: the centre with the
+    /// largest r/σ is inserted).
+    ///
+    /// A flat cell (four coplanar vertices, which exact degeneracies on planar patches create)
+    /// has its circumcentre at infinity: its side of the edge is then a ray, like an infinite
+    /// cell's, pointing away from the other cell.
+    fn compute_ball<T: Triangulation<Point = Point3>>(
+        &mut self,
+        tr: &T,
+        c: CellId,
+        i: usize,
+    ) -> Option<SurfaceBall> {
+        let n = tr.neighbor(c, i);
+        let here = tr.circumcenter(c);
+        let there = (!tr.is_infinite_cell(n))
+            .then(|| tr.circumcenter(n))
+            .filter(|p| p.is_finite());
+        let (c, i, here, there) = match (here.is_finite(), there) {
+            (true, _) => (c, i, here, there),
+            (false, Some(p)) => (n, tr.mirror_index(c, i), p, None),
+            (false, None) => return None,
+        };
+        let cell = cell_vertices(tr, c);
+        let [a, b, d] = facet_vertices(&cell, i).map(|v| tr.point(v));
+        self.hits.clear();
+        match there {
+            Some(p) => self.oracle.segment_hits(here, p, &mut self.hits),
+            None => {
+                let mut normal = (b - a).cross(d - a);
+                if normal.dot(tr.point(cell[i]) - a) > 0.0 {
+                    normal = -normal;
+                }
+                if normal.length_squared() == 0.0 {
+                    return None;
+                }
+                self.oracle.ray_hits(here, normal, &mut self.hits);
+            }
+        }
+        self.hits
+            .iter()
+            .map(|h| SurfaceBall {
+                center: h.point,
+                radius2: h.point.distance_squared(a),
+                patch: h.patch,
+            })
+            .max_by(|x, y| x.radius2.total_cmp(&y.radius2))
+    }
+
+    /// Why facet `(c, i)` with ball `ball` needs refinement, as a queue priority (`None`: good).
+    fn badness<T: Triangulation<Point = Point3>>(
+        &self,
+        tr: &T,
+        cell: &[VertexId; 4],
+        i: usize,
+        ball: &SurfaceBall,
+    ) -> Option<f64> {
+        let fv = facet_vertices(cell, i);
+        if fv.iter().any(|&v| !self.is_on_surface(v)) {
+            return Some(URGENT);
+        }
+        let [a, b, c] = fv.map(|v| tr.point(v));
+        let r = ball.radius2.sqrt();
+        let size = self.criteria.size.at(ball.center, ball.patch);
+        let mut worst: Option<f64> = None;
+        let mut note = |q: f64| worst = Some(worst.map_or(q, |w: f64| w.max(q)));
+        if r > size {
+            note(r / size);
+        }
+        if self.criteria.angle_deg > 0.0 {
+            let angle = triangle_min_angle_deg(a, b, c);
+            if angle < self.criteria.angle_deg {
+                note(self.criteria.angle_deg / angle.max(1e-9));
+            }
+        }
+        let distance = self.criteria.distance.at(ball.center, ball.patch);
+        if distance.is_finite() {
+            let d = triangle_circumcenter(a, b, c).distance(ball.center);
+            if d > distance {
+                note(d / distance);
+            }
+        }
+        worst
+    }
+
+    /// Recompute facet `(c, i)` and its mirror, and queue it when bad.
+    fn update_facet<T: Triangulation<Point = Point3>>(&mut self, tr: &T, c: CellId, i: usize) {
+        let ball = self.compute_ball(tr, c, i);
+        self.balls[c.0 as usize][i] = ball;
+        let n = tr.neighbor(c, i);
+        if !tr.is_infinite_cell(n) {
+            let j = tr.mirror_index(c, i);
+            self.balls[n.0 as usize][j] = ball;
+        }
+        if let Some(ball) = ball {
+            let cell = cell_vertices(tr, c);
+            if let Some(priority) = self.badness(tr, &cell, i, &ball) {
+                self.queue.push(
+                    priority,
+                    QueuedFacet {
+                        cell: c,
+                        index: i as u8,
+                        forced: false,
+                        vertices: cell,
+                    },
+                );
+            }
+        }
+    }
+
+    /// Every restricted facet once, as `(cell, opposite vertex index, ball)`, in cell order.
+    pub fn restricted_facets<'s, T: Triangulation<Point = Point3>>(
+        &'s self,
+        tr: &'s T,
+    ) -> impl Iterator<Item = (CellId, usize, SurfaceBall)> + 's {
+        tr.finite_cells().flat_map(move |c| {
+            (0..4).filter_map(move |i| {
+                let ball = *self.ball(c, i)?;
+                let n = tr.neighbor(c, i);
+                (tr.is_infinite_cell(n) || c.0 < n.0).then_some((c, i, ball))
+            })
+        })
+    }
+}
+
+impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for SurfaceLevel<'o> {
+    type Element = QueuedFacet;
+
+    fn name(&self) -> &'static str {
+        "surface facets"
+    }
+
+    fn scan(&mut self, tr: &T) {
+        self.grow(tr.cell_capacity());
+        let cells: Vec<CellId> = tr.finite_cells().collect();
+        for c in cells {
+            for i in 0..4 {
+                let n = tr.neighbor(c, i);
+                if tr.is_infinite_cell(n) || c.0 < n.0 {
+                    self.update_facet(tr, c, i);
+                }
+            }
+        }
+    }
+
+    fn next_element(&mut self, tr: &T) -> Option<QueuedFacet> {
+        while let Some(&f) = self.queue.peek() {
+            let i = f.index as usize;
+            if is_same_cell(tr, f.cell, &f.vertices) {
+                // The neighbour may have changed since queuing: judge the facet as it is now.
+                if let Some(ball) = self.balls[f.cell.0 as usize][i] {
+                    if f.forced || self.badness(tr, &f.vertices, i, &ball).is_some() {
+                        return Some(f);
+                    }
+                }
+            }
+            self.queue.pop();
+        }
+        None
+    }
+
+    fn pop_element(&mut self) {
+        self.queue.pop();
+    }
+
+    fn refinement_point(&mut self, _tr: &T, f: &QueuedFacet) -> Option<Candidate<Point3>> {
+        let ball = self.balls[f.cell.0 as usize][f.index as usize]?;
+        self.proposed_radius2 = ball.radius2;
+        Some(Candidate {
+            point: ball.center,
+            hint: Some(f.cell),
+        })
+    }
+
+    /// R3.2: a point of a lower level inside a surface ball is refused, and the facet queued.
+    fn check(&mut self, tr: &T, c: &Candidate<Point3>, own: bool) -> Check {
+        if own {
+            return if crowds_a_vertex(tr, c, self.proposed_radius2) {
+                Check::RejectedForever
+            } else {
+                Check::Accepted
+            };
+        }
+        let mut zone = std::mem::take(&mut self.zone);
+        tr.conflict_zone(c.point, c.hint, &mut zone);
+        let mut verdict = Check::Accepted;
+        'cells: for &cell in &zone.cells {
+            if tr.is_infinite_cell(cell) {
+                continue;
+            }
+            for i in 0..4 {
+                if let Some(ball) = self.balls[cell.0 as usize][i]
+                    && ball.center.distance_squared(c.point) < ball.radius2
+                {
+                    let vertices = cell_vertices(tr, cell);
+                    self.queue.push(
+                        URGENT,
+                        QueuedFacet {
+                            cell,
+                            index: i as u8,
+                            forced: true,
+                            vertices,
+                        },
+                    );
+                    verdict = Check::Rejected;
+                    break 'cells;
+                }
+            }
+        }
+        self.zone = zone;
+        verdict
+    }
+
+    fn after_insertion(&mut self, tr: &T, v: VertexId, report: &InsertReport, own: bool) {
+        if own {
+            self.mark_on_surface(v);
+        }
+        self.grow(tr.cell_capacity());
+        self.stamp += 1;
+        for &c in &report.removed {
+            self.balls[c.0 as usize] = [None; 4];
+        }
+        for &c in &report.created {
+            self.created_mark[c.0 as usize] = self.stamp;
+        }
+        for &c in &report.created {
+            if tr.is_infinite_cell(c) {
+                continue;
+            }
+            for i in 0..4 {
+                let n = tr.neighbor(c, i);
+                let both_new =
+                    self.created_mark[n.0 as usize] == self.stamp && !tr.is_infinite_cell(n);
+                if !both_new || c.0 < n.0 {
+                    self.update_facet(tr, c, i);
+                }
+            }
+        }
+    }
+
+    fn pending(&self) -> usize {
+        self.queue.len()
+    }
+}

@@ -1,0 +1,433 @@
+//! `PolyhedralOracle`: the `Oracle` of a closed triangle surface.
+
+use crate::predicates::{Crossing, segment_crossing};
+use crate::tree::TriangleTree;
+use crate::validate::surface_defects;
+use delamesh_core::oracle::{
+    Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
+};
+use glam::DVec3;
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PolyhedralError {
+    #[error("the surface has no triangles")]
+    Empty,
+    #[error("triangle {triangle} refers to vertex {index}, but there are only {count} vertices")]
+    IndexOutOfRange {
+        triangle: usize,
+        index: u32,
+        count: usize,
+    },
+    #[error("vertex {0} has a non-finite coordinate")]
+    NonFinite(usize),
+    #[error("{0} triangles have a repeated vertex")]
+    DegenerateTriangles(usize),
+    #[error("the surface is not closed: {0} edges belong to a single triangle")]
+    NotClosed(usize),
+    #[error("the surface is not a manifold: {0} edges belong to more than two triangles")]
+    NonManifold(usize),
+    #[error(
+        "the surface is not consistently oriented: {0} edges are traversed twice in the same direction"
+    )]
+    Inconsistent(usize),
+    #[error("the surface intersects itself (triangles {0} and {1} cross)")]
+    SelfIntersecting(usize, usize),
+    #[error("{0} patch labels given for {1} triangles")]
+    PatchCount(usize, usize),
+    #[error("connected component {0} encloses no volume")]
+    FlatComponent(usize),
+}
+
+/// A domain bounded by a closed, consistently oriented, non-self-intersecting triangle surface.
+pub struct PolyhedralOracle {
+    triangles: Vec<[DVec3; 3]>,
+    patch: Vec<PatchId>,
+    /// Connected component of each triangle.
+    component: Vec<u32>,
+    tree: TriangleTree,
+    bbox: Aabb,
+    /// Number of other components around each component.
+    depth: Vec<u32>,
+    /// Subdomain of the region just inside each component ([`OUTSIDE`] for a hollow).
+    inner_label: Vec<SubdomainId>,
+    initial: Vec<SurfacePoint>,
+    domain_volume: f64,
+}
+
+/// Directions tried in turn by the inside test until a ray misses every edge and vertex.
+fn ray_direction(attempt: usize) -> DVec3 {
+    // Points on a Fibonacci spiral: well spread, deterministic, and never axis-aligned.
+    let golden = std::f64::consts::PI * (3.0 - 5f64.sqrt());
+    let k = attempt as f64 + 0.5;
+    let z = 1.0 - 2.0 * (k / 97.0).fract();
+    let r = (1.0 - z * z).sqrt();
+    let phi = golden * k + 0.123;
+    DVec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+impl PolyhedralOracle {
+    /// Build the oracle; `patches` labels each triangle (default: one patch per component).
+    pub fn new(
+        points: &[DVec3],
+        triangles: &[[u32; 3]],
+        patches: Option<&[PatchId]>,
+    ) -> Result<Self, PolyhedralError> {
+        if triangles.is_empty() {
+            return Err(PolyhedralError::Empty);
+        }
+        if let Some(i) = points.iter().position(|p| !p.is_finite()) {
+            return Err(PolyhedralError::NonFinite(i));
+        }
+        for (t, tri) in triangles.iter().enumerate() {
+            if let Some(&index) = tri.iter().find(|&&v| v as usize >= points.len()) {
+                return Err(PolyhedralError::IndexOutOfRange {
+                    triangle: t,
+                    index,
+                    count: points.len(),
+                });
+            }
+        }
+        if let Some(p) = patches
+            && p.len() != triangles.len()
+        {
+            return Err(PolyhedralError::PatchCount(p.len(), triangles.len()));
+        }
+        let defects = surface_defects(points, triangles);
+        if defects.degenerate_triangles > 0 {
+            return Err(PolyhedralError::DegenerateTriangles(
+                defects.degenerate_triangles,
+            ));
+        }
+        if defects.border_edges > 0 {
+            return Err(PolyhedralError::NotClosed(defects.border_edges));
+        }
+        if defects.non_manifold_edges > 0 {
+            return Err(PolyhedralError::NonManifold(defects.non_manifold_edges));
+        }
+        if defects.inconsistent_edges > 0 {
+            return Err(PolyhedralError::Inconsistent(defects.inconsistent_edges));
+        }
+        if let Some((a, b)) = defects.first_intersection {
+            return Err(PolyhedralError::SelfIntersecting(a, b));
+        }
+
+        let geometry: Vec<[DVec3; 3]> = triangles
+            .iter()
+            .map(|t| t.map(|v| points[v as usize]))
+            .collect();
+        let component = components(points.len(), triangles);
+        let num_components = component.iter().max().map_or(0, |&c| c as usize + 1);
+        let patch = match patches {
+            Some(p) => p.to_vec(),
+            None => component.iter().map(|&c| c + 1).collect(),
+        };
+        let bbox =
+            Aabb::from_points(geometry.iter().flatten().copied()).ok_or(PolyhedralError::Empty)?;
+        let tree = TriangleTree::new(&geometry);
+        let mut oracle = PolyhedralOracle {
+            triangles: geometry,
+            patch,
+            component,
+            tree,
+            bbox,
+            depth: vec![0; num_components],
+            inner_label: vec![OUTSIDE; num_components],
+            initial: Vec::new(),
+            domain_volume: 0.0,
+        };
+        oracle.label_components(num_components)?;
+        oracle.initial = oracle.sample_initial_points(num_components);
+        Ok(oracle)
+    }
+
+    /// Nesting depth and subdomain of every component, from the winding numbers of one vertex of
+    /// each component with respect to all the others; and the volume of the domain.
+    fn label_components(&mut self, n: usize) -> Result<(), PolyhedralError> {
+        let mut volume = vec![0.0f64; n];
+        let mut probe = vec![None; n];
+        for (t, tri) in self.triangles.iter().enumerate() {
+            let k = self.component[t] as usize;
+            volume[k] += tri[0].dot(tri[1].cross(tri[2])) / 6.0;
+            probe[k].get_or_insert(tri[0]);
+        }
+        if let Some(k) = volume.iter().position(|&v| v == 0.0) {
+            return Err(PolyhedralError::FlatComponent(k));
+        }
+        // around[k]: winding number of every component around component k.
+        let around: Vec<Vec<i32>> = (0..n)
+            .map(|k| self.windings(probe[k].unwrap_or(DVec3::ZERO), Some(k as u32), n))
+            .collect();
+        for k in 0..n {
+            self.depth[k] = around[k].iter().filter(|&&x| x != 0).count() as u32;
+        }
+        let mut next_label = 1;
+        let mut inside_volume = vec![0.0f64; n];
+        for k in 0..n {
+            let own = if volume[k] > 0.0 { 1 } else { -1 };
+            if own + around[k].iter().sum::<i32>() != 0 {
+                self.inner_label[k] = next_label;
+                next_label += 1;
+                inside_volume[k] += volume[k].abs();
+            }
+            // The region inside the parent (the innermost component around k) loses k's volume.
+            let parent = (0..n)
+                .filter(|&j| around[k][j] != 0)
+                .max_by_key(|&j| self.depth[j]);
+            if let Some(j) = parent {
+                inside_volume[j] -= volume[k].abs();
+            }
+        }
+        // The region between a component and its children is in the domain when labelled.
+        self.domain_volume = (0..n)
+            .filter(|&k| self.inner_label[k] != OUTSIDE)
+            .map(|k| inside_volume[k])
+            .sum();
+        Ok(())
+    }
+
+    /// Winding number of each component around `p` (components numbered `0..n`), ignoring
+    /// `skip` (used for points lying on that component). Exact: a ray through an edge or a vertex
+    /// is replaced by another one.
+    fn windings(&self, p: DVec3, skip: Option<u32>, n: usize) -> Vec<i32> {
+        let reach = 2.0 * (self.bbox.diagonal() + p.distance(self.bbox.center())) + 1.0;
+        let mut w = vec![0i32; n];
+        for attempt in 0..64 {
+            let q = p + reach * ray_direction(attempt);
+            w.iter_mut().for_each(|x| *x = 0);
+            let mut degenerate = false;
+            self.tree.for_each_near_segment(p, q, |t| {
+                let k = self.component[t as usize];
+                if degenerate || Some(k) == skip {
+                    return;
+                }
+                match segment_crossing(p, q, &self.triangles[t as usize]) {
+                    Crossing::Proper { from_back } => {
+                        w[k as usize] += if from_back { 1 } else { -1 }
+                    }
+                    Crossing::Degenerate | Crossing::Coplanar => degenerate = true,
+                    Crossing::None => {}
+                }
+            });
+            if !degenerate {
+                break;
+            }
+        }
+        w
+    }
+
+    /// Points on each component: where rays from the component's centre leave it, completed by
+    /// some of its vertices when the component is far from star-shaped.
+    fn sample_initial_points(&self, n: usize) -> Vec<SurfacePoint> {
+        let mut centre = vec![(DVec3::ZERO, 0.0f64); n];
+        for (t, tri) in self.triangles.iter().enumerate() {
+            let area = 0.5 * (tri[1] - tri[0]).cross(tri[2] - tri[0]).length();
+            let c = &mut centre[self.component[t] as usize];
+            c.0 += area * (tri[0] + tri[1] + tri[2]) / 3.0;
+            c.1 += area;
+        }
+        let mut out = Vec::new();
+        let mut hits = Vec::new();
+        for (k, &(sum, area)) in centre.iter().enumerate() {
+            let origin = if area > 0.0 { sum / area } else { sum };
+            for attempt in 0..24 {
+                hits.clear();
+                self.ray_hits_filtered(origin, ray_direction(attempt), Some(k as u32), &mut hits);
+                out.extend(hits.iter().map(|h| SurfacePoint {
+                    point: h.point,
+                    patch: h.patch,
+                }));
+            }
+            // Rays from the centre miss parts of non-convex components (and give nearly coplanar
+            // points on flat ones): add vertices of the component spread by farthest-point sampling.
+            self.spread_vertices(k as u32, 16, &mut out);
+        }
+        out
+    }
+
+    /// Appends `count` corners of the triangles of component `k`, each the farthest from the
+    /// ones chosen before (starting from the corner of lowest index).
+    fn spread_vertices(&self, k: u32, count: usize, out: &mut Vec<SurfacePoint>) {
+        let corners: Vec<(DVec3, PatchId)> = (0..self.triangles.len())
+            .filter(|&t| self.component[t] == k)
+            .flat_map(|t| self.triangles[t].map(|p| (p, self.patch[t])))
+            .collect();
+        let Some(&(start, _)) = corners.first() else {
+            return;
+        };
+        let mut nearest: Vec<f64> = corners
+            .iter()
+            .map(|(p, _)| p.distance_squared(start))
+            .collect();
+        out.push(SurfacePoint {
+            point: start,
+            patch: corners[0].1,
+        });
+        for _ in 1..count {
+            let Some((i, _)) = nearest
+                .iter()
+                .enumerate()
+                .max_by(|a, b| a.1.total_cmp(b.1).then(b.0.cmp(&a.0)))
+            else {
+                break;
+            };
+            let (p, patch) = corners[i];
+            if nearest[i] == 0.0 {
+                break;
+            }
+            out.push(SurfacePoint { point: p, patch });
+            for (d, (q, _)) in nearest.iter_mut().zip(&corners) {
+                *d = d.min(q.distance_squared(p));
+            }
+        }
+    }
+
+    fn ray_hits_filtered(
+        &self,
+        origin: DVec3,
+        dir: DVec3,
+        only: Option<u32>,
+        out: &mut Vec<SurfaceHit>,
+    ) {
+        let len = dir.length();
+        if len == 0.0 || !len.is_finite() || !origin.is_finite() {
+            return;
+        }
+        let reach =
+            (2.0 * (self.bbox.diagonal() + origin.distance(self.bbox.center())) + 1.0) / len;
+        let start = out.len();
+        self.segment_hits_filtered(origin, origin + reach * dir, only, out);
+        for h in &mut out[start..] {
+            h.t *= reach;
+        }
+    }
+
+    fn segment_hits_filtered(
+        &self,
+        a: DVec3,
+        b: DVec3,
+        only: Option<u32>,
+        out: &mut Vec<SurfaceHit>,
+    ) {
+        if !a.is_finite() || !b.is_finite() {
+            return;
+        }
+        let start = out.len();
+        let d = b - a;
+        self.tree.for_each_near_segment(a, b, |t| {
+            if only.is_some_and(|k| k != self.component[t as usize]) {
+                return;
+            }
+            let tri = &self.triangles[t as usize];
+            if let Crossing::Proper { .. } | Crossing::Degenerate = segment_crossing(a, b, tri) {
+                let normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]);
+                let denom = normal.dot(d);
+                let s = if denom != 0.0 {
+                    (normal.dot(tri[0] - a) / denom).clamp(0.0, 1.0)
+                } else {
+                    0.0
+                };
+                out.push(SurfaceHit {
+                    point: a + s * d,
+                    t: s,
+                    patch: self.patch[t as usize],
+                });
+            }
+        });
+        let hits = &mut out[start..];
+        hits.sort_by(|x, y| x.t.total_cmp(&y.t).then(x.patch.cmp(&y.patch)));
+        // A segment through an edge or a vertex meets several triangles at one point.
+        let mut kept = start;
+        for i in start..out.len() {
+            if kept == start || (out[i].t - out[kept - 1].t).abs() > 1e-12 {
+                out[kept] = out[i];
+                kept += 1;
+            }
+        }
+        out.truncate(kept);
+    }
+
+    /// Distance from `p` to the surface, for approximation measurements.
+    pub fn distance_to_surface(&self, p: DVec3) -> f64 {
+        self.tree.distance(p, &self.triangles)
+    }
+
+    /// Volume of the domain (the union of the subdomains).
+    pub fn domain_volume(&self) -> f64 {
+        self.domain_volume
+    }
+
+    /// The input triangles, as points.
+    pub fn triangles(&self) -> &[[DVec3; 3]] {
+        &self.triangles
+    }
+
+    /// Number of subdomains (regions with a non-zero winding number).
+    pub fn num_subdomains(&self) -> usize {
+        self.inner_label.iter().filter(|&&l| l != OUTSIDE).count()
+    }
+}
+
+impl Oracle for PolyhedralOracle {
+    fn bounding_box(&self) -> Aabb {
+        self.bbox
+    }
+
+    fn subdomain(&self, p: DVec3) -> SubdomainId {
+        if !p.is_finite() || !self.bbox.contains(p) {
+            return OUTSIDE;
+        }
+        let w = self.windings(p, None, self.depth.len());
+        w.iter()
+            .enumerate()
+            .filter(|&(_, &x)| x != 0)
+            .max_by_key(|&(k, _)| self.depth[k])
+            .map_or(OUTSIDE, |(k, _)| self.inner_label[k])
+    }
+
+    fn segment_hits(&self, a: DVec3, b: DVec3, out: &mut Vec<SurfaceHit>) {
+        self.segment_hits_filtered(a, b, None, out);
+    }
+
+    fn ray_hits(&self, origin: DVec3, dir: DVec3, out: &mut Vec<SurfaceHit>) {
+        self.ray_hits_filtered(origin, dir, None, out);
+    }
+
+    fn initial_points(&self) -> Vec<SurfacePoint> {
+        self.initial.clone()
+    }
+}
+
+/// Connected components of triangles sharing an edge, numbered in order of their first triangle.
+fn components(num_points: usize, triangles: &[[u32; 3]]) -> Vec<u32> {
+    // Union-find over vertices: in a closed edge-manifold surface, triangles sharing a vertex
+    // but no edge could join two components only at a pinched vertex, which the checks allow.
+    let mut parent: Vec<u32> = (0..num_points as u32).collect();
+    fn find(parent: &mut [u32], mut x: u32) -> u32 {
+        while parent[x as usize] != x {
+            parent[x as usize] = parent[parent[x as usize] as usize];
+            x = parent[x as usize];
+        }
+        x
+    }
+    for t in triangles {
+        for k in 0..3 {
+            let (a, b) = (find(&mut parent, t[k]), find(&mut parent, t[(k + 1) % 3]));
+            if a != b {
+                parent[a.max(b) as usize] = a.min(b);
+            }
+        }
+    }
+    let mut label = vec![u32::MAX; num_points];
+    let mut next = 0;
+    triangles
+        .iter()
+        .map(|t| {
+            let root = find(&mut parent, t[0]) as usize;
+            if label[root] == u32::MAX {
+                label[root] = next;
+                next += 1;
+            }
+            label[root]
+        })
+        .collect()
+}

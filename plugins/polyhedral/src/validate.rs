@@ -1,0 +1,110 @@
+//! Checks that a triangle surface bounds a volume: closed, edge-manifold, consistently oriented,
+//! without self-intersections.
+
+use crate::predicates::{Crossing, segment_crossing};
+use crate::tree::TriangleTree;
+use glam::DVec3;
+use std::collections::BTreeMap;
+
+/// What prevents a triangle surface from bounding a volume. All counts zero: it does.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct SurfaceDefects {
+    /// Edges used by one triangle only.
+    pub border_edges: usize,
+    /// Edges used by more than two triangles.
+    pub non_manifold_edges: usize,
+    /// Manifold edges whose two triangles traverse them in the same direction.
+    pub inconsistent_edges: usize,
+    /// Triangles with a repeated vertex index.
+    pub degenerate_triangles: usize,
+    /// One pair of triangles that cross each other, if any.
+    pub first_intersection: Option<(usize, usize)>,
+}
+
+impl SurfaceDefects {
+    pub fn is_empty(&self) -> bool {
+        *self == SurfaceDefects::default()
+    }
+}
+
+/// Directed-edge bookkeeping and self-intersection search (AABB tree + exact predicates).
+pub fn surface_defects(points: &[DVec3], triangles: &[[u32; 3]]) -> SurfaceDefects {
+    let mut d = SurfaceDefects::default();
+    // (min, max) → (count, count of min→max traversals)
+    let mut edges: BTreeMap<(u32, u32), (u32, u32)> = BTreeMap::new();
+    for t in triangles {
+        if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
+            d.degenerate_triangles += 1;
+            continue;
+        }
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            let e = edges.entry((a.min(b), a.max(b))).or_default();
+            e.0 += 1;
+            if a < b {
+                e.1 += 1;
+            }
+        }
+    }
+    for &(count, forward) in edges.values() {
+        match count {
+            1 => d.border_edges += 1,
+            2 if forward != 1 => d.inconsistent_edges += 1,
+            2 => {}
+            _ => d.non_manifold_edges += 1,
+        }
+    }
+    d.first_intersection = first_intersection(points, triangles);
+    d
+}
+
+/// A pair of triangles whose interiors meet (shared vertices and edges do not count).
+fn first_intersection(points: &[DVec3], triangles: &[[u32; 3]]) -> Option<(usize, usize)> {
+    let geometry: Vec<[DVec3; 3]> = triangles
+        .iter()
+        .map(|t| t.map(|v| points[v as usize]))
+        .collect();
+    let tree = TriangleTree::new(&geometry);
+    for (i, t) in triangles.iter().enumerate() {
+        let g = &geometry[i];
+        let (min, max) = (g[0].min(g[1]).min(g[2]), g[0].max(g[1]).max(g[2]));
+        let mut found = None;
+        tree.for_each_near_box(min, max, |j| {
+            let j = j as usize;
+            if j > i && found.is_none() && triangles_cross(t, g, &triangles[j], &geometry[j]) {
+                found = Some(j);
+            }
+        });
+        if let Some(j) = found {
+            return Some((i, j));
+        }
+    }
+    None
+}
+
+/// Do two triangles cross? Triangles sharing an edge never do (a fold onto itself is not
+/// detected); triangles sharing a vertex cross when the edge opposite the shared vertex of one
+/// passes through the other.
+fn triangles_cross(ti: &[u32; 3], gi: &[DVec3; 3], tj: &[u32; 3], gj: &[DVec3; 3]) -> bool {
+    let shared = ti.iter().filter(|v| tj.contains(v)).count();
+    let hits = |edge: (DVec3, DVec3), g: &[DVec3; 3], strict: bool| match segment_crossing(
+        edge.0, edge.1, g,
+    ) {
+        Crossing::Proper { .. } => true,
+        Crossing::Degenerate => !strict,
+        Crossing::None | Crossing::Coplanar => false,
+    };
+    match shared {
+        0 => (0..3).any(|k| {
+            hits((gi[k], gi[(k + 1) % 3]), gj, false) || hits((gj[k], gj[(k + 1) % 3]), gi, false)
+        }),
+        1 => {
+            let opposite = |t: &[u32; 3], g: &[DVec3; 3], other: &[u32; 3]| {
+                let k = (0..3).find(|&k| other.contains(&t[k])).unwrap_or(0);
+                (g[(k + 1) % 3], g[(k + 2) % 3])
+            };
+            hits(opposite(ti, gi, tj), gj, true) || hits(opposite(tj, gj, ti), gi, true)
+        }
+        _ => false,
+    }
+}

@@ -1,0 +1,197 @@
+//! Closed test surfaces generated in code, so that tests need no data files.
+#![allow(dead_code)]
+
+use glam::DVec3;
+
+/// A triangle surface: points and outward-oriented triangles.
+pub struct Surface {
+    pub points: Vec<DVec3>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl Surface {
+    /// Append `other` (as another connected component).
+    pub fn merge(mut self, other: Surface) -> Surface {
+        let offset = self.points.len() as u32;
+        self.points.extend(other.points);
+        self.triangles
+            .extend(other.triangles.iter().map(|t| t.map(|v| v + offset)));
+        self
+    }
+
+    /// Write as an OFF file.
+    pub fn to_off(&self) -> String {
+        let mut s = format!("OFF\n{} {} 0\n", self.points.len(), self.triangles.len());
+        for p in &self.points {
+            s += &format!("{} {} {}\n", p.x, p.y, p.z);
+        }
+        for t in &self.triangles {
+            s += &format!("3 {} {} {}\n", t[0], t[1], t[2]);
+        }
+        s
+    }
+}
+
+/// An icosphere: `subdivisions` Loop-style splits of an icosahedron, projected on the sphere.
+pub fn sphere(center: DVec3, radius: f64, subdivisions: usize) -> Surface {
+    let t = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut points: Vec<DVec3> = [
+        (-1.0, t, 0.0),
+        (1.0, t, 0.0),
+        (-1.0, -t, 0.0),
+        (1.0, -t, 0.0),
+        (0.0, -1.0, t),
+        (0.0, 1.0, t),
+        (0.0, -1.0, -t),
+        (0.0, 1.0, -t),
+        (t, 0.0, -1.0),
+        (t, 0.0, 1.0),
+        (-t, 0.0, -1.0),
+        (-t, 0.0, 1.0),
+    ]
+    .iter()
+    .map(|&(x, y, z)| DVec3::new(x, y, z).normalize())
+    .collect();
+    let mut triangles: Vec<[u32; 3]> = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..subdivisions {
+        let mut mid = std::collections::BTreeMap::new();
+        let mut midpoint = |a: u32, b: u32, points: &mut Vec<DVec3>| {
+            *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                points.push(((points[a as usize] + points[b as usize]) / 2.0).normalize());
+                points.len() as u32 - 1
+            })
+        };
+        let mut next = Vec::new();
+        for [a, b, c] in triangles {
+            let (ab, bc, ca) = (
+                midpoint(a, b, &mut points),
+                midpoint(b, c, &mut points),
+                midpoint(c, a, &mut points),
+            );
+            next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+        }
+        triangles = next;
+    }
+    Surface {
+        points: points.into_iter().map(|p| center + radius * p).collect(),
+        triangles,
+    }
+}
+
+/// A torus around the z axis with major radius `r_major` and tube radius `r_minor`.
+pub fn torus(r_major: f64, r_minor: f64, n_major: usize, n_minor: usize) -> Surface {
+    let mut points = Vec::new();
+    for i in 0..n_major {
+        let u = i as f64 / n_major as f64 * std::f64::consts::TAU;
+        for j in 0..n_minor {
+            let v = j as f64 / n_minor as f64 * std::f64::consts::TAU;
+            let r = r_major + r_minor * v.cos();
+            points.push(DVec3::new(r * u.cos(), r * u.sin(), r_minor * v.sin()));
+        }
+    }
+    let id = |i: usize, j: usize| ((i % n_major) * n_minor + (j % n_minor)) as u32;
+    let mut triangles = Vec::new();
+    for i in 0..n_major {
+        for j in 0..n_minor {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            triangles.push([a, b, c]);
+            triangles.push([a, c, d]);
+        }
+    }
+    Surface { points, triangles }
+}
+
+/// An axis-aligned box from `min` to `max`, two triangles per face.
+pub fn cuboid(min: DVec3, max: DVec3) -> Surface {
+    let p = |x: usize, y: usize, z: usize| {
+        DVec3::new([min.x, max.x][x], [min.y, max.y][y], [min.z, max.z][z])
+    };
+    let points = vec![
+        p(0, 0, 0),
+        p(1, 0, 0),
+        p(1, 1, 0),
+        p(0, 1, 0),
+        p(0, 0, 1),
+        p(1, 0, 1),
+        p(1, 1, 1),
+        p(0, 1, 1),
+    ];
+    let quads = [
+        [0, 3, 2, 1],
+        [4, 5, 6, 7],
+        [0, 1, 5, 4],
+        [2, 3, 7, 6],
+        [1, 2, 6, 5],
+        [0, 4, 7, 3],
+    ];
+    let triangles = quads
+        .iter()
+        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+        .collect();
+    Surface { points, triangles }
+}
+
+/// The same surface with every triangle reversed (normals inward).
+pub fn flipped(s: Surface) -> Surface {
+    Surface {
+        points: s.points,
+        triangles: s.triangles.into_iter().map(|[a, b, c]| [a, c, b]).collect(),
+    }
+}
+
+use delamesh::core::complex::MeshComplex;
+use delamesh::core::refine::criteria::{CellCriteria, FacetCriteria, MeshCriteria, Sizing};
+use delamesh::core::refine::{Limits, MeshOptions, mesh_domain};
+use delamesh::polyhedral::PolyhedralOracle;
+
+/// CGAL-style criteria with constant sizes.
+pub fn criteria(angle: f64, size: f64, distance: f64, ratio: f64, cell_size: f64) -> MeshCriteria {
+    MeshCriteria {
+        facet: FacetCriteria {
+            angle_deg: angle,
+            size: Sizing::Constant(size),
+            distance: Sizing::Constant(distance),
+        },
+        cell: CellCriteria {
+            radius_edge_ratio: ratio,
+            size: Sizing::Constant(cell_size),
+        },
+    }
+}
+
+/// Mesh a surface; panics (this is a test) when the oracle or the mesher fails.
+pub fn mesh(surface: &Surface, criteria: MeshCriteria) -> (PolyhedralOracle, MeshComplex) {
+    let oracle = PolyhedralOracle::new(&surface.points, &surface.triangles, None)
+        .expect("valid test surface");
+    let options = MeshOptions {
+        criteria,
+        limits: Limits {
+            max_vertices: 200_000,
+            ..Limits::default()
+        },
+        keep_partial: false,
+    };
+    let outcome = mesh_domain(&oracle, &options, &mut |_| {}).expect("refinement terminates");
+    (oracle, outcome.complex)
+}
