@@ -3,7 +3,7 @@
 //! proposed by the triangle level that would encroach one is refused and the sub-segment queued.
 
 use super::constraints::{Constraints, edge_cell, needs_split};
-use super::engine::{Candidate, Check};
+use crate::refine::{Candidate, Check, MesherLevel};
 use crate::triangulation::Triangulation;
 use crate::triangulation::delaunay2::predicates::dot_sign;
 use crate::triangulation::delaunay2::{CellId, ConflictZone, Delaunay2, InsertReport, VertexId};
@@ -92,7 +92,36 @@ impl SegmentLevel {
         pa + (pb - pa) * t
     }
 
-    pub(crate) fn scan(&mut self, tr: &Delaunay2) {
+    /// Distance from the split point of `(a, b)` to its nearest vertex (which is a vertex of its
+    /// conflict zone).
+    fn insertion_radius(&mut self, tr: &Delaunay2, a: VertexId, b: VertexId) -> f64 {
+        let m = self.split_point(tr, a, b);
+        let mut zone = std::mem::take(&mut self.zone);
+        tr.conflict_zone(m, None, &mut zone);
+        let r = zone
+            .cells
+            .iter()
+            .flat_map(|&c| tr.cell(c))
+            .filter(|&v| !tr.is_infinite_vertex(v))
+            .map(|v| tr.point(v).distance(m))
+            .fold(f64::INFINITY, f64::min);
+        self.zone = zone;
+        r
+    }
+}
+
+impl MesherLevel<Delaunay2> for SegmentLevel {
+    type Element = (VertexId, VertexId);
+
+    fn name(&self) -> &'static str {
+        "sub-segments"
+    }
+
+    fn pending(&self) -> usize {
+        self.queue.len()
+    }
+
+    fn scan(&mut self, tr: &Delaunay2) {
         let subs = self.cons.borrow().sorted();
         for s in subs {
             if self.needs_split(tr, s.a, s.b) {
@@ -101,7 +130,7 @@ impl SegmentLevel {
         }
     }
 
-    pub(crate) fn next_element(&mut self, tr: &Delaunay2) -> Option<(VertexId, VertexId)> {
+    fn next_element(&mut self, tr: &Delaunay2) -> Option<(VertexId, VertexId)> {
         while let Some(&(a, b, forced)) = self.queue.front() {
             let live = self.cons.borrow().get(a, b).is_some();
             if live && (forced || self.needs_split(tr, a, b)) {
@@ -112,13 +141,13 @@ impl SegmentLevel {
         None
     }
 
-    pub(crate) fn pop_element(&mut self) {
+    fn pop_element(&mut self) {
         if let Some((a, b, _)) = self.queue.pop_front() {
             self.queued.remove(&(a.min(b), a.max(b)));
         }
     }
 
-    pub(crate) fn refinement_point(
+    fn refinement_point(
         &mut self,
         tr: &Delaunay2,
         &(a, b): &(VertexId, VertexId),
@@ -140,7 +169,7 @@ impl SegmentLevel {
     /// closer to an existing vertex than the triangle's shortest edge (the split would only shrink
     /// the local feature size and cascade); if every encroached sub-segment is spared this way,
     /// the triangle is given up (rejected forever).
-    pub(crate) fn check(&mut self, tr: &Delaunay2, c: &Candidate<DVec2>, own: bool) -> Check {
+    fn check(&mut self, tr: &Delaunay2, c: &Candidate<DVec2>, own: bool) -> Check {
         if own {
             return Check::Accepted;
         }
@@ -200,30 +229,7 @@ impl SegmentLevel {
         }
     }
 
-    /// Distance from the split point of `(a, b)` to its nearest vertex (which is a vertex of its
-    /// conflict zone).
-    fn insertion_radius(&mut self, tr: &Delaunay2, a: VertexId, b: VertexId) -> f64 {
-        let m = self.split_point(tr, a, b);
-        let mut zone = std::mem::take(&mut self.zone);
-        tr.conflict_zone(m, None, &mut zone);
-        let r = zone
-            .cells
-            .iter()
-            .flat_map(|&c| tr.cell(c))
-            .filter(|&v| !tr.is_infinite_vertex(v))
-            .map(|v| tr.point(v).distance(m))
-            .fold(f64::INFINITY, f64::min);
-        self.zone = zone;
-        r
-    }
-
-    pub(crate) fn after_insertion(
-        &mut self,
-        tr: &Delaunay2,
-        v: VertexId,
-        report: &InsertReport,
-        own: bool,
-    ) {
+    fn after_insertion(&mut self, tr: &Delaunay2, v: VertexId, report: &InsertReport, own: bool) {
         if own {
             if let Some((a, b)) = self.proposed.take() {
                 self.cons.borrow_mut().split(a, b, v);

@@ -4,8 +4,8 @@
 //! which is what Triangle uses and needs fewer points than circumcentres.
 
 use super::constraints::{Constraints, Label};
-use super::engine::{Candidate, Check};
 use crate::mesh2d::quality::signed_area;
+use crate::refine::{Candidate, Check, MesherLevel};
 use crate::triangulation::Triangulation;
 use crate::triangulation::delaunay2::{CellId, Delaunay2, InsertReport, VertexId};
 use glam::DVec2;
@@ -52,6 +52,7 @@ struct BucketQueue {
     buckets: Vec<VecDeque<Queued>>,
     /// No bucket below this one holds anything.
     first: usize,
+    len: usize,
 }
 
 impl BucketQueue {
@@ -70,6 +71,7 @@ impl BucketQueue {
         let b = Self::bucket(shortest);
         self.buckets[b].push_back(e);
         self.first = self.first.min(b);
+        self.len += 1;
     }
 
     fn peek(&mut self) -> Option<&Queued> {
@@ -82,6 +84,7 @@ impl BucketQueue {
     fn pop(&mut self) {
         if self.peek().is_some() {
             self.buckets[self.first].pop_front();
+            self.len -= 1;
         }
     }
 }
@@ -222,8 +225,20 @@ impl TriangleLevel {
         }
         false
     }
+}
 
-    pub(crate) fn scan(&mut self, tr: &Delaunay2) {
+impl MesherLevel<Delaunay2> for TriangleLevel {
+    type Element = (CellId, [VertexId; 3]);
+
+    fn name(&self) -> &'static str {
+        "triangles"
+    }
+
+    fn pending(&self) -> usize {
+        self.queue.len
+    }
+
+    fn scan(&mut self, tr: &Delaunay2) {
         self.labels.resize(tr.cell_capacity(), Label::Unknown);
         let cells: Vec<CellId> = tr.finite_cells().collect();
         for c in cells {
@@ -231,7 +246,7 @@ impl TriangleLevel {
         }
     }
 
-    pub(crate) fn next_element(&mut self, tr: &Delaunay2) -> Option<(CellId, [VertexId; 3])> {
+    fn next_element(&mut self, tr: &Delaunay2) -> Option<(CellId, [VertexId; 3])> {
         if !self.pending.is_empty() {
             self.resolve_labels(tr);
         }
@@ -244,11 +259,11 @@ impl TriangleLevel {
         None
     }
 
-    pub(crate) fn pop_element(&mut self) {
+    fn pop_element(&mut self) {
         self.queue.pop();
     }
 
-    pub(crate) fn refinement_point(
+    fn refinement_point(
         &mut self,
         tr: &Delaunay2,
         &(c, v): &(CellId, [VertexId; 3]),
@@ -271,17 +286,11 @@ impl TriangleLevel {
         })
     }
 
-    pub(crate) fn check(&mut self, _tr: &Delaunay2, _c: &Candidate<DVec2>, _own: bool) -> Check {
+    fn check(&mut self, _tr: &Delaunay2, _c: &Candidate<DVec2>, _own: bool) -> Check {
         Check::Accepted
     }
 
-    pub(crate) fn after_insertion(
-        &mut self,
-        tr: &Delaunay2,
-        _v: VertexId,
-        report: &InsertReport,
-        _own: bool,
-    ) {
+    fn after_insertion(&mut self, tr: &Delaunay2, _v: VertexId, report: &InsertReport, _own: bool) {
         if self.labels.len() < tr.cell_capacity() {
             self.labels.resize(tr.cell_capacity(), Label::Unknown);
         }
