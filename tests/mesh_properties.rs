@@ -5,7 +5,7 @@ mod common;
 
 use common::{criteria, cuboid, mesh, sphere, torus};
 use delamesh::core::complex::{MeshComplex, VertexDimension, signed_volume};
-use delamesh::core::oracle::{OUTSIDE, Oracle, PatchId};
+use delamesh::core::oracle::{OUTSIDE, Oracle};
 use delamesh::core::quality::{self, radius_edge_ratio, surface_topology, tet_circumcenter};
 use delamesh::polyhedral::{PolyhedralOracle, TriangleTree};
 use glam::DVec3;
@@ -38,8 +38,7 @@ fn assert_restricted_tets(oracle: &PolyhedralOracle, c: &MeshComplex, ratio: f64
 fn assert_restricted_facets(c: &MeshComplex) {
     for (f, tri) in c.facets.iter().enumerate() {
         assert_ne!(
-            c.facet_patch[f],
-            PatchId(0),
+            c.facet_patch[f], 0,
             "boundary facet {f} is not a restricted facet"
         );
         for &v in tri {

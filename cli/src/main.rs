@@ -8,6 +8,7 @@ mod delaunay;
 mod info;
 mod mesh;
 mod mesh2d;
+mod plugins;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;
@@ -37,6 +38,8 @@ enum Command {
     Conform2d(conform2d::Args),
     /// Quality triangle mesh of a planar straight-line graph.
     Mesh2d(mesh2d::Args),
+    /// List built-in and installed oracle plugins, or check one with --plugin
+    Plugins(plugins::PluginsArgs),
 }
 
 fn main() -> ExitCode {
@@ -48,11 +51,12 @@ fn main() -> ExitCode {
         Command::Info(args) => info::run(args),
         Command::Conform2d(args) => conform2d::run(&args),
         Command::Mesh2d(args) => mesh2d::run(&args),
+        Command::Plugins(args) => plugins::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("delamesh: error: {e:#}");
+            eprintln!("error: {e:#}");
             ExitCode::FAILURE
         }
     }

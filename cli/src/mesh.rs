@@ -19,7 +19,8 @@ use std::time::{Duration, Instant};
 #[derive(Args, Debug)]
 pub struct MeshArgs {
     /// Closed triangle surface bounding the volume (STL, OFF, OBJ, PLY, glTF...).
-    pub input: PathBuf,
+    #[arg(required_unless_present = "plugin", conflicts_with = "plugin")]
+    pub input: Option<PathBuf>,
     /// Output tet mesh; the format follows the extension (.vtu .vtk .mesh .msh, or a surface format
     /// for the boundary only).
     #[arg(short, long)]
@@ -54,25 +55,33 @@ pub struct MeshArgs {
     /// No progress bar.
     #[arg(short, long)]
     pub quiet: bool,
+    /// Mesh the domain of an oracle plugin instead of a surface file.
+    #[command(flatten)]
+    pub plugin: crate::plugins::PluginArgs,
 }
 
 pub fn run(args: &MeshArgs) -> Result<()> {
+    let input = match (&args.input, &args.plugin.plugin) {
+        (_, Some(spec)) => return crate::plugins::mesh(args, spec),
+        (Some(input), None) => input,
+        (None, None) => bail!("give a closed surface file to mesh, or --plugin"),
+    };
     let started = Instant::now();
     let mut times = Times::default();
 
     let t = Instant::now();
-    let surface = read_surface(&args.input, None)?.mesh;
+    let surface = read_surface(input, None)?.mesh;
     times.read = t.elapsed();
 
     let t = Instant::now();
     // The oracle numbers patches from 1 (0 marks facets of no patch in the output).
-    let patches: Vec<PatchId> = surface.patches.iter().map(|p| PatchId(p.0 + 1)).collect();
+    let patches: Vec<PatchId> = surface.patches.iter().map(|p| p.0 + 1).collect();
     let oracle = PolyhedralOracle::new(&surface.positions, &surface.triangles, Some(&patches))
         .map_err(|e| {
             anyhow::anyhow!(
                 "{}: cannot mesh this surface: {e}\n(run `delamesh info {}` for a full diagnosis)",
-                args.input.display(),
-                args.input.display()
+                input.display(),
+                input.display()
             )
         })?;
     times.oracle = t.elapsed();
@@ -116,7 +125,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             (outcome, Some(source))
         }
         Err(e) => {
-            return Err(anyhow::Error::new(e).context(format!("meshing {}", args.input.display())));
+            return Err(anyhow::Error::new(e).context(format!("meshing {}", input.display())));
         }
     };
     times.initial_points = outcome.times.initial_points;
@@ -125,7 +134,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     if outcome.complex.tets.is_empty() {
         bail!(
             "{}: the mesh has no tetrahedron inside the surface (criteria too coarse?)",
-            args.input.display()
+            input.display()
         );
     }
 
@@ -156,7 +165,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     match partial_error {
         Some(e) => Err(anyhow::Error::new(e).context(format!(
             "{}: stopped early; the partial mesh was written to {}",
-            args.input.display(),
+            input.display(),
             args.output.display()
         ))),
         None => Ok(()),
@@ -164,7 +173,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
 }
 
 /// The CGAL-style criteria: defaults from the bounding box, overridden by the options.
-fn criteria(args: &MeshArgs, oracle: &PolyhedralOracle) -> Result<MeshCriteria> {
+pub(crate) fn criteria(args: &MeshArgs, oracle: &dyn Oracle) -> Result<MeshCriteria> {
     let mut c = MeshCriteria::default_for(&oracle.bounding_box());
     let positive = |name: &str, v: f64| -> Result<f64> {
         if v.is_finite() && v > 0.0 {
@@ -206,7 +215,7 @@ fn criteria(args: &MeshArgs, oracle: &PolyhedralOracle) -> Result<MeshCriteria> 
     Ok(c)
 }
 
-fn progress_bar(quiet: bool) -> ProgressBar {
+pub(crate) fn progress_bar(quiet: bool) -> ProgressBar {
     if quiet || !std::io::stderr().is_terminal() {
         return ProgressBar::hidden();
     }
@@ -353,7 +362,11 @@ impl Report {
         subdomains.sort_unstable();
         subdomains.dedup();
         Report {
-            input: args.input.display().to_string(),
+            input: args
+                .input
+                .as_deref()
+                .map(|p| p.display().to_string())
+                .unwrap_or_default(),
             output: args.output.display().to_string(),
             criteria: CriteriaReport {
                 facet_angle_deg: criteria.facet.angle_deg,
@@ -404,7 +417,7 @@ impl Report {
                 components: topology.components,
                 input_euler_characteristic: input_topology.euler_characteristic,
                 input_components: input_topology.components,
-                unrestricted_facets: c.facet_patch.iter().filter(|&&p| p == PatchId(0)).count(),
+                unrestricted_facets: c.facet_patch.iter().filter(|&&p| p == 0).count(),
             },
         }
     }

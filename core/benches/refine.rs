@@ -3,9 +3,7 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use delamesh_core::kernel::Point3;
-use delamesh_core::oracle::{
-    Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
-};
+use delamesh_core::oracle::{Aabb, OUTSIDE, Oracle, SubdomainId, SurfaceHit, SurfacePoint};
 use delamesh_core::refine::criteria::{CellCriteria, FacetCriteria, MeshCriteria, Sizing};
 use delamesh_core::refine::{Limits, MeshOptions, mesh_domain};
 use std::hint::black_box;
@@ -36,11 +34,7 @@ impl Oracle for Ball {
         }
     }
     fn subdomain(&self, p: Point3) -> SubdomainId {
-        if p.length_squared() < 1.0 {
-            SubdomainId(1)
-        } else {
-            OUTSIDE
-        }
+        if p.length_squared() < 1.0 { 1 } else { OUTSIDE }
     }
     fn segment_hits(&self, a: Point3, b: Point3, out: &mut Vec<SurfaceHit>) {
         let d = b - a;
@@ -50,7 +44,7 @@ impl Oracle for Ball {
                 .map(|t| SurfaceHit {
                     point: a + t * d,
                     t,
-                    patch: PatchId(1),
+                    patch: 1,
                 }),
         );
     }
@@ -61,7 +55,7 @@ impl Oracle for Ball {
                 .map(|t| SurfaceHit {
                     point: origin + t * dir,
                     t,
-                    patch: PatchId(1),
+                    patch: 1,
                 }),
         );
     }
@@ -74,7 +68,7 @@ impl Oracle for Ball {
                 let phi = golden * i as f64;
                 SurfacePoint {
                     point: Point3::new(r * phi.cos(), r * phi.sin(), z),
-                    patch: PatchId(1),
+                    patch: 1,
                 }
             })
             .collect()

@@ -2,7 +2,7 @@
 //! subdomains, the boundary facets with their surface patches, and each vertex's dimension.
 
 use crate::kernel::Point3;
-use crate::mesh::{CellField, TetMesh};
+use crate::mesh::{self, CellField, TetMesh};
 use crate::oracle::{OUTSIDE, PatchId, SubdomainId};
 use crate::quality;
 use crate::refine::cells::CellLevel;
@@ -93,7 +93,7 @@ impl MeshComplex {
                 complex.facets.push(f.map(index_of));
                 complex
                     .facet_patch
-                    .push(surface.ball(c, i).map_or(PatchId(0), |b| b.patch));
+                    .push(surface.ball(c, i).map_or(0, |b| b.patch));
                 complex.facet_subdomains.push([sub, other]);
             }
         }
@@ -119,9 +119,13 @@ impl MeshComplex {
         TetMesh {
             positions: self.points.clone(),
             tets: self.tets.clone(),
-            subdomains: self.tet_subdomain.clone(),
+            subdomains: self
+                .tet_subdomain
+                .iter()
+                .map(|&s| mesh::SubdomainId(s))
+                .collect(),
             boundary: self.facets.clone(),
-            boundary_patches: self.facet_patch.clone(),
+            boundary_patches: self.facet_patch.iter().map(|&p| mesh::PatchId(p)).collect(),
             feature_edges: Vec::new(),
             feature_curves: Vec::new(),
             cell_fields: vec![

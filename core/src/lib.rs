@@ -6,6 +6,7 @@ pub mod kernel;
 pub mod mesh;
 pub mod mesh2d;
 pub mod oracle;
+pub mod plugin;
 pub mod quality;
 pub mod refine;
 pub mod triangulation;

@@ -30,13 +30,11 @@ pub(crate) fn read(bytes: &[u8], format: Format) -> Result<(AnyMesh, Vec<String>
         _ => raw_appended_to_base64(bytes)?,
     };
     let bytes = reencoded.as_deref().unwrap_or(bytes);
-    // vtkio 0.7.0-rc2 indexes some buffers without bounds checks: contain its panics so that a
-    // malformed file is an error like any other.
-    let parsed = std::panic::catch_unwind(|| match format {
+    let parsed = contain_panics(|| match format {
         Format::Vtk => vtkio::Vtk::parse_legacy_be(bytes),
         _ => vtkio::Vtk::parse_xml(bytes),
     })
-    .map_err(|_| Problem::bad("malformed VTK file (the vtkio parser gave up)"))?;
+    .map_err(|why| Problem::bad(format!("malformed VTK file (vtkio gave up: {why})")))?;
     let vtk = parsed.map_err(|e| Problem::bad(format!("not a readable VTK file: {e}")))?;
     let mut b = Builder::default();
     let poly = matches!(vtk.data, DataSet::PolyData { .. });
@@ -101,6 +99,39 @@ pub(crate) fn read(bytes: &[u8], format: Format) -> Result<(AnyMesh, Vec<String>
 
 /// vtkio's ASCII number parser rejects `nan`, which VTK writes (and we write for the cells a per-tet
 /// field does not apply to): spell it as a number that overflows to infinity. `None` if no `nan`.
+/// Runs vtkio, turning its panics into errors. vtkio 0.7.0-rc2 slices appended data without bounds
+/// checks (found by fuzzing), so a malformed file can make it panic. The panic hook is silenced for
+/// this thread meanwhile, so the user sees one error line instead of a backtrace; panics of other
+/// threads still reach the previous hook.
+fn contain_panics<T>(parse: impl FnOnce() -> T + std::panic::UnwindSafe) -> Result<T, String> {
+    use std::sync::{Arc, Mutex};
+    static HOOK_SWAP: Mutex<()> = Mutex::new(());
+    let _one_at_a_time = HOOK_SWAP
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
+    let previous = Arc::new(std::panic::take_hook());
+    let forward = Arc::clone(&previous);
+    let me = std::thread::current().id();
+    std::panic::set_hook(Box::new(move |info| {
+        if std::thread::current().id() != me {
+            forward(info);
+        }
+    }));
+    let result = std::panic::catch_unwind(parse);
+    drop(std::panic::take_hook());
+    match Arc::try_unwrap(previous) {
+        Ok(hook) => std::panic::set_hook(hook),
+        Err(shared) => std::panic::set_hook(Box::new(move |info| shared(info))),
+    }
+    result.map_err(|payload| {
+        payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown panic".into())
+    })
+}
+
 fn spell_nan_for_vtkio(bytes: &[u8]) -> Option<Vec<u8>> {
     let ascii = bytes
         .split(|&b| b == b'\n')
@@ -149,11 +180,15 @@ fn raw_appended_to_base64(bytes: &[u8]) -> Result<Option<Vec<u8>>, Problem> {
         return Ok(None);
     }
     let head = &bytes[..tag];
-    if find(head, b"compressor=").is_some() {
-        return Err(Problem::Unsupported(
-            "compressed raw appended data is not supported; save as base64 or uncompressed".into(),
-        ));
-    }
+    let layout = BlockLayout {
+        header_bytes: if find(head, b"\"UInt64\"").is_some() {
+            8
+        } else {
+            4
+        },
+        big_endian: find(head, b"\"BigEndian\"").is_some(),
+        compressed: find(head, b"compressor=").is_some(),
+    };
     let underscore = find(&bytes[tag + tag_len..], b"_")
         .map(|i| tag + tag_len + i)
         .ok_or_else(|| Problem::at_byte(tag as u64, "AppendedData without the '_' marker"))?;
@@ -192,13 +227,17 @@ fn raw_appended_to_base64(bytes: &[u8]) -> Result<Option<Vec<u8>>, Problem> {
     let mut encoded = Vec::with_capacity(raw.len() * 4 / 3 + 8);
     let mut new_offset = std::collections::BTreeMap::new();
     for (k, &b) in blocks.iter().enumerate() {
-        let block_end = blocks.get(k + 1).copied().unwrap_or(raw.len());
+        let limit = blocks.get(k + 1).copied().unwrap_or(raw.len());
         new_offset.insert(b, encoded.len());
-        encoded.extend(
-            base64::engine::general_purpose::STANDARD
-                .encode(&raw[b..block_end])
-                .bytes(),
-        );
+        // VTK base64-encodes a compressed block's header and its data separately, an uncompressed
+        // block's header and data together: mirror that, which is what vtkio decodes.
+        for part in layout.split(&raw[b..limit], start + b)? {
+            encoded.extend(
+                base64::engine::general_purpose::STANDARD
+                    .encode(part)
+                    .bytes(),
+            );
+        }
     }
     let mut out = Vec::with_capacity(bytes.len() * 4 / 3 + 64);
     let mut copied = 0;
@@ -212,6 +251,64 @@ fn raw_appended_to_base64(bytes: &[u8]) -> Result<Option<Vec<u8>>, Problem> {
     out.extend_from_slice(&encoded);
     out.extend_from_slice(&bytes[end..]);
     Ok(Some(out))
+}
+
+/// How the blocks of raw appended data are framed (VTKFile attributes `header_type`, `byte_order`,
+/// `compressor`).
+struct BlockLayout {
+    header_bytes: usize,
+    big_endian: bool,
+    compressed: bool,
+}
+
+impl BlockLayout {
+    fn uint(&self, b: &[u8], at: usize) -> Option<usize> {
+        let field = b.get(at..at.checked_add(self.header_bytes)?)?;
+        let fold = |v: u64, &b: &u8| (v << 8) | u64::from(b);
+        let v = if self.big_endian {
+            field.iter().fold(0, fold)
+        } else {
+            field.iter().rev().fold(0, fold)
+        };
+        usize::try_from(v).ok()
+    }
+
+    /// The header and data of one block (which may be followed by padding up to the next block),
+    /// checked against the space the block has; `file_offset` locates errors.
+    fn split<'a>(&self, block: &'a [u8], file_offset: usize) -> Result<Vec<&'a [u8]>, Problem> {
+        let overrun = || {
+            Problem::at_byte(
+                file_offset as u64,
+                "appended data block runs past its end (truncated or corrupt)",
+            )
+        };
+        let h = self.header_bytes;
+        if !self.compressed {
+            let n = self.uint(block, 0).ok_or_else(overrun)?;
+            let end = n
+                .checked_add(h)
+                .filter(|&e| e <= block.len())
+                .ok_or_else(overrun)?;
+            return Ok(vec![&block[..end]]);
+        }
+        // [number of blocks, block size, last block size, compressed size of each block], then data.
+        let count = self.uint(block, 0).ok_or_else(overrun)?;
+        let header_len = count
+            .checked_add(3)
+            .and_then(|c| c.checked_mul(h))
+            .filter(|&l| l <= block.len())
+            .ok_or_else(overrun)?;
+        let mut data_len = 0usize;
+        for i in 0..count {
+            let size = self.uint(block, (3 + i) * h).ok_or_else(overrun)?;
+            data_len = data_len.checked_add(size).ok_or_else(overrun)?;
+        }
+        let end = header_len
+            .checked_add(data_len)
+            .filter(|&e| e <= block.len())
+            .ok_or_else(overrun)?;
+        Ok(vec![&block[..header_len], &block[header_len..end]])
+    }
 }
 
 fn inline<P>(piece: Piece<P>) -> Result<P, Problem> {

@@ -45,6 +45,7 @@ const EXPECTED: &[(&str, &str)] = &[
     ("truncated.vtu", "truncated file"),
     ("truncated_binary.stl", "announces 100 triangles"),
     ("unknown_keyword.mesh", "line 6: unknown keyword"),
+    ("vtkio_slice_panic.vtu", "vtkio gave up"),
     ("wrong_magic.mesh", "line 1: expected MeshVersionFormatted"),
     ("wrong_magic.off", "line 1: expected an OFF header"),
     ("wrong_magic.ply", "line 1: not a readable PLY file"),

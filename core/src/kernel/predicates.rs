@@ -75,7 +75,24 @@ pub fn orient3d(a: Point3, b: Point3, c: Point3, d: Point3) -> Sign {
     if det.abs() > bound && m.min_element() > 1e-90 {
         return Sign::of(det);
     }
+    // Integer points with differences up to 2^16: every intermediate is an integer below 2^53,
+    // so the evaluation above was exact (this makes degenerate grids fast).
+    if m.max_element() <= 65536.0 && all_integral(&[a, b, c, d]) {
+        return Sign::of(det);
+    }
     orient3d_exact(a, b, c, d)
+}
+
+/// Whether every coordinate is an integer. With integer inputs, a floating-point difference of at
+/// most 2^53 in magnitude is exact (the exact result is representable).
+#[inline]
+fn all_integral(points: &[Point3]) -> bool {
+    // The saturating cast maps |x| ≥ 2^63 to a different value: reported as non-integral, which
+    // only sends the caller to the exact path.
+    let integral = |x: f64| (x as i64) as f64 == x;
+    points
+        .iter()
+        .all(|p| integral(p.x) && integral(p.y) && integral(p.z))
 }
 
 #[cold]
@@ -120,6 +137,11 @@ pub fn insphere(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> Sign {
     // 1e-12 leaves a margin. The range guard keeps the bound free of underflow.
     let bound = 1e-12 * m.x * m.y * m.z * mm * mm;
     if det.abs() > bound && m.min_element() > 1e-55 {
+        return Sign::of(det);
+    }
+    // Integer points with differences up to 2^9: |det| < 72 · 2^45 and every intermediate is an
+    // integer below 2^53, so the evaluation above was exact (this makes degenerate grids fast).
+    if mm <= 512.0 && all_integral(&[a, b, c, d, e]) {
         return Sign::of(det);
     }
     insphere_exact(a, b, c, d, e)
@@ -186,6 +208,27 @@ mod tests {
                     q.y = f64::from_bits(q.y.to_bits() + (r >> 50 & 3));
                 }
             }
+            let [a, b, c, d, e] = p;
+            assert_eq!(orient3d(a, b, c, d), orient3d_exact(a, b, c, d));
+            assert_eq!(insphere(a, b, c, d, e), insphere_exact(a, b, c, d, e));
+        }
+    }
+
+    #[test]
+    fn integer_shortcut_agrees_with_the_adaptive_predicates_on_a_grid() {
+        // Exact ties everywhere (cospherical cubes, coplanar faces) and differences at the edge
+        // of the shortcut's range.
+        let coords = [0.0, 1.0, 2.0, 511.0, 512.0, 513.0, -512.0, 65536.0, 65537.0];
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut pick = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let i = (state % coords.len() as u64) as usize;
+            coords[i] * if state >> 63 == 1 { 1.0 } else { 0.5 }
+        };
+        for _ in 0..20000 {
+            let p: [Point3; 5] = std::array::from_fn(|_| Point3::new(pick(), pick(), pick()));
             let [a, b, c, d, e] = p;
             assert_eq!(orient3d(a, b, c, d), orient3d_exact(a, b, c, d));
             assert_eq!(insphere(a, b, c, d, e), insphere_exact(a, b, c, d, e));

@@ -117,7 +117,7 @@ impl<'o> CellLevel<'o> {
     ) -> Option<f64> {
         let p = vertices.map(|v| tr.point(v));
         let radius = center.distance(p[0]);
-        let size_excess = radius / self.criteria.size.at(center, sub.0);
+        let size_excess = radius / self.criteria.size.at(center, sub);
         let shape_excess = if self.criteria.radius_edge_ratio > 0.0 {
             radius / shortest_edge(&p) / self.criteria.radius_edge_ratio
         } else {

@@ -162,7 +162,7 @@ impl<'o> SurfaceLevel<'o> {
         }
         let [a, b, c] = fv.map(|v| tr.point(v));
         let r = ball.radius2.sqrt();
-        let size = self.criteria.size.at(ball.center, ball.patch.0);
+        let size = self.criteria.size.at(ball.center, ball.patch);
         let mut worst: Option<f64> = None;
         let mut note = |q: f64| worst = Some(worst.map_or(q, |w: f64| w.max(q)));
         if r > size {
@@ -174,7 +174,7 @@ impl<'o> SurfaceLevel<'o> {
                 note(self.criteria.angle_deg / angle.max(1e-9));
             }
         }
-        let distance = self.criteria.distance.at(ball.center, ball.patch.0);
+        let distance = self.criteria.distance.at(ball.center, ball.patch);
         if distance.is_finite() {
             let d = triangle_circumcenter(a, b, c).distance(ball.center);
             if d > distance {

@@ -28,8 +28,8 @@ const FREE: u32 = u32::MAX - 1;
 pub const MAX_VERTICES: usize = 1 << 27;
 /// Coordinates beyond this magnitude could overflow the in-sphere determinant (degree 5).
 pub const MAX_COORDINATE: f64 = 1e50;
-/// Expected number of cells per vertex of a uniform 3D point set (≈ 6.75 in a cube), rounded up: capacity
-/// reserved for bulk construction so the cell array is not reallocated on the way.
+/// Expected number of cells per vertex of a uniform 3D point set (≈ 6.75 in a cube), rounded
+/// up: capacity reserved for bulk construction so the cell array is not reallocated on the way.
 const CELLS_PER_VERTEX: f64 = 6.8;
 /// Seed of the BRIO shuffle: fixed, so construction is deterministic.
 const BRIO_SEED: u64 = 0x5EED_DE1A_u64;

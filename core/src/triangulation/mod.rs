@@ -25,8 +25,9 @@ pub mod validity;
 pub use delaunay2::Delaunay2;
 pub use delaunay3::Delaunay3;
 
-/// A vertex of a triangulation. Stable once assigned; finite vertices are numbered from 0 in the
-/// order they were inserted.
+/// A vertex of a triangulation. Stable once assigned; finite vertices are numbered densely from 0
+/// (one-by-one insertions in insertion order; a bulk build numbers its points along a space-filling
+/// curve for memory locality, and returns the vertex of every input point).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub struct VertexId(pub u32);
 

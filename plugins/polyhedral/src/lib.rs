@@ -6,6 +6,8 @@
 //! inner sphere oriented inwards makes a hollow (its inside has winding number zero).
 
 mod oracle;
+#[cfg(feature = "cdylib")]
+mod plugin_export;
 mod predicates;
 mod tree;
 mod validate;

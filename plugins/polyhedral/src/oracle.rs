@@ -119,7 +119,7 @@ impl PolyhedralOracle {
         let num_components = component.iter().max().map_or(0, |&c| c as usize + 1);
         let patch = match patches {
             Some(p) => p.to_vec(),
-            None => component.iter().map(|&c| PatchId(c + 1)).collect(),
+            None => component.iter().map(|&c| c + 1).collect(),
         };
         let bbox = Aabb::of(&geometry.iter().flatten().copied().collect::<Vec<_>>())
             .ok_or(PolyhedralError::Empty)?;
@@ -161,13 +161,13 @@ impl PolyhedralOracle {
             .iter()
             .map(|w| w.iter().filter(|&&x| x != 0).count() as u32)
             .collect();
-        let mut next_label = SubdomainId(1);
+        let mut next_label = 1;
         let mut inside_volume = vec![0.0f64; n];
         for k in 0..n {
             let own = if volume[k] > 0.0 { 1 } else { -1 };
             if own + around[k].iter().sum::<i32>() != 0 {
                 self.inner_label[k] = next_label;
-                next_label.0 += 1;
+                next_label += 1;
                 inside_volume[k] += volume[k].abs();
             }
             // The region inside the parent (the innermost component around k) loses k's volume.

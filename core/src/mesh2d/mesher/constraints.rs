@@ -86,6 +86,10 @@ impl Constraints {
     }
 
     pub(crate) fn get(&self, a: VertexId, b: VertexId) -> Option<&SubSegment> {
+        // Most edges touch no constraint: answer those from the short per-vertex lists.
+        if !self.around(a).contains(&b) {
+            return None;
+        }
         self.subs.get(&key(a, b))
     }
 
@@ -155,21 +159,36 @@ pub(crate) fn edge_cell(
     })
 }
 
-/// Ruppert's test: the sub-segment is missing from the triangulation, or a vertex lies in its
-/// closed diametral disk (then one of the two apices does).
-pub(crate) fn is_encroached(
+/// Whether sub-segment `(a, b)` must be split: it is missing from the triangulation, or (unless
+/// `recover_only`) a vertex on a domain side lies in its closed diametral disk — the side rule of
+/// Triangle, which only tests the apex inside the domain; a vertex outside the domain may
+/// encroach as long as the sub-segment stays an edge.
+pub(crate) fn needs_split(
     tr: &Delaunay2,
+    cons: &Constraints,
     a: VertexId,
     b: VertexId,
+    recover_only: bool,
     scratch: &mut Vec<CellId>,
 ) -> bool {
-    let Some((c, i)) = edge_cell(tr, a, b, scratch) else {
+    let Some(&s) = cons.get(a, b) else {
+        return false;
+    };
+    let Some((c, i)) = edge_cell(tr, s.a, s.b, scratch) else {
         return true;
     };
-    let (pa, pb) = (tr.point(a), tr.point(b));
+    if recover_only {
+        return false;
+    }
+    let (pa, pb) = (tr.point(s.a), tr.point(s.b));
     let n = tr.neighbor(c, i);
-    let apices = [tr.cell(c)[i], tr.cell(n)[tr.mirror_index(c, i)]];
-    apices
-        .iter()
-        .any(|&w| !tr.is_infinite_vertex(w) && dot_sign(tr.point(w), pa, pb) != Ordering::Greater)
+    let sides = [
+        (tr.cell(c)[i], s.left),
+        (tr.cell(n)[tr.mirror_index(c, i)], s.right),
+    ];
+    sides.iter().any(|&(w, label)| {
+        label != Label::Outside
+            && !tr.is_infinite_vertex(w)
+            && dot_sign(tr.point(w), pa, pb) != Ordering::Greater
+    })
 }

@@ -8,13 +8,13 @@
 //! (≤ 34°), except triangles left at small input angles, where refinement would not terminate.
 
 mod constraints;
-mod engine;
 mod segments;
 mod triangles;
 
-pub use engine::RefineError;
+pub use crate::refine::RefineError;
 
 use super::pslg::{Pslg, PslgError};
+use crate::refine::{Engine, Limits};
 use crate::triangulation::Triangulation;
 use crate::triangulation::delaunay2::{CellId, Delaunay2, TriangulationError, VertexId};
 use constraints::{Constraints, Label, edge_cell};
@@ -101,11 +101,21 @@ pub fn mesh(pslg: &Pslg, options: &MeshOptions) -> Result<Mesh, MeshError> {
     let mut seg_level = SegmentLevel::new(cons.clone(), diag * 1e-12);
 
     // Phase 1: recover the segments, so that the domain can be carved along them.
-    let mut insertions = engine::refine(&mut tr, &mut [&mut seg_level], options.max_vertices)?;
+    let limits = Limits {
+        max_vertices: options.max_vertices,
+        ..Limits::default()
+    };
+    let mut insertions: usize = Engine::new(limits)
+        .push_level(&mut seg_level)
+        .refine(&mut tr, &mut |_| {})?
+        .insertions
+        .iter()
+        .sum();
     let labels = carve(&tr, &cons.borrow(), pslg);
     set_side_labels(&tr, &mut cons.borrow_mut(), &labels);
 
     // Phase 2: quality refinement.
+    seg_level.recover_only = false;
     let global_area = options.max_area.unwrap_or(f64::INFINITY);
     let region_area = std::iter::once(global_area)
         .chain(
@@ -116,11 +126,13 @@ pub fn mesh(pslg: &Pslg, options: &MeshOptions) -> Result<Mesh, MeshError> {
         .collect();
     let criteria = TriangleCriteria::new(options.min_angle_deg, region_area);
     let mut tri_level = TriangleLevel::new(cons.clone(), criteria, labels);
-    insertions += engine::refine(
-        &mut tr,
-        &mut [&mut seg_level, &mut tri_level],
-        options.max_vertices,
-    )?;
+    insertions += Engine::new(limits)
+        .push_level(&mut seg_level)
+        .push_level(&mut tri_level)
+        .refine(&mut tr, &mut |_| {})?
+        .insertions
+        .iter()
+        .sum::<usize>();
     tri_level.resolve_labels(&tr);
 
     let attributes: Vec<f64> = std::iter::once(0.0)

@@ -2,8 +2,8 @@
 //! encroached (a vertex in its closed diametral disk, or missing from the triangulation); a point
 //! proposed by the triangle level that would encroach one is refused and the sub-segment queued.
 
-use super::constraints::{Constraints, edge_cell, is_encroached};
-use super::engine::{Candidate, Check};
+use super::constraints::{Constraints, edge_cell, needs_split};
+use crate::refine::{Candidate, Check, MesherLevel};
 use crate::triangulation::Triangulation;
 use crate::triangulation::delaunay2::predicates::dot_sign;
 use crate::triangulation::delaunay2::{CellId, ConflictZone, Delaunay2, InsertReport, VertexId};
@@ -26,6 +26,9 @@ pub(crate) struct SegmentLevel {
     proposed: Option<(VertexId, VertexId)>,
     /// Sub-segments shorter than this are never split (a guard against runaway refinement).
     min_length: f64,
+    /// Only split sub-segments missing from the triangulation (segment recovery, before the
+    /// domain sides are known).
+    pub(crate) recover_only: bool,
     scratch: Vec<CellId>,
     zone: ConflictZone,
 }
@@ -38,9 +41,21 @@ impl SegmentLevel {
             queued: HashSet::new(),
             proposed: None,
             min_length,
+            recover_only: true,
             scratch: Vec::new(),
             zone: ConflictZone::default(),
         }
+    }
+
+    fn needs_split(&mut self, tr: &Delaunay2, a: VertexId, b: VertexId) -> bool {
+        needs_split(
+            tr,
+            &self.cons.borrow(),
+            a,
+            b,
+            self.recover_only,
+            &mut self.scratch,
+        )
     }
 
     fn push(&mut self, a: VertexId, b: VertexId, forced: bool) {
@@ -77,19 +92,48 @@ impl SegmentLevel {
         pa + (pb - pa) * t
     }
 
-    pub(crate) fn scan(&mut self, tr: &Delaunay2) {
+    /// Distance from the split point of `(a, b)` to its nearest vertex (which is a vertex of its
+    /// conflict zone).
+    fn insertion_radius(&mut self, tr: &Delaunay2, a: VertexId, b: VertexId) -> f64 {
+        let m = self.split_point(tr, a, b);
+        let mut zone = std::mem::take(&mut self.zone);
+        tr.conflict_zone(m, None, &mut zone);
+        let r = zone
+            .cells
+            .iter()
+            .flat_map(|&c| tr.cell(c))
+            .filter(|&v| !tr.is_infinite_vertex(v))
+            .map(|v| tr.point(v).distance(m))
+            .fold(f64::INFINITY, f64::min);
+        self.zone = zone;
+        r
+    }
+}
+
+impl MesherLevel<Delaunay2> for SegmentLevel {
+    type Element = (VertexId, VertexId);
+
+    fn name(&self) -> &'static str {
+        "sub-segments"
+    }
+
+    fn pending(&self) -> usize {
+        self.queue.len()
+    }
+
+    fn scan(&mut self, tr: &Delaunay2) {
         let subs = self.cons.borrow().sorted();
         for s in subs {
-            if is_encroached(tr, s.a, s.b, &mut self.scratch) {
+            if self.needs_split(tr, s.a, s.b) {
                 self.push(s.a, s.b, false);
             }
         }
     }
 
-    pub(crate) fn next_element(&mut self, tr: &Delaunay2) -> Option<(VertexId, VertexId)> {
+    fn next_element(&mut self, tr: &Delaunay2) -> Option<(VertexId, VertexId)> {
         while let Some(&(a, b, forced)) = self.queue.front() {
             let live = self.cons.borrow().get(a, b).is_some();
-            if live && (forced || is_encroached(tr, a, b, &mut self.scratch)) {
+            if live && (forced || self.needs_split(tr, a, b)) {
                 return Some((a, b));
             }
             self.pop_element();
@@ -97,13 +141,13 @@ impl SegmentLevel {
         None
     }
 
-    pub(crate) fn pop_element(&mut self) {
+    fn pop_element(&mut self) {
         if let Some((a, b, _)) = self.queue.pop_front() {
             self.queued.remove(&(a.min(b), a.max(b)));
         }
     }
 
-    pub(crate) fn refinement_point(
+    fn refinement_point(
         &mut self,
         tr: &Delaunay2,
         &(a, b): &(VertexId, VertexId),
@@ -125,7 +169,7 @@ impl SegmentLevel {
     /// closer to an existing vertex than the triangle's shortest edge (the split would only shrink
     /// the local feature size and cascade); if every encroached sub-segment is spared this way,
     /// the triangle is given up (rejected forever).
-    pub(crate) fn check(&mut self, tr: &Delaunay2, c: &Candidate<DVec2>, own: bool) -> Check {
+    fn check(&mut self, tr: &Delaunay2, c: &Candidate<DVec2>, own: bool) -> Check {
         if own {
             return Check::Accepted;
         }
@@ -185,30 +229,7 @@ impl SegmentLevel {
         }
     }
 
-    /// Distance from the split point of `(a, b)` to its nearest vertex (which is a vertex of its
-    /// conflict zone).
-    fn insertion_radius(&mut self, tr: &Delaunay2, a: VertexId, b: VertexId) -> f64 {
-        let m = self.split_point(tr, a, b);
-        let mut zone = std::mem::take(&mut self.zone);
-        tr.conflict_zone(m, None, &mut zone);
-        let r = zone
-            .cells
-            .iter()
-            .flat_map(|&c| tr.cell(c))
-            .filter(|&v| !tr.is_infinite_vertex(v))
-            .map(|v| tr.point(v).distance(m))
-            .fold(f64::INFINITY, f64::min);
-        self.zone = zone;
-        r
-    }
-
-    pub(crate) fn after_insertion(
-        &mut self,
-        tr: &Delaunay2,
-        v: VertexId,
-        report: &InsertReport,
-        own: bool,
-    ) {
+    fn after_insertion(&mut self, tr: &Delaunay2, v: VertexId, report: &InsertReport, own: bool) {
         if own {
             if let Some((a, b)) = self.proposed.take() {
                 self.cons.borrow_mut().split(a, b, v);
@@ -227,7 +248,7 @@ impl SegmentLevel {
         for x in ends {
             let others = self.cons.borrow().around(x).to_vec();
             for y in others {
-                if x < y && is_encroached(tr, x, y, &mut self.scratch) {
+                if x < y && self.needs_split(tr, x, y) {
                     self.push(x, y, false);
                 }
             }

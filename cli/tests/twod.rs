@@ -1,0 +1,115 @@
+//! The `mesh2d` and `conform2d` commands as a user runs them.
+
+use assert_cmd::Command;
+use std::path::PathBuf;
+
+/// A scratch directory of its own for each test (tests run in parallel).
+fn scratch(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("delamesh-twod-{}-{test}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+const SQUARE_WITH_HOLE: &str = "# square with a square hole\n8 2 0 1\n1 0 0 1\n2 10 0 1\n3 10 10 1\n\
+    4 0 10 1\n5 4 4 2\n6 6 4 2\n7 6 6 2\n8 4 6 2\n8 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 1 1\n\
+    5 5 6 2\n6 6 7 2\n7 7 8 2\n8 8 5 2\n1\n1 5 5\n";
+
+fn delamesh() -> Command {
+    Command::cargo_bin("delamesh").unwrap()
+}
+
+#[test]
+fn mesh2d_writes_a_deterministic_vtu() {
+    let dir = scratch("mesh2d");
+    let input = dir.join("square.poly");
+    std::fs::write(&input, SQUARE_WITH_HOLE).unwrap();
+    let mut outputs = Vec::new();
+    for k in 0..2 {
+        let out = dir.join(format!("out{k}.vtu"));
+        let run = delamesh()
+            .args([
+                "mesh2d",
+                input.to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+            ])
+            .args(["--min-angle", "30", "--max-area", "0.5"])
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let text = String::from_utf8_lossy(&run.stdout).into_owned();
+        let angle: f64 = text
+            .split("smallest angle ")
+            .nth(1)
+            .and_then(|s| s.split('°').next())
+            .and_then(|s| s.parse().ok())
+            .expect("reports the smallest angle");
+        assert!(angle >= 30.0, "{text}");
+        outputs.push(std::fs::read(&out).unwrap());
+    }
+    assert!(outputs[0].starts_with(b"<?xml"));
+    assert_eq!(outputs[0], outputs[1]);
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn conform2d_runs_every_algorithm() {
+    let dir = scratch("conform2d");
+    let input = dir.join("square.poly");
+    std::fs::write(&input, SQUARE_WITH_HOLE).unwrap();
+    for algorithm in ["3.1", "3.1p", "3.2"] {
+        let out = dir.join(format!("out{algorithm}.vtu"));
+        let run = delamesh()
+            .args([
+                "conform2d",
+                input.to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+            ])
+            .args(["--algorithm", algorithm])
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        assert!(std::fs::read(&out).unwrap().starts_with(b"<?xml"));
+    }
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn bad_poly_files_fail_with_the_file_named() {
+    let dir = scratch("bad");
+    let input = dir.join("crossing.poly");
+    std::fs::write(
+        &input,
+        "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n2 0\n1 1 3\n2 2 4\n0\n",
+    )
+    .unwrap();
+    for command in ["mesh2d", "conform2d"] {
+        let out = dir.join("out.vtu");
+        let run = delamesh()
+            .args([
+                command,
+                input.to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap();
+        assert_eq!(run.status.code(), Some(1));
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert!(
+            err.contains("crossing.poly") && err.contains("cross"),
+            "{err}"
+        );
+        assert!(!out.exists());
+    }
+    std::fs::remove_dir_all(dir).ok();
+}
