@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 fn delamesh() -> Command {
-    Command::cargo_bin("delamesh").expect("the delamesh binary is built")
+    Command::new(env!("CARGO_BIN_EXE_delamesh"))
 }
 
 /// A small deterministic pseudo-random point set (a linear congruential generator keeps the test

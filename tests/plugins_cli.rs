@@ -9,7 +9,10 @@ use std::path::Path;
 
 fn delamesh() -> Command {
     let mut command = Command::new(common::delamesh_bin());
-    command.env_remove("DELAMESH_PLUGIN_PATH");
+    // Without backtraces, so that a host frame in stderr can only come from a panic of the host.
+    command
+        .env_remove("DELAMESH_PLUGIN_PATH")
+        .env("RUST_BACKTRACE", "0");
     command
 }
 

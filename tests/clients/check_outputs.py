@@ -47,7 +47,7 @@ VTK_TETRA, VTK_TRIANGLE, VTK_LINE = 10, 5, 3
 
 def delamesh_binary():
     """Builds the CLI once and returns the path of the binary cargo made."""
-    subprocess.run(["cargo", "build", "--quiet", "-p", "delamesh-cli"], cwd=ROOT, check=True)
+    subprocess.run(["cargo", "build", "--quiet", "--bin", "delamesh"], cwd=ROOT, check=True)
     meta = subprocess.run(
         ["cargo", "metadata", "--format-version", "1", "--no-deps"],
         cwd=ROOT, check=True, capture_output=True, text=True,

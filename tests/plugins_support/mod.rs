@@ -61,15 +61,9 @@ fn cargo_build(package: &str, features: &[&str]) -> PathBuf {
     dir
 }
 
-/// The `delamesh` binary. `cargo test --workspace` builds it next to the test executables (as
-/// `Command::cargo_bin` expects); a narrower `cargo test -p delamesh` may not, so it is built then.
+/// The `delamesh` binary of the root package, built by cargo for these tests.
 pub fn delamesh_bin() -> PathBuf {
-    let binary = profile_dir().join(format!("delamesh{}", std::env::consts::EXE_SUFFIX));
-    if binary.is_file() {
-        return binary;
-    }
-    cargo_build("delamesh-cli", &[]);
-    binary
+    PathBuf::from(env!("CARGO_BIN_EXE_delamesh"))
 }
 
 /// Builds the cdylib of workspace package `package` (library name `lib`) with `features`, in the

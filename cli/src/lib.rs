@@ -1,4 +1,5 @@
-//! `delamesh`: quality tetrahedral meshing from the command line.
+//! The `delamesh` command line: argument parsing and one module per subcommand. The binary itself
+//! is the root package's `src/main.rs`, which only calls [`main`].
 //!
 //! Exit codes: 0 success, 1 the work failed (bad input, I/O, refinement guard), 2 bad usage.
 
@@ -42,7 +43,8 @@ enum Command {
     Plugins(plugins::PluginsArgs),
 }
 
-fn main() -> ExitCode {
+/// Parses the process arguments, runs the subcommand and reports its error on stderr.
+pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Mesh(args) => mesh::run(&args),

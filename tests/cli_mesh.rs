@@ -5,12 +5,12 @@ use std::path::{Path, PathBuf};
 
 fn model(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../models")
+        .join("models")
         .join(name)
 }
 
 fn delamesh() -> Command {
-    Command::cargo_bin("delamesh").expect("the delamesh binary is built")
+    Command::new(env!("CARGO_BIN_EXE_delamesh"))
 }
 
 /// Coarse criteria so that each run takes a fraction of a second.

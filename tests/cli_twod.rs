@@ -15,7 +15,7 @@ const SQUARE_WITH_HOLE: &str = "# square with a square hole\n8 2 0 1\n1 0 0 1\n2
     5 5 6 2\n6 6 7 2\n7 7 8 2\n8 8 5 2\n1\n1 5 5\n";
 
 fn delamesh() -> Command {
-    Command::cargo_bin("delamesh").unwrap()
+    Command::new(env!("CARGO_BIN_EXE_delamesh"))
 }
 
 #[test]

@@ -6,12 +6,12 @@ use std::path::{Path, PathBuf};
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../tests/data")
+        .join("tests/data")
         .join(name)
 }
 
 fn delamesh() -> Command {
-    Command::cargo_bin("delamesh").unwrap()
+    Command::new(env!("CARGO_BIN_EXE_delamesh"))
 }
 
 fn info(path: &Path) -> Value {
@@ -130,7 +130,7 @@ fn format_flags_override_extensions() {
 #[test]
 fn bad_input_fails_cleanly_without_output() {
     let dir = tempfile::tempdir().unwrap();
-    let bad = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/bad");
+    let bad = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/bad");
     for entry in std::fs::read_dir(&bad).unwrap() {
         let path = entry.unwrap().path();
         let out = dir.path().join("out.vtu");
