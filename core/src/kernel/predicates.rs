@@ -63,15 +63,27 @@ pub fn orient2d(a: Point2, b: Point2, c: Point2) -> Sign {
 /// *positively oriented* when this is positive; every finite cell of `Delaunay3` is.
 #[inline]
 pub fn orient3d(a: Point3, b: Point3, c: Point3, d: Point3) -> Sign {
+    orient3d_refined(a, b, c, d, orient3d_det(a, b, c, d))
+}
+
+/// The orientation determinant in plain floating point.
+#[inline(always)]
+fn orient3d_det(a: Point3, b: Point3, c: Point3, d: Point3) -> f64 {
     let (ad, bd, cd) = (a - d, b - d, c - d);
-    let det = ad.x * (bd.y * cd.z - bd.z * cd.y) - ad.y * (bd.x * cd.z - bd.z * cd.x)
-        + ad.z * (bd.x * cd.y - bd.y * cd.x);
+    ad.x * (bd.y * cd.z - bd.z * cd.y) - ad.y * (bd.x * cd.z - bd.z * cd.x)
+        + ad.z * (bd.x * cd.y - bd.y * cd.x)
+}
+
+/// The sign of `orient3d(a, b, c, d)` given its floating-point determinant `det`.
+#[inline]
+fn orient3d_refined(a: Point3, b: Point3, c: Point3, d: Point3, det: f64) -> Sign {
+    let (ad, bd, cd) = (a - d, b - d, c - d);
     let m = ad.abs().max(bd.abs()).max(cd.abs());
     // Semi-static filter: each of the six products of three differences is at most
     // m.x * m.y * m.z and is evaluated with a handful of roundings, so the floating-point error
     // stays below ~5e-15 of that product; 1e-14 leaves a margin. The range guard keeps the bound
     // itself free of underflow.
-    let bound = 1e-14 * m.x * m.y * m.z;
+    let bound = ORIENT3D_ERROR * m.x * m.y * m.z;
     if det.abs() > bound && m.min_element() > 1e-90 {
         return Sign::of(det);
     }
@@ -81,6 +93,87 @@ pub fn orient3d(a: Point3, b: Point3, c: Point3, d: Point3) -> Sign {
         return Sign::of(det);
     }
     orient3d_exact(a, b, c, d)
+}
+
+/// Relative error bound of the orientation determinant (see [`orient3d`]).
+const ORIENT3D_ERROR: f64 = 1e-14;
+/// Relative error bound of the in-sphere determinant (see [`insphere`]).
+const INSPHERE_ERROR: f64 = 1e-12;
+/// Below this, a static bound could be swamped by underflow in the determinants: not used.
+const MIN_STATIC_BOUND: f64 = 1e-200;
+
+/// Static filters (fixed error bounds) for points inside a known bounding box.
+///
+/// The semi-static filters of [`orient3d`] and [`insphere`] bound the error with the largest
+/// coordinate differences of the points at hand, which costs a few dozen instructions per call.
+/// Differences never exceed the box's extent, so one bound computed from the box decides almost
+/// every call of a bulk construction at once; the rest go on to the semi-static filter.
+#[derive(Clone, Copy, Debug)]
+pub struct StaticFilter {
+    lo: Point3,
+    hi: Point3,
+    orient3d_bound: f64,
+    insphere_bound: f64,
+}
+
+impl Default for StaticFilter {
+    fn default() -> Self {
+        StaticFilter {
+            lo: Point3::splat(f64::INFINITY),
+            hi: Point3::splat(f64::NEG_INFINITY),
+            orient3d_bound: f64::INFINITY,
+            insphere_bound: f64::INFINITY,
+        }
+    }
+}
+
+impl StaticFilter {
+    /// Grows the box to contain the finite point `p`; every point given to the predicates must
+    /// have been included.
+    #[inline]
+    pub fn include(&mut self, p: Point3) {
+        if p.cmplt(self.lo).any() || p.cmpgt(self.hi).any() {
+            self.grow(p);
+        }
+    }
+
+    #[cold]
+    fn grow(&mut self, p: Point3) {
+        self.lo = self.lo.min(p);
+        self.hi = self.hi.max(p);
+        let e = self.hi - self.lo;
+        let m = e.max_element();
+        let valid = |b: f64| {
+            if b >= MIN_STATIC_BOUND {
+                b
+            } else {
+                f64::INFINITY
+            }
+        };
+        // Rounding the bounds themselves costs a few ulps, far inside the filters' margins.
+        self.orient3d_bound = valid(ORIENT3D_ERROR * e.x * e.y * e.z);
+        self.insphere_bound = valid(INSPHERE_ERROR * e.x * e.y * e.z * m * m);
+    }
+
+    /// [`orient3d`] for points inside the box.
+    #[inline]
+    pub fn orient3d(&self, a: Point3, b: Point3, c: Point3, d: Point3) -> Sign {
+        let det = orient3d_det(a, b, c, d);
+        if det.abs() > self.orient3d_bound {
+            return Sign::of(det);
+        }
+        orient3d_refined(a, b, c, d, det)
+    }
+
+    /// [`insphere`] for points inside the box.
+    #[inline]
+    pub fn insphere(&self, a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> Sign {
+        let det = insphere_det(a, b, c, d, e);
+        if det.abs() > self.insphere_bound {
+            return Sign::of(det);
+        }
+        insphere_refined(a, b, c, d, e, det)
+    }
 }
 
 /// Whether every coordinate is an integer. With integer inputs, a floating-point difference of at
@@ -111,6 +204,12 @@ pub fn incircle(a: Point2, b: Point2, c: Point2, d: Point2) -> Sign {
 /// positive (the sign is reversed for a negatively oriented tetrahedron).
 #[inline]
 pub fn insphere(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> Sign {
+    insphere_refined(a, b, c, d, e, insphere_det(a, b, c, d, e))
+}
+
+/// The in-sphere determinant in plain floating point.
+#[inline(always)]
+fn insphere_det(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> f64 {
     let (ae, be, ce, de) = (a - e, b - e, c - e, d - e);
     let (la, lb, lc, ld) = (
         ae.length_squared(),
@@ -129,13 +228,19 @@ pub fn insphere(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> Sign {
     let bcd = be.z * cd - ce.z * bd + de.z * bc;
     let cda = ce.z * da + de.z * ac + ae.z * cd;
     let dab = de.z * ab + ae.z * bd + be.z * da;
-    let det = (ld * abc - lc * dab) + (lb * cda - la * bcd);
+    (ld * abc - lc * dab) + (lb * cda - la * bcd)
+}
+
+/// The sign of `insphere(a, b, c, d, e)` given its floating-point determinant `det`.
+#[inline]
+fn insphere_refined(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3, det: f64) -> Sign {
+    let (ae, be, ce, de) = (a - e, b - e, c - e, d - e);
     let m = ae.abs().max(be.abs()).max(ce.abs()).max(de.abs());
     let mm = m.max_element();
     // Semi-static filter: the 24 products x * y * z * lift are each at most m.x * m.y * m.z *
     // 3 mm², computed with about ten roundings: the error stays below ~1e-13 of m.x m.y m.z mm²;
     // 1e-12 leaves a margin. The range guard keeps the bound free of underflow.
-    let bound = 1e-12 * m.x * m.y * m.z * mm * mm;
+    let bound = INSPHERE_ERROR * m.x * m.y * m.z * mm * mm;
     if det.abs() > bound && m.min_element() > 1e-55 {
         return Sign::of(det);
     }
@@ -211,6 +316,40 @@ mod tests {
             let [a, b, c, d, e] = p;
             assert_eq!(orient3d(a, b, c, d), orient3d_exact(a, b, c, d));
             assert_eq!(insphere(a, b, c, d, e), insphere_exact(a, b, c, d, e));
+        }
+    }
+
+    #[test]
+    fn static_filter_agrees_with_the_adaptive_predicates() {
+        // Near-degenerate configurations (one-ulp nudges of lattice points) inside a box whose
+        // extent sets the static bounds, plus points far smaller than the box.
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let mut filter = StaticFilter::default();
+        filter.include(Point3::splat(-1.0));
+        filter.include(Point3::splat(3.0));
+        for _ in 0..20000 {
+            let scale = if next() & 1 == 0 { 1.0 } else { 1e-3 };
+            let mut p = [Point3::ZERO; 5];
+            for q in &mut p {
+                let r = next();
+                *q = Point3::new((r % 3) as f64, (r >> 8 & 3) as f64, (r >> 16 & 3) as f64) * scale;
+                if r >> 40 & 1 == 1 {
+                    q.z = f64::from_bits(q.z.to_bits() + (r >> 50 & 3));
+                }
+                filter.include(*q);
+            }
+            let [a, b, c, d, e] = p;
+            assert_eq!(filter.orient3d(a, b, c, d), orient3d_exact(a, b, c, d));
+            assert_eq!(
+                filter.insphere(a, b, c, d, e),
+                insphere_exact(a, b, c, d, e)
+            );
         }
     }
 

@@ -13,7 +13,7 @@ use super::{
     CellId, ConflictZone, InsertOutcome, InsertReport, Triangulation, TriangulationError, VertexId,
 };
 use crate::kernel::perturbation::{beyond_hull_facet_perturbed, in_sphere_perturbed};
-use crate::kernel::{Point2, Point3, Sign, circumcenter3, orient2d, orient3d};
+use crate::kernel::{Point2, Point3, Sign, StaticFilter, circumcenter3, orient2d, orient3d};
 use cavity::{ByteMarks, CavityMarks, HashMarks, Scratch};
 use std::collections::HashMap;
 
@@ -63,6 +63,8 @@ pub struct Delaunay3 {
     /// During bulk insertion `vertex_cell` is left stale and rebuilt once at the end, which saves
     /// four scattered writes per created cell.
     bulk: bool,
+    /// Static predicate filters for the bounding box of the vertices.
+    filter: StaticFilter,
     scratch: Scratch,
 }
 
@@ -132,6 +134,7 @@ impl Delaunay3 {
             last: NO_CELL,
             lower: Some(LowerDimension::default()),
             bulk: false,
+            filter: StaticFilter::default(),
             scratch: Scratch::default(),
         }
     }
@@ -278,6 +281,7 @@ impl Delaunay3 {
     }
 
     fn push_vertex(&mut self, p: Point3) -> u32 {
+        self.filter.include(p);
         self.points.push(p);
         self.vertex_cell.push(NO_CELL);
         (self.points.len() - 1) as u32
@@ -468,7 +472,7 @@ impl Delaunay3 {
                 }
                 let mut t = q;
                 t[i] = p;
-                if orient3d(t[0], t[1], t[2], t[3]) == Sign::Negative {
+                if self.filter.orient3d(t[0], t[1], t[2], t[3]) == Sign::Negative {
                     prev = c;
                     c = next;
                     continue 'walk;
@@ -481,23 +485,35 @@ impl Delaunay3 {
     /// Whether `p` conflicts with cell `c` (its perturbed circumsphere strictly contains `p`).
     #[inline]
     fn in_conflict(&self, c: u32, p: Point3) -> bool {
-        let r = &self.cells[c as usize];
-        if let Some(i) = r.v.iter().position(|&v| v == INFINITE) {
-            let mut t = [p; 4];
-            let mut tri = [p; 3];
-            let mut k = 0;
-            for (j, &v) in r.v.iter().enumerate() {
-                if j != i {
-                    t[j] = self.pt(v);
-                    tri[k] = t[j];
-                    k += 1;
-                }
-            }
-            let o = orient3d(t[0], t[1], t[2], t[3]);
-            beyond_hull_facet_perturbed(tri, o, p)
-        } else {
-            in_sphere_perturbed(r.v.map(|v| self.pt(v)), p)
+        let v = self.cells[c as usize].v;
+        // The infinite vertex is the largest index: one comparison tells infinite cells apart.
+        if v[0].max(v[1]).max(v[2].max(v[3])) == INFINITE {
+            return self.in_conflict_infinite(v, p);
         }
+        let q = v.map(|w| self.pt(w));
+        match self.filter.insphere(q[0], q[1], q[2], q[3], p) {
+            Sign::Positive => true,
+            Sign::Negative => false,
+            Sign::Zero => in_sphere_perturbed(q, p),
+        }
+    }
+
+    /// [`Self::in_conflict`] for an infinite cell with vertices `v`.
+    #[inline(never)]
+    fn in_conflict_infinite(&self, v: [u32; 4], p: Point3) -> bool {
+        let i = v.iter().position(|&w| w == INFINITE).unwrap_or(0);
+        let mut t = [p; 4];
+        let mut tri = [p; 3];
+        let mut k = 0;
+        for (j, &w) in v.iter().enumerate() {
+            if j != i {
+                t[j] = self.pt(w);
+                tri[k] = t[j];
+                k += 1;
+            }
+        }
+        let o = self.filter.orient3d(t[0], t[1], t[2], t[3]);
+        beyond_hull_facet_perturbed(tri, o, p)
     }
 
     /// Grows the conflict zone of `p` from `start` (which must conflict with `p`).
