@@ -42,6 +42,15 @@ struct CellRecord {
     n: [u32; 4],
 }
 
+/// For a new cell whose facet `i` lies on the cavity boundary: the two vertex positions other than
+/// `i` and `j`, i.e. the boundary edge in its facet `j` (`j != i`; the diagonal is unused).
+const FACET_EDGE: [[(u8, u8); 4]; 4] = [
+    [(0, 0), (2, 3), (1, 3), (1, 2)],
+    [(2, 3), (0, 0), (0, 3), (0, 2)],
+    [(1, 3), (0, 3), (0, 0), (0, 1)],
+    [(1, 2), (0, 2), (0, 1), (0, 0)],
+];
+
 #[inline]
 fn pack(c: u32, i: usize) -> u32 {
     (c << 2) | i as u32
@@ -577,58 +586,47 @@ impl Delaunay3 {
             verts[i as usize] = v;
             s.new_cells.push((verts, i, r.n[i as usize]));
         }
-        for &c in &s.cavity {
-            if !Self::is_infinite_record(&self.cells[c as usize]) {
-                self.num_finite -= 1;
-            }
-        }
+        let removed_infinite = s
+            .cavity
+            .iter()
+            .filter(|&&c| Self::is_infinite_record(&self.cells[c as usize]))
+            .count();
+        self.num_finite -= s.cavity.len() - removed_infinite;
         if let Some(rep) = report.as_deref_mut() {
             rep.removed.extend(s.cavity.iter().map(|&c| CellId(c)));
         }
         s.edges.clear(s.new_cells.len());
         let reused = s.cavity.len().min(s.new_cells.len());
-        for k in 0..s.new_cells.len() {
-            let (verts, i, outside) = s.new_cells[k];
+        let mut last = self.last;
+        for (k, &(verts, i, outside)) in s.new_cells.iter().enumerate() {
             let i = i as usize;
             let nc = if k < reused {
-                let c = s.cavity[k];
-                self.cells[c as usize] = CellRecord {
-                    v: verts,
-                    n: [NO_CELL; 4],
-                };
-                c
+                s.cavity[k]
             } else {
                 self.alloc_cell(verts)
             };
-            self.cells[nc as usize].n[i] = outside;
+            let mut rec = CellRecord {
+                v: verts,
+                n: [NO_CELL; 4],
+            };
+            rec.n[i] = outside;
             self.cells[(outside >> 2) as usize].n[(outside & 3) as usize] = pack(nc, i);
-            if !verts.contains(&INFINITE) {
+            if verts[0].max(verts[1]).max(verts[2].max(verts[3])) != INFINITE {
                 self.num_finite += 1;
             }
-            for j in 0..4 {
+            for (j, &(a, b)) in FACET_EDGE[i].iter().enumerate() {
                 if j == i {
                     continue;
                 }
-                // Facet j holds v and the edge of the cavity boundary made of the two other vertices.
-                let (a, b) = match (i, j) {
-                    (0, 1) | (1, 0) => (2, 3),
-                    (0, 2) | (2, 0) => (1, 3),
-                    (0, 3) | (3, 0) => (1, 2),
-                    (1, 2) | (2, 1) => (0, 3),
-                    (1, 3) | (3, 1) => (0, 2),
-                    _ => (0, 1),
-                };
-                let (x, y) = (verts[a], verts[b]);
-                let key = if x < y {
-                    (u64::from(x) << 32) | u64::from(y)
-                } else {
-                    (u64::from(y) << 32) | u64::from(x)
-                };
-                if let Some(other) = s.edges.take_or_insert(key, pack(nc, j)) {
-                    self.cells[nc as usize].n[j] = other;
+                // Facet j holds v and the cavity-boundary edge made of the two other vertices.
+                let (x, y) = (verts[a as usize], verts[b as usize]);
+                let key = (u64::from(x.min(y)) << 32) | u64::from(x.max(y));
+                if let Some(other) = s.edges.find_or_insert(key, pack(nc, j)) {
+                    rec.n[j] = other;
                     self.cells[(other >> 2) as usize].n[(other & 3) as usize] = pack(nc, j);
                 }
             }
+            self.cells[nc as usize] = rec;
             if !self.bulk {
                 for w in verts {
                     if w != INFINITE {
@@ -639,8 +637,9 @@ impl Delaunay3 {
             if let Some(rep) = report.as_deref_mut() {
                 rep.created.push(CellId(nc));
             }
-            self.last = nc;
+            last = nc;
         }
+        self.last = last;
         for k in reused..s.cavity.len() {
             let c = s.cavity[k];
             self.free_cell(c);
