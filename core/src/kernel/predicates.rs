@@ -208,26 +208,31 @@ pub fn insphere(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> Sign {
 }
 
 /// The in-sphere determinant in plain floating point.
+///
+/// Written as a scalar expression tree over pairs of rows, in the order that lets the compiler
+/// keep both halves in the two lanes of a vector register without shuffling between them.
 #[inline(always)]
 fn insphere_det(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> f64 {
-    let (ae, be, ce, de) = (a - e, b - e, c - e, d - e);
-    let (la, lb, lc, ld) = (
-        ae.length_squared(),
-        be.length_squared(),
-        ce.length_squared(),
-        de.length_squared(),
-    );
+    // Rows a and c, then b and d, are handled side by side.
+    let (aex, aey, aez) = (a.x - e.x, a.y - e.y, a.z - e.z);
+    let (cex, cey, cez) = (c.x - e.x, c.y - e.y, c.z - e.z);
+    let (bex, bey, bez) = (b.x - e.x, b.y - e.y, b.z - e.z);
+    let (dex, dey, dez) = (d.x - e.x, d.y - e.y, d.z - e.z);
+    let la = aex * aex + aey * aey + aez * aez;
+    let lc = cex * cex + cey * cey + cez * cez;
+    let lb = bex * bex + bey * bey + bez * bez;
+    let ld = dex * dex + dey * dey + dez * dez;
     // 4×4 determinant [x y z lift] of the translated rows, expanded along 2×2 minors.
-    let ab = ae.x * be.y - be.x * ae.y;
-    let bc = be.x * ce.y - ce.x * be.y;
-    let cd = ce.x * de.y - de.x * ce.y;
-    let da = de.x * ae.y - ae.x * de.y;
-    let ac = ae.x * ce.y - ce.x * ae.y;
-    let bd = be.x * de.y - de.x * be.y;
-    let abc = ae.z * bc - be.z * ac + ce.z * ab;
-    let bcd = be.z * cd - ce.z * bd + de.z * bc;
-    let cda = ce.z * da + de.z * ac + ae.z * cd;
-    let dab = de.z * ab + ae.z * bd + be.z * da;
+    let ab = aex * bey - bex * aey;
+    let cd = cex * dey - dex * cey;
+    let bc = bex * cey - cex * bey;
+    let da = dex * aey - aex * dey;
+    let ac = aex * cey - cex * aey;
+    let bd = bex * dey - dex * bey;
+    let abc = aez * bc - bez * ac + cez * ab;
+    let cda = cez * da + dez * ac + aez * cd;
+    let bcd = bez * cd - cez * bd + dez * bc;
+    let dab = dez * ab + aez * bd + bez * da;
     (ld * abc - lc * dab) + (lb * cda - la * bcd)
 }
 

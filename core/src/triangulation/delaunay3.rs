@@ -499,11 +499,17 @@ impl Delaunay3 {
         if v[0].max(v[1]).max(v[2].max(v[3])) == INFINITE {
             return self.in_conflict_infinite(v, p);
         }
-        let q = v.map(|w| self.pt(w));
-        match self.filter.insphere(q[0], q[1], q[2], q[3], p) {
+        let pts = &self.points;
+        let (a, b, c, d) = (
+            pts[v[0] as usize],
+            pts[v[1] as usize],
+            pts[v[2] as usize],
+            pts[v[3] as usize],
+        );
+        match self.filter.insphere(a, b, c, d, p) {
             Sign::Positive => true,
             Sign::Negative => false,
-            Sign::Zero => in_sphere_perturbed(q, p),
+            Sign::Zero => in_sphere_perturbed([a, b, c, d], p),
         }
     }
 
