@@ -465,10 +465,16 @@ impl Delaunay3 {
             (p.x.to_bits() ^ p.y.to_bits().rotate_left(21) ^ p.z.to_bits().rotate_left(42)) | 1;
         'walk: loop {
             let r = self.cells[c as usize];
-            if Self::is_infinite_record(&r) {
+            if r.v[0].max(r.v[1]).max(r.v[2].max(r.v[3])) == INFINITE {
                 return c;
             }
-            let q = r.v.map(|v| self.pt(v));
+            let pts = &self.points;
+            let (a, b, cc, d) = (
+                pts[r.v[0] as usize],
+                pts[r.v[1] as usize],
+                pts[r.v[2] as usize],
+                pts[r.v[3] as usize],
+            );
             rnd ^= rnd << 13;
             rnd ^= rnd >> 7;
             rnd ^= rnd << 17;
@@ -479,9 +485,15 @@ impl Delaunay3 {
                 if next == prev {
                     continue;
                 }
-                let mut t = q;
-                t[i] = p;
-                if self.filter.orient3d(t[0], t[1], t[2], t[3]) == Sign::Negative {
+                // The cell with vertex i replaced by p: negative when p is beyond facet i.
+                let f = &self.filter;
+                let side = match i {
+                    0 => f.orient3d(p, b, cc, d),
+                    1 => f.orient3d(a, p, cc, d),
+                    2 => f.orient3d(a, b, p, d),
+                    _ => f.orient3d(a, b, cc, p),
+                };
+                if side == Sign::Negative {
                     prev = c;
                     c = next;
                     continue 'walk;
