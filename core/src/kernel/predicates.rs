@@ -165,6 +165,21 @@ impl StaticFilter {
         orient3d_refined(a, b, c, d, det)
     }
 
+    /// [`insphere`] when the static bound alone decides it, `None` otherwise (rarely). Keeps
+    /// the caller's hot path free of the refinement code and its register pressure.
+    #[inline(always)]
+    pub fn insphere_static(
+        &self,
+        a: Point3,
+        b: Point3,
+        c: Point3,
+        d: Point3,
+        e: Point3,
+    ) -> Option<Sign> {
+        let det = insphere_det(a, b, c, d, e);
+        (det.abs() > self.insphere_bound).then(|| Sign::of(det))
+    }
+
     /// [`insphere`] for points inside the box.
     #[inline]
     pub fn insphere(&self, a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> Sign {

@@ -518,10 +518,21 @@ impl Delaunay3 {
             pts[v[2] as usize],
             pts[v[3] as usize],
         );
-        match self.filter.insphere(a, b, c, d, p) {
+        match self.filter.insphere_static(a, b, c, d, p) {
+            Some(s) => s == Sign::Positive,
+            None => self.in_conflict_refined(v, p),
+        }
+    }
+
+    /// [`Self::vertices_in_conflict`] for a finite cell when the static filter cannot decide.
+    #[cold]
+    #[inline(never)]
+    fn in_conflict_refined(&self, v: [u32; 4], p: Point3) -> bool {
+        let q = v.map(|w| self.pt(w));
+        match self.filter.insphere(q[0], q[1], q[2], q[3], p) {
             Sign::Positive => true,
             Sign::Negative => false,
-            Sign::Zero => in_sphere_perturbed([a, b, c, d], p),
+            Sign::Zero => in_sphere_perturbed(q, p),
         }
     }
 
