@@ -162,7 +162,7 @@ impl StaticFilter {
         if det.abs() > self.orient3d_bound {
             return Sign::of(det);
         }
-        orient3d_refined(a, b, c, d, det)
+        orient3d_cold(a, b, c, d)
     }
 
     /// [`insphere`] when the static bound alone decides it, `None` otherwise (rarely). Keeps
@@ -201,6 +201,13 @@ fn all_integral(points: &[Point3]) -> bool {
     points
         .iter()
         .all(|p| integral(p.x) && integral(p.y) && integral(p.z))
+}
+
+/// [`orient3d`] out of line, for callers whose fast path already failed.
+#[cold]
+#[inline(never)]
+fn orient3d_cold(a: Point3, b: Point3, c: Point3, d: Point3) -> Sign {
+    orient3d(a, b, c, d)
 }
 
 #[cold]
