@@ -181,7 +181,7 @@ mod tests {
 
     #[test]
     fn bit_spreading_matches_a_bit_by_bit_interleave() {
-        let mut x = 0x1234_5u32;
+        let mut x = 0x0001_2345_u32;
         for _ in 0..1000 {
             x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
             let v = x >> 11;
