@@ -13,7 +13,7 @@ pub mod predicates2d;
 pub use glam::DVec2 as Point2;
 pub use glam::DVec3 as Point3;
 pub use power::{WeightedPoint3, coplanar_power_test, power_test};
-pub use predicates::{Sign, incircle, insphere, orient2d, orient3d};
+pub use predicates::{Sign, StaticFilter, incircle, insphere, orient2d, orient3d};
 
 /// Centre of the sphere through four affinely independent points (floating point, not exact).
 ///

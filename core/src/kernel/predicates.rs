@@ -63,15 +63,27 @@ pub fn orient2d(a: Point2, b: Point2, c: Point2) -> Sign {
 /// *positively oriented* when this is positive; every finite cell of `Delaunay3` is.
 #[inline]
 pub fn orient3d(a: Point3, b: Point3, c: Point3, d: Point3) -> Sign {
+    orient3d_refined(a, b, c, d, orient3d_det(a, b, c, d))
+}
+
+/// The orientation determinant in plain floating point.
+#[inline(always)]
+fn orient3d_det(a: Point3, b: Point3, c: Point3, d: Point3) -> f64 {
     let (ad, bd, cd) = (a - d, b - d, c - d);
-    let det = ad.x * (bd.y * cd.z - bd.z * cd.y) - ad.y * (bd.x * cd.z - bd.z * cd.x)
-        + ad.z * (bd.x * cd.y - bd.y * cd.x);
+    ad.x * (bd.y * cd.z - bd.z * cd.y) - ad.y * (bd.x * cd.z - bd.z * cd.x)
+        + ad.z * (bd.x * cd.y - bd.y * cd.x)
+}
+
+/// The sign of `orient3d(a, b, c, d)` given its floating-point determinant `det`.
+#[inline]
+fn orient3d_refined(a: Point3, b: Point3, c: Point3, d: Point3, det: f64) -> Sign {
+    let (ad, bd, cd) = (a - d, b - d, c - d);
     let m = ad.abs().max(bd.abs()).max(cd.abs());
     // Semi-static filter: each of the six products of three differences is at most
     // m.x * m.y * m.z and is evaluated with a handful of roundings, so the floating-point error
     // stays below ~5e-15 of that product; 1e-14 leaves a margin. The range guard keeps the bound
     // itself free of underflow.
-    let bound = 1e-14 * m.x * m.y * m.z;
+    let bound = ORIENT3D_ERROR * m.x * m.y * m.z;
     if det.abs() > bound && m.min_element() > 1e-90 {
         return Sign::of(det);
     }
@@ -81,6 +93,102 @@ pub fn orient3d(a: Point3, b: Point3, c: Point3, d: Point3) -> Sign {
         return Sign::of(det);
     }
     orient3d_exact(a, b, c, d)
+}
+
+/// Relative error bound of the orientation determinant (see [`orient3d`]).
+const ORIENT3D_ERROR: f64 = 1e-14;
+/// Relative error bound of the in-sphere determinant (see [`insphere`]).
+const INSPHERE_ERROR: f64 = 1e-12;
+/// Below this, a static bound could be swamped by underflow in the determinants: not used.
+const MIN_STATIC_BOUND: f64 = 1e-200;
+
+/// Static filters (fixed error bounds) for points inside a known bounding box.
+///
+/// The semi-static filters of [`orient3d`] and [`insphere`] bound the error with the largest
+/// coordinate differences of the points at hand, which costs a few dozen instructions per call.
+/// Differences never exceed the box's extent, so one bound computed from the box decides almost
+/// every call of a bulk construction at once; the rest go on to the semi-static filter.
+#[derive(Clone, Copy, Debug)]
+pub struct StaticFilter {
+    lo: Point3,
+    hi: Point3,
+    orient3d_bound: f64,
+    insphere_bound: f64,
+}
+
+impl Default for StaticFilter {
+    fn default() -> Self {
+        StaticFilter {
+            lo: Point3::splat(f64::INFINITY),
+            hi: Point3::splat(f64::NEG_INFINITY),
+            orient3d_bound: f64::INFINITY,
+            insphere_bound: f64::INFINITY,
+        }
+    }
+}
+
+impl StaticFilter {
+    /// Grows the box to contain the finite point `p`; every point given to the predicates must
+    /// have been included.
+    #[inline]
+    pub fn include(&mut self, p: Point3) {
+        if p.cmplt(self.lo).any() || p.cmpgt(self.hi).any() {
+            self.grow(p);
+        }
+    }
+
+    #[cold]
+    fn grow(&mut self, p: Point3) {
+        self.lo = self.lo.min(p);
+        self.hi = self.hi.max(p);
+        let e = self.hi - self.lo;
+        let m = e.max_element();
+        let valid = |b: f64| {
+            if b >= MIN_STATIC_BOUND {
+                b
+            } else {
+                f64::INFINITY
+            }
+        };
+        // Rounding the bounds themselves costs a few ulps, far inside the filters' margins.
+        self.orient3d_bound = valid(ORIENT3D_ERROR * e.x * e.y * e.z);
+        self.insphere_bound = valid(INSPHERE_ERROR * e.x * e.y * e.z * m * m);
+    }
+
+    /// [`orient3d`] for points inside the box.
+    #[inline]
+    pub fn orient3d(&self, a: Point3, b: Point3, c: Point3, d: Point3) -> Sign {
+        let det = orient3d_det(a, b, c, d);
+        if det.abs() > self.orient3d_bound {
+            return Sign::of(det);
+        }
+        orient3d_cold(a, b, c, d)
+    }
+
+    /// [`insphere`] when the static bound alone decides it, `None` otherwise (rarely). Keeps
+    /// the caller's hot path free of the refinement code and its register pressure.
+    #[inline(always)]
+    pub fn insphere_static(
+        &self,
+        a: Point3,
+        b: Point3,
+        c: Point3,
+        d: Point3,
+        e: Point3,
+    ) -> Option<Sign> {
+        let det = insphere_det(a, b, c, d, e);
+        (det.abs() > self.insphere_bound).then(|| Sign::of(det))
+    }
+
+    /// [`insphere`] for points inside the box.
+    #[inline]
+    pub fn insphere(&self, a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> Sign {
+        let det = insphere_det(a, b, c, d, e);
+        if det.abs() > self.insphere_bound {
+            return Sign::of(det);
+        }
+        insphere_refined(a, b, c, d, e, det)
+    }
 }
 
 /// Whether every coordinate is an integer. With integer inputs, a floating-point difference of at
@@ -93,6 +201,13 @@ fn all_integral(points: &[Point3]) -> bool {
     points
         .iter()
         .all(|p| integral(p.x) && integral(p.y) && integral(p.z))
+}
+
+/// [`orient3d`] out of line, for callers whose fast path already failed.
+#[cold]
+#[inline(never)]
+fn orient3d_cold(a: Point3, b: Point3, c: Point3, d: Point3) -> Sign {
+    orient3d(a, b, c, d)
 }
 
 #[cold]
@@ -111,31 +226,48 @@ pub fn incircle(a: Point2, b: Point2, c: Point2, d: Point2) -> Sign {
 /// positive (the sign is reversed for a negatively oriented tetrahedron).
 #[inline]
 pub fn insphere(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> Sign {
-    let (ae, be, ce, de) = (a - e, b - e, c - e, d - e);
-    let (la, lb, lc, ld) = (
-        ae.length_squared(),
-        be.length_squared(),
-        ce.length_squared(),
-        de.length_squared(),
-    );
+    insphere_refined(a, b, c, d, e, insphere_det(a, b, c, d, e))
+}
+
+/// The in-sphere determinant in plain floating point.
+///
+/// Written as a scalar expression tree over pairs of rows, in the order that lets the compiler
+/// keep both halves in the two lanes of a vector register without shuffling between them.
+#[inline(always)]
+fn insphere_det(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> f64 {
+    // Rows a and c, then b and d, are handled side by side.
+    let (aex, aey, aez) = (a.x - e.x, a.y - e.y, a.z - e.z);
+    let (cex, cey, cez) = (c.x - e.x, c.y - e.y, c.z - e.z);
+    let (bex, bey, bez) = (b.x - e.x, b.y - e.y, b.z - e.z);
+    let (dex, dey, dez) = (d.x - e.x, d.y - e.y, d.z - e.z);
+    let la = aex * aex + aey * aey + aez * aez;
+    let lc = cex * cex + cey * cey + cez * cez;
+    let lb = bex * bex + bey * bey + bez * bez;
+    let ld = dex * dex + dey * dey + dez * dez;
     // 4×4 determinant [x y z lift] of the translated rows, expanded along 2×2 minors.
-    let ab = ae.x * be.y - be.x * ae.y;
-    let bc = be.x * ce.y - ce.x * be.y;
-    let cd = ce.x * de.y - de.x * ce.y;
-    let da = de.x * ae.y - ae.x * de.y;
-    let ac = ae.x * ce.y - ce.x * ae.y;
-    let bd = be.x * de.y - de.x * be.y;
-    let abc = ae.z * bc - be.z * ac + ce.z * ab;
-    let bcd = be.z * cd - ce.z * bd + de.z * bc;
-    let cda = ce.z * da + de.z * ac + ae.z * cd;
-    let dab = de.z * ab + ae.z * bd + be.z * da;
-    let det = (ld * abc - lc * dab) + (lb * cda - la * bcd);
+    let ab = aex * bey - bex * aey;
+    let cd = cex * dey - dex * cey;
+    let bc = bex * cey - cex * bey;
+    let da = dex * aey - aex * dey;
+    let ac = aex * cey - cex * aey;
+    let bd = bex * dey - dex * bey;
+    let abc = aez * bc - bez * ac + cez * ab;
+    let cda = cez * da + dez * ac + aez * cd;
+    let bcd = bez * cd - cez * bd + dez * bc;
+    let dab = dez * ab + aez * bd + bez * da;
+    (ld * abc - lc * dab) + (lb * cda - la * bcd)
+}
+
+/// The sign of `insphere(a, b, c, d, e)` given its floating-point determinant `det`.
+#[inline]
+fn insphere_refined(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3, det: f64) -> Sign {
+    let (ae, be, ce, de) = (a - e, b - e, c - e, d - e);
     let m = ae.abs().max(be.abs()).max(ce.abs()).max(de.abs());
     let mm = m.max_element();
     // Semi-static filter: the 24 products x * y * z * lift are each at most m.x * m.y * m.z *
     // 3 mm², computed with about ten roundings: the error stays below ~1e-13 of m.x m.y m.z mm²;
     // 1e-12 leaves a margin. The range guard keeps the bound free of underflow.
-    let bound = 1e-12 * m.x * m.y * m.z * mm * mm;
+    let bound = INSPHERE_ERROR * m.x * m.y * m.z * mm * mm;
     if det.abs() > bound && m.min_element() > 1e-55 {
         return Sign::of(det);
     }
@@ -211,6 +343,40 @@ mod tests {
             let [a, b, c, d, e] = p;
             assert_eq!(orient3d(a, b, c, d), orient3d_exact(a, b, c, d));
             assert_eq!(insphere(a, b, c, d, e), insphere_exact(a, b, c, d, e));
+        }
+    }
+
+    #[test]
+    fn static_filter_agrees_with_the_adaptive_predicates() {
+        // Near-degenerate configurations (one-ulp nudges of lattice points) inside a box whose
+        // extent sets the static bounds, plus points far smaller than the box.
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let mut filter = StaticFilter::default();
+        filter.include(Point3::splat(-1.0));
+        filter.include(Point3::splat(3.0));
+        for _ in 0..20000 {
+            let scale = if next() & 1 == 0 { 1.0 } else { 1e-3 };
+            let mut p = [Point3::ZERO; 5];
+            for q in &mut p {
+                let r = next();
+                *q = Point3::new((r % 3) as f64, (r >> 8 & 3) as f64, (r >> 16 & 3) as f64) * scale;
+                if r >> 40 & 1 == 1 {
+                    q.z = f64::from_bits(q.z.to_bits() + (r >> 50 & 3));
+                }
+                filter.include(*q);
+            }
+            let [a, b, c, d, e] = p;
+            assert_eq!(filter.orient3d(a, b, c, d), orient3d_exact(a, b, c, d));
+            assert_eq!(
+                filter.insphere(a, b, c, d, e),
+                insphere_exact(a, b, c, d, e)
+            );
         }
     }
 

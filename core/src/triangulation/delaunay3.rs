@@ -13,7 +13,7 @@ use super::{
     CellId, ConflictZone, InsertOutcome, InsertReport, Triangulation, TriangulationError, VertexId,
 };
 use crate::kernel::perturbation::{beyond_hull_facet_perturbed, in_sphere_perturbed};
-use crate::kernel::{Point2, Point3, Sign, circumcenter3, orient2d, orient3d};
+use crate::kernel::{Point2, Point3, Sign, StaticFilter, circumcenter3, orient2d, orient3d};
 use cavity::{ByteMarks, CavityMarks, HashMarks, Scratch};
 use std::collections::HashMap;
 
@@ -42,6 +42,15 @@ struct CellRecord {
     n: [u32; 4],
 }
 
+/// For a new cell whose facet `i` lies on the cavity boundary: the two vertex positions other than
+/// `i` and `j`, i.e. the boundary edge in its facet `j` (`j != i`; the diagonal is unused).
+const FACET_EDGE: [[(u8, u8); 4]; 4] = [
+    [(0, 0), (2, 3), (1, 3), (1, 2)],
+    [(2, 3), (0, 0), (0, 3), (0, 2)],
+    [(1, 3), (0, 3), (0, 0), (0, 1)],
+    [(1, 2), (0, 2), (0, 1), (0, 0)],
+];
+
 #[inline]
 fn pack(c: u32, i: usize) -> u32 {
     (c << 2) | i as u32
@@ -63,6 +72,8 @@ pub struct Delaunay3 {
     /// During bulk insertion `vertex_cell` is left stale and rebuilt once at the end, which saves
     /// four scattered writes per created cell.
     bulk: bool,
+    /// Static predicate filters for the bounding box of the vertices.
+    filter: StaticFilter,
     scratch: Scratch,
 }
 
@@ -132,6 +143,7 @@ impl Delaunay3 {
             last: NO_CELL,
             lower: Some(LowerDimension::default()),
             bulk: false,
+            filter: StaticFilter::default(),
             scratch: Scratch::default(),
         }
     }
@@ -278,6 +290,7 @@ impl Delaunay3 {
     }
 
     fn push_vertex(&mut self, p: Point3) -> u32 {
+        self.filter.include(p);
         self.points.push(p);
         self.vertex_cell.push(NO_CELL);
         (self.points.len() - 1) as u32
@@ -452,10 +465,16 @@ impl Delaunay3 {
             (p.x.to_bits() ^ p.y.to_bits().rotate_left(21) ^ p.z.to_bits().rotate_left(42)) | 1;
         'walk: loop {
             let r = self.cells[c as usize];
-            if Self::is_infinite_record(&r) {
+            if r.v[0].max(r.v[1]).max(r.v[2].max(r.v[3])) == INFINITE {
                 return c;
             }
-            let q = r.v.map(|v| self.pt(v));
+            let pts = &self.points;
+            let (a, b, cc, d) = (
+                pts[r.v[0] as usize],
+                pts[r.v[1] as usize],
+                pts[r.v[2] as usize],
+                pts[r.v[3] as usize],
+            );
             rnd ^= rnd << 13;
             rnd ^= rnd >> 7;
             rnd ^= rnd << 17;
@@ -466,9 +485,15 @@ impl Delaunay3 {
                 if next == prev {
                     continue;
                 }
-                let mut t = q;
-                t[i] = p;
-                if orient3d(t[0], t[1], t[2], t[3]) == Sign::Negative {
+                // The cell with vertex i replaced by p: negative when p is beyond facet i.
+                let f = &self.filter;
+                let side = match i {
+                    0 => f.orient3d(p, b, cc, d),
+                    1 => f.orient3d(a, p, cc, d),
+                    2 => f.orient3d(a, b, p, d),
+                    _ => f.orient3d(a, b, cc, p),
+                };
+                if side == Sign::Negative {
                     prev = c;
                     c = next;
                     continue 'walk;
@@ -481,23 +506,52 @@ impl Delaunay3 {
     /// Whether `p` conflicts with cell `c` (its perturbed circumsphere strictly contains `p`).
     #[inline]
     fn in_conflict(&self, c: u32, p: Point3) -> bool {
-        let r = &self.cells[c as usize];
-        if let Some(i) = r.v.iter().position(|&v| v == INFINITE) {
-            let mut t = [p; 4];
-            let mut tri = [p; 3];
-            let mut k = 0;
-            for (j, &v) in r.v.iter().enumerate() {
-                if j != i {
-                    t[j] = self.pt(v);
-                    tri[k] = t[j];
-                    k += 1;
-                }
-            }
-            let o = orient3d(t[0], t[1], t[2], t[3]);
-            beyond_hull_facet_perturbed(tri, o, p)
-        } else {
-            in_sphere_perturbed(r.v.map(|v| self.pt(v)), p)
+        let v = self.cells[c as usize].v;
+        // The infinite vertex is the largest index: one comparison tells infinite cells apart.
+        if v[0].max(v[1]).max(v[2].max(v[3])) == INFINITE {
+            return self.in_conflict_infinite(v, p);
         }
+        let pts = &self.points;
+        let (a, b, c, d) = (
+            pts[v[0] as usize],
+            pts[v[1] as usize],
+            pts[v[2] as usize],
+            pts[v[3] as usize],
+        );
+        match self.filter.insphere_static(a, b, c, d, p) {
+            Some(s) => s == Sign::Positive,
+            None => self.in_conflict_refined(v, p),
+        }
+    }
+
+    /// [`Self::vertices_in_conflict`] for a finite cell when the static filter cannot decide.
+    #[cold]
+    #[inline(never)]
+    fn in_conflict_refined(&self, v: [u32; 4], p: Point3) -> bool {
+        let q = v.map(|w| self.pt(w));
+        match self.filter.insphere(q[0], q[1], q[2], q[3], p) {
+            Sign::Positive => true,
+            Sign::Negative => false,
+            Sign::Zero => in_sphere_perturbed(q, p),
+        }
+    }
+
+    /// [`Self::in_conflict`] for an infinite cell with vertices `v`.
+    #[inline(never)]
+    fn in_conflict_infinite(&self, v: [u32; 4], p: Point3) -> bool {
+        let i = v.iter().position(|&w| w == INFINITE).unwrap_or(0);
+        let mut t = [p; 4];
+        let mut tri = [p; 3];
+        let mut k = 0;
+        for (j, &w) in v.iter().enumerate() {
+            if j != i {
+                t[j] = self.pt(w);
+                tri[k] = t[j];
+                k += 1;
+            }
+        }
+        let o = self.filter.orient3d(t[0], t[1], t[2], t[3]);
+        beyond_hull_facet_perturbed(tri, o, p)
     }
 
     /// Grows the conflict zone of `p` from `start` (which must conflict with `p`).
@@ -561,58 +615,47 @@ impl Delaunay3 {
             verts[i as usize] = v;
             s.new_cells.push((verts, i, r.n[i as usize]));
         }
-        for &c in &s.cavity {
-            if !Self::is_infinite_record(&self.cells[c as usize]) {
-                self.num_finite -= 1;
-            }
-        }
+        let removed_infinite = s
+            .cavity
+            .iter()
+            .filter(|&&c| Self::is_infinite_record(&self.cells[c as usize]))
+            .count();
+        self.num_finite -= s.cavity.len() - removed_infinite;
         if let Some(rep) = report.as_deref_mut() {
             rep.removed.extend(s.cavity.iter().map(|&c| CellId(c)));
         }
         s.edges.clear(s.new_cells.len());
         let reused = s.cavity.len().min(s.new_cells.len());
-        for k in 0..s.new_cells.len() {
-            let (verts, i, outside) = s.new_cells[k];
+        let mut last = self.last;
+        for (k, &(verts, i, outside)) in s.new_cells.iter().enumerate() {
             let i = i as usize;
             let nc = if k < reused {
-                let c = s.cavity[k];
-                self.cells[c as usize] = CellRecord {
-                    v: verts,
-                    n: [NO_CELL; 4],
-                };
-                c
+                s.cavity[k]
             } else {
                 self.alloc_cell(verts)
             };
-            self.cells[nc as usize].n[i] = outside;
+            let mut rec = CellRecord {
+                v: verts,
+                n: [NO_CELL; 4],
+            };
+            rec.n[i] = outside;
             self.cells[(outside >> 2) as usize].n[(outside & 3) as usize] = pack(nc, i);
-            if !verts.contains(&INFINITE) {
+            if verts[0].max(verts[1]).max(verts[2].max(verts[3])) != INFINITE {
                 self.num_finite += 1;
             }
-            for j in 0..4 {
+            for (j, &(a, b)) in FACET_EDGE[i].iter().enumerate() {
                 if j == i {
                     continue;
                 }
-                // Facet j holds v and the edge of the cavity boundary made of the two other vertices.
-                let (a, b) = match (i, j) {
-                    (0, 1) | (1, 0) => (2, 3),
-                    (0, 2) | (2, 0) => (1, 3),
-                    (0, 3) | (3, 0) => (1, 2),
-                    (1, 2) | (2, 1) => (0, 3),
-                    (1, 3) | (3, 1) => (0, 2),
-                    _ => (0, 1),
-                };
-                let (x, y) = (verts[a], verts[b]);
-                let key = if x < y {
-                    (u64::from(x) << 32) | u64::from(y)
-                } else {
-                    (u64::from(y) << 32) | u64::from(x)
-                };
-                if let Some(other) = s.edges.take_or_insert(key, pack(nc, j)) {
-                    self.cells[nc as usize].n[j] = other;
+                // Facet j holds v and the cavity-boundary edge made of the two other vertices.
+                let (x, y) = (verts[a as usize], verts[b as usize]);
+                let key = (u64::from(x.min(y)) << 32) | u64::from(x.max(y));
+                if let Some(other) = s.edges.find_or_insert(key, pack(nc, j)) {
+                    rec.n[j] = other;
                     self.cells[(other >> 2) as usize].n[(other & 3) as usize] = pack(nc, j);
                 }
             }
+            self.cells[nc as usize] = rec;
             if !self.bulk {
                 for w in verts {
                     if w != INFINITE {
@@ -623,8 +666,9 @@ impl Delaunay3 {
             if let Some(rep) = report.as_deref_mut() {
                 rep.created.push(CellId(nc));
             }
-            self.last = nc;
+            last = nc;
         }
+        self.last = last;
         for k in reused..s.cavity.len() {
             let c = s.cavity[k];
             self.free_cell(c);

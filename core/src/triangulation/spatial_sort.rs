@@ -55,22 +55,27 @@ fn hilbert_key(mut x: [u32; 3]) -> u64 {
     let mut t = 0;
     let mut q = m;
     while q > 1 {
-        if x[2] & q != 0 {
-            t ^= q - 1;
-        }
+        // Branch-free form of: if bit q of x[2] is set, invert the bits below q of t.
+        t ^= (q - 1) & (((x[2] & q) != 0) as u32).wrapping_neg();
         q >>= 1;
     }
     for xi in &mut x {
         *xi ^= t;
     }
-    // Interleave the transposed bits, most significant first.
-    let mut key = 0u64;
-    for b in (0..BITS).rev() {
-        for xi in x {
-            key = (key << 1) | u64::from((xi >> b) & 1);
-        }
-    }
-    key
+    // Interleave the transposed bits, most significant first: bit b of x[0], x[1], x[2] lands
+    // at 3b + 2, 3b + 1, 3b.
+    (spread_bits(x[0]) << 2) | (spread_bits(x[1]) << 1) | spread_bits(x[2])
+}
+
+/// Moves bit b of a 21-bit value to bit 3b (the classic shift-and-mask bit spreading).
+fn spread_bits(x: u32) -> u64 {
+    let mut v = u64::from(x) & 0x1f_ffff;
+    v = (v | (v << 32)) & 0x001f_0000_0000_ffff;
+    v = (v | (v << 16)) & 0x001f_0000_ff00_00ff;
+    v = (v | (v << 8)) & 0x100f_00f0_0f00_f00f;
+    v = (v | (v << 4)) & 0x10c3_0c30_c30c_30c3;
+    v = (v | (v << 2)) & 0x1249_2492_4924_9249;
+    v
 }
 
 /// The Hilbert grid over the bounding box of a point set.
@@ -171,6 +176,17 @@ mod tests {
         for w in cells.windows(2) {
             let d: i32 = (0..3).map(|i| (w[0].1[i] - w[1].1[i]).abs()).sum();
             assert_eq!(d, 1, "{:?} -> {:?}", w[0].1, w[1].1);
+        }
+    }
+
+    #[test]
+    fn bit_spreading_matches_a_bit_by_bit_interleave() {
+        let mut x = 0x0001_2345_u32;
+        for _ in 0..1000 {
+            x = x.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+            let v = x >> 11;
+            let slow = (0..BITS).fold(0u64, |acc, b| acc | (u64::from((v >> b) & 1) << (3 * b)));
+            assert_eq!(spread_bits(v), slow, "{v:#x}");
         }
     }
 

@@ -65,53 +65,52 @@ impl CavityMarks for HashMarks {
 
 /// Open-addressing map from a cavity-boundary edge to the half-linked new facet waiting for its
 /// twin. Every boundary edge is shared by exactly two new cells, so each key is inserted once and
-/// taken once per insertion.
+/// found once per insertion: found entries stay in place (their key cannot come back), and a
+/// generation stamp empties the whole table between insertions without touching it.
 #[derive(Clone, Debug, Default)]
 pub(super) struct EdgeTable {
-    keys: Vec<u64>,
-    values: Vec<u32>,
-    used: Vec<usize>,
+    slots: Vec<EdgeSlot>,
+    generation: u32,
 }
 
-const EMPTY: u64 = u64::MAX;
-/// Marks a slot whose entry was taken (linear probing must not stop there).
-const TAKEN: u64 = u64::MAX - 1;
+#[derive(Clone, Copy, Debug, Default)]
+struct EdgeSlot {
+    key: u64,
+    value: u32,
+    /// The slot is occupied iff this equals the table's generation.
+    generation: u32,
+}
 
 impl EdgeTable {
     /// Forgets every entry; sizes the table for a cavity of `facets` boundary facets.
+    #[inline]
     pub(super) fn clear(&mut self, facets: usize) {
-        for &s in &self.used {
-            self.keys[s] = EMPTY;
-        }
-        self.used.clear();
+        // 3/2 edges per facet in at least 4 slots per facet: probes stay short.
         let want = (facets * 4).next_power_of_two().max(64);
-        if self.keys.len() < want {
-            self.keys = vec![EMPTY; want];
-            self.values = vec![0; want];
+        if self.slots.len() < want || self.generation == u32::MAX {
+            self.slots = vec![EdgeSlot::default(); want];
+            self.generation = 0;
         }
+        self.generation += 1;
     }
 
-    /// If `key` is present, removes and returns its value; otherwise stores `value` under it.
+    /// If `key` is present, returns its value; otherwise stores `value` under it.
     #[inline]
-    pub(super) fn take_or_insert(&mut self, key: u64, value: u32) -> Option<u32> {
-        let mask = self.keys.len() - 1;
+    pub(super) fn find_or_insert(&mut self, key: u64, value: u32) -> Option<u32> {
+        let mask = self.slots.len() - 1;
         let mut s = (key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 40) as usize & mask;
-        let mut free = None;
         loop {
-            let k = self.keys[s];
-            if k == key {
-                self.keys[s] = TAKEN;
-                return Some(self.values[s]);
-            }
-            if k == TAKEN && free.is_none() {
-                free = Some(s);
-            }
-            if k == EMPTY {
-                let slot = free.unwrap_or(s);
-                self.keys[slot] = key;
-                self.values[slot] = value;
-                self.used.push(slot);
+            let slot = &mut self.slots[s];
+            if slot.generation != self.generation {
+                *slot = EdgeSlot {
+                    key,
+                    value,
+                    generation: self.generation,
+                };
                 return None;
+            }
+            if slot.key == key {
+                return Some(slot.value);
             }
             s = (s + 1) & mask;
         }
