@@ -249,6 +249,38 @@ fn check_len(what: &str, got: usize, expected: usize, per: &'static str) -> Resu
 }
 
 impl SurfaceMesh {
+    /// The axis-aligned box from `min` to `max` as 12 outward-oriented triangles in one patch: the
+    /// smallest closed test domain, and the one tests across the workspace share.
+    pub fn cuboid(min: DVec3, max: DVec3) -> SurfaceMesh {
+        let positions = (0..8)
+            .map(|i| {
+                DVec3::new(
+                    if i & 1 == 0 { min.x } else { max.x },
+                    if i & 2 == 0 { min.y } else { max.y },
+                    if i & 4 == 0 { min.z } else { max.z },
+                )
+            })
+            .collect();
+        let quads = [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ];
+        let triangles = quads
+            .iter()
+            .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
+            .collect();
+        SurfaceMesh {
+            positions,
+            triangles,
+            patches: vec![PatchId(0); 12],
+            patch_names: vec!["box".to_string()],
+        }
+    }
+
     /// Finite coordinates, indices in range, one patch per triangle, every patch named, not empty.
     pub fn validate(&self) -> Result<(), MeshError> {
         if self.triangles.is_empty() {

@@ -124,32 +124,11 @@ pub fn torus(r_major: f64, r_minor: f64, n_major: usize, n_minor: usize) -> Surf
 
 /// An axis-aligned box from `min` to `max`, two triangles per face.
 pub fn cuboid(min: DVec3, max: DVec3) -> Surface {
-    let p = |x: usize, y: usize, z: usize| {
-        DVec3::new([min.x, max.x][x], [min.y, max.y][y], [min.z, max.z][z])
-    };
-    let points = vec![
-        p(0, 0, 0),
-        p(1, 0, 0),
-        p(1, 1, 0),
-        p(0, 1, 0),
-        p(0, 0, 1),
-        p(1, 0, 1),
-        p(1, 1, 1),
-        p(0, 1, 1),
-    ];
-    let quads = [
-        [0, 3, 2, 1],
-        [4, 5, 6, 7],
-        [0, 1, 5, 4],
-        [2, 3, 7, 6],
-        [1, 2, 6, 5],
-        [0, 4, 7, 3],
-    ];
-    let triangles = quads
-        .iter()
-        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
-        .collect();
-    Surface { points, triangles }
+    let m = delamesh::core::mesh::SurfaceMesh::cuboid(min, max);
+    Surface {
+        points: m.positions,
+        triangles: m.triangles,
+    }
 }
 
 /// The same surface with every triangle reversed (normals inward).

@@ -206,22 +206,8 @@ mod tests {
 
     /// Outward-oriented unit cube, 12 triangles.
     fn cube() -> (Vec<DVec3>, Vec<[u32; 3]>) {
-        let p = (0..8)
-            .map(|i| DVec3::new((i & 1) as f64, ((i >> 1) & 1) as f64, ((i >> 2) & 1) as f64))
-            .collect();
-        let quads = [
-            [0, 2, 3, 1],
-            [4, 5, 7, 6],
-            [0, 1, 5, 4],
-            [2, 6, 7, 3],
-            [0, 4, 6, 2],
-            [1, 3, 7, 5],
-        ];
-        let t = quads
-            .iter()
-            .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
-            .collect();
-        (p, t)
+        let m = crate::mesh::SurfaceMesh::cuboid(DVec3::ZERO, DVec3::ONE);
+        (m.positions, m.triangles)
     }
 
     /// A torus made of an n×m grid of quads: genus 1.

@@ -6,31 +6,13 @@ use glam::DVec3;
 
 /// A cube [0, 1]^3 as 12 outward triangles, shifted by `offset` and scaled by `scale`.
 fn cube(offset: DVec3, scale: f64, inward: bool) -> (Vec<DVec3>, Vec<[u32; 3]>) {
-    let p = |x: u32, y: u32, z: u32| offset + scale * DVec3::new(x as f64, y as f64, z as f64);
-    let points = vec![
-        p(0, 0, 0),
-        p(1, 0, 0),
-        p(1, 1, 0),
-        p(0, 1, 0),
-        p(0, 0, 1),
-        p(1, 0, 1),
-        p(1, 1, 1),
-        p(0, 1, 1),
-    ];
-    let quads = [
-        [0, 3, 2, 1],
-        [4, 5, 6, 7],
-        [0, 1, 5, 4],
-        [2, 3, 7, 6],
-        [1, 2, 6, 5],
-        [0, 4, 7, 3],
-    ];
-    let tris = quads
-        .iter()
-        .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+    let m = delamesh_core::mesh::SurfaceMesh::cuboid(offset, offset + DVec3::splat(scale));
+    let tris = m
+        .triangles
+        .into_iter()
         .map(|[a, b, c]| if inward { [a, c, b] } else { [a, b, c] })
         .collect();
-    (points, tris)
+    (m.positions, tris)
 }
 
 fn merge(
