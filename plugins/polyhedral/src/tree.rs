@@ -120,39 +120,29 @@ impl TriangleTree {
     }
 
     /// Calls `visit` with every triangle whose box meets the segment `[a, b]`.
-    pub fn for_each_near_segment(&self, a: DVec3, b: DVec3, mut visit: impl FnMut(u32)) {
-        if self.order.is_empty() {
-            return;
-        }
+    pub fn for_each_near_segment(&self, a: DVec3, b: DVec3, visit: impl FnMut(u32)) {
         let d = b - a;
         let inv = d.recip();
-        let mut stack = NodeStack::default();
-        while let Some(n) = stack.pop() {
-            let node = self.nodes[n];
-            if !segment_meets_box(a, d, inv, node.min, node.max) {
-                continue;
-            }
-            if node.count > 0 {
-                let first = node.first as usize;
-                for &t in &self.order[first..first + node.count as usize] {
-                    visit(t);
-                }
-            } else {
-                stack.push(node.first as usize + 1, 0.0);
-                stack.push(node.first as usize, 0.0);
-            }
-        }
+        self.for_each_in_boxes(|min, max| segment_meets_box(a, d, inv, min, max), visit);
     }
 
     /// Calls `visit` with every triangle whose box meets the box `[min, max]`.
-    pub fn for_each_near_box(&self, min: DVec3, max: DVec3, mut visit: impl FnMut(u32)) {
+    pub fn for_each_near_box(&self, min: DVec3, max: DVec3, visit: impl FnMut(u32)) {
+        self.for_each_in_boxes(
+            |lo, hi| !(lo.cmpgt(max).any() || hi.cmplt(min).any()),
+            visit,
+        );
+    }
+
+    /// Depth-first walk of the nodes whose box passes `meets`, visiting the triangles of the leaves.
+    fn for_each_in_boxes(&self, meets: impl Fn(DVec3, DVec3) -> bool, mut visit: impl FnMut(u32)) {
         if self.order.is_empty() {
             return;
         }
         let mut stack = NodeStack::default();
         while let Some(n) = stack.pop() {
             let node = self.nodes[n];
-            if node.min.cmpgt(max).any() || node.max.cmplt(min).any() {
+            if !meets(node.min, node.max) {
                 continue;
             }
             if node.count > 0 {
