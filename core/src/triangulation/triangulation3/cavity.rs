@@ -127,4 +127,6 @@ pub(super) struct Scratch {
     /// New cells: vertices, index of the new vertex's opposite facet, packed outside neighbour.
     pub(super) new_cells: Vec<([u32; 4], u8, u32)>,
     pub(super) edges: EdgeTable,
+    /// Vertices swallowed by a weighted insertion.
+    pub(super) swallowed: Vec<u32>,
 }
