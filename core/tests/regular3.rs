@@ -31,10 +31,7 @@ fn grid(side: i32, weight: impl Fn(i32, i32, i32) -> f64) -> Vec<(Point3, f64)> 
     for x in 0..side {
         for y in 0..side {
             for z in 0..side {
-                pts.push((
-                    Point3::new(x as f64, y as f64, z as f64),
-                    weight(x, y, z),
-                ));
+                pts.push((Point3::new(x as f64, y as f64, z as f64), weight(x, y, z)));
             }
         }
     }
@@ -140,7 +137,10 @@ fn one_by_one_insertion_reports_hidden_vertices_consistently() {
             assert!(hidden.insert(h), "{h:?} hidden twice");
         }
     }
-    assert!(!hidden.is_empty(), "weights this large must hide some points");
+    assert!(
+        !hidden.is_empty(),
+        "weights this large must hide some points"
+    );
     assert_eq!(hidden, rt.hidden_vertices().collect());
     assert_valid(&rt);
     assert_regular_by_brute_force(&rt);
@@ -289,11 +289,15 @@ fn at_the_same_position_the_heavier_point_wins() {
             rt.insert_weighted(p, w, None, &mut report).expect("valid");
         }
         let p = Point3::new(0.3, 0.4, 0.5);
-        let first = rt.insert_weighted(p, 0.001, None, &mut report).expect("valid");
+        let first = rt
+            .insert_weighted(p, 0.001, None, &mut report)
+            .expect("valid");
         let InsertOutcome::Inserted(a) = first else {
             panic!("expected an insertion, got {first:?}");
         };
-        let second = rt.insert_weighted(p, 0.002, None, &mut report).expect("valid");
+        let second = rt
+            .insert_weighted(p, 0.002, None, &mut report)
+            .expect("valid");
         let InsertOutcome::Inserted(b) = second else {
             panic!("expected an insertion, got {second:?}");
         };
@@ -381,4 +385,41 @@ fn bad_weights_are_errors() {
         rt.insert_weighted(Point3::new(f64::NAN, 0.0, 0.0), 0.0, None, &mut report),
         Err(TriangulationError::NonFinite { .. })
     ));
+}
+
+#[test]
+fn coplanar_weighted_points_before_the_first_cell() {
+    // A planar grid with random weights (some hidden once cells exist), then one point off the
+    // plane: every planar point waits in the lower-dimensional phase, and the hull facets on the
+    // plane exercise the coplanar power test of infinite cells.
+    let mut rng = StdRng::seed_from_u64(16);
+    let mut pts: Vec<(Point3, f64)> = (0..49)
+        .map(|i| {
+            let p = Point3::new((i % 7) as f64, (i / 7) as f64, 0.0);
+            (p, rng.random::<f64>() * 3.0)
+        })
+        .collect();
+    pts.push((Point3::new(3.0, 3.0, 2.5), 0.0));
+    let forward: Vec<usize> = (0..pts.len()).collect();
+    let mut report = InsertReport::default();
+    let mut rt = Regular3::new();
+    let mut hidden = BTreeSet::new();
+    for &(p, w) in &pts {
+        if let InsertOutcome::Hidden(v) =
+            rt.insert_weighted(p, w, None, &mut report).expect("valid")
+        {
+            hidden.insert(v);
+        }
+        hidden.extend(report.hidden.iter().copied());
+    }
+    // A point lighter by more than 1 than both its grid neighbours on a line is hidden.
+    assert!(!hidden.is_empty());
+    assert_eq!(hidden, rt.hidden_vertices().collect());
+    assert_valid(&rt);
+    assert_regular_by_brute_force(&rt);
+    let apex_first: Vec<usize> = forward.iter().rev().copied().collect();
+    let other = insert_in_order(&pts, &apex_first);
+    assert_valid(&other);
+    assert_eq!(tet_set(&other), tet_set(&rt));
+    assert_eq!(hidden_keys(&other), hidden_keys(&rt));
 }

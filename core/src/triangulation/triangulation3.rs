@@ -18,7 +18,7 @@ use super::spatial_sort::{brio_order, brio_rounds, hilbert_order};
 use super::{
     CellId, ConflictZone, InsertOutcome, InsertReport, Triangulation, TriangulationError, VertexId,
 };
-use crate::kernel::{Point2, Point3, Sign, StaticFilter, orient2d, orient3d};
+use crate::kernel::{Point2, Point3, Sign, StaticFilter, WeightedPoint3, orient2d, orient3d};
 use cavity::{ByteMarks, CavityMarks, HashMarks, Scratch};
 pub use kernel::{ConflictKernel, Euclidean, Power};
 pub use regular::MAX_WEIGHT;
@@ -310,7 +310,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
         p: Point3,
         w: f64,
         hint: Option<CellId>,
-        mut report: Option<&mut InsertReport>,
+        report: Option<&mut InsertReport>,
     ) -> Result<InsertOutcome, TriangulationError> {
         if self.points.len() >= MAX_VERTICES {
             return Err(TriangulationError::TooManyElements);
@@ -349,7 +349,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
             }
         }
         let v = self.push_vertex(p, w);
-        if self.insert_at(v, start, report.as_deref_mut()) {
+        if self.insert_at(v, start, report) {
             Ok(InsertOutcome::Inserted(VertexId(v)))
         } else {
             Ok(InsertOutcome::Hidden(VertexId(v)))
@@ -544,8 +544,9 @@ impl<K: ConflictKernel> Triangulation3<K> {
     }
 
     /// Visibility walk: a finite cell whose closure contains `p`, or an infinite cell whose hull
-    /// facet has `p` strictly beyond it. Terminates on Delaunay triangulations; the random first
-    /// facet only shortens walks. Requires cells to exist.
+    /// facet has `p` strictly beyond it. Terminates on Delaunay triangulations; on regular ones
+    /// a deterministic visibility walk could cycle, and the per-point pseudo-random facet order
+    /// (a stochastic walk) is what makes it terminate. Requires cells to exist.
     fn locate_cell(&self, p: Point3, hint: Option<u32>) -> u32 {
         let mut c = match hint {
             Some(h) if self.live(h) => h,
@@ -633,12 +634,11 @@ impl<K: ConflictKernel> Triangulation3<K> {
         self.kernel.beyond_hull_facet(&self.points, tri, o, p, w)
     }
 
-    /// Grows the conflict zone of `p` from `start` (which must conflict with `p`).
-    #[allow(clippy::too_many_arguments)]
+    /// Grows the conflict zone of the weighted point `q` (weight 0 for Delaunay) from `start`
+    /// (which must conflict with `q`).
     fn find_cavity<M: CavityMarks>(
         &self,
-        p: Point3,
-        w: f64,
+        q: WeightedPoint3,
         start: u32,
         marks: &mut M,
         stack: &mut Vec<u32>,
@@ -659,7 +659,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
                     Some(true) => {}
                     Some(false) => boundary.push((c, i as u8)),
                     None => {
-                        if self.in_conflict(n, p, w) {
+                        if self.in_conflict(n, q.point, q.weight) {
                             marks.set_in(n);
                             stack.push(n);
                             cavity.push(n);
@@ -681,8 +681,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
         {
             let mut marks = ByteMarks::new(&mut s.mark, self.cells.len());
             self.find_cavity(
-                p,
-                w,
+                WeightedPoint3::new(p, w),
                 start,
                 &mut marks,
                 &mut s.stack,
@@ -834,8 +833,7 @@ impl<K: ConflictKernel> Triangulation for Triangulation3<K> {
         let mut marks = HashMarks::default();
         let (mut stack, mut cavity, mut boundary) = (Vec::new(), Vec::new(), Vec::new());
         self.find_cavity(
-            p,
-            0.0,
+            WeightedPoint3::new(p, 0.0),
             start.0,
             &mut marks,
             &mut stack,
