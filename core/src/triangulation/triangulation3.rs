@@ -770,15 +770,30 @@ impl<K: ConflictKernel> Triangulation3<K> {
     /// Hides the vertices of cavity cells that lie on no cavity-boundary facet: the new vertex's
     /// power cell swallows theirs. Called before the cavity is re-triangulated.
     fn hide_swallowed(&mut self, s: &mut Scratch, report: Option<&mut InsertReport>) {
+        // Stamp the boundary vertices, then collect the unstamped cavity vertices once each.
+        if s.vertex_stamp.len() < self.points.len() {
+            s.vertex_stamp.resize(self.points.len(), 0);
+        }
+        if s.stamp == u32::MAX {
+            s.vertex_stamp.fill(0);
+            s.stamp = 0;
+        }
+        s.stamp += 1;
+        let stamp = s.stamp;
+        for (verts, _, _) in &s.new_cells {
+            for &x in verts.iter().filter(|&&x| x != INFINITE) {
+                s.vertex_stamp[x as usize] = stamp;
+            }
+        }
         s.swallowed.clear();
         for &c in &s.cavity {
-            s.swallowed
-                .extend(self.cells[c as usize].v.iter().filter(|&&x| x != INFINITE));
+            for &x in self.cells[c as usize].v.iter().filter(|&&x| x != INFINITE) {
+                if s.vertex_stamp[x as usize] != stamp {
+                    s.vertex_stamp[x as usize] = stamp;
+                    s.swallowed.push(x);
+                }
+            }
         }
-        s.swallowed.sort_unstable();
-        s.swallowed.dedup();
-        let on_boundary = |x: &u32| s.new_cells.iter().any(|(verts, _, _)| verts.contains(x));
-        s.swallowed.retain(|x| !on_boundary(x));
         for &x in &s.swallowed {
             self.kernel.hide(x);
             self.vertex_cell[x as usize] = NO_CELL;

@@ -129,4 +129,7 @@ pub(super) struct Scratch {
     pub(super) edges: EdgeTable,
     /// Vertices swallowed by a weighted insertion.
     pub(super) swallowed: Vec<u32>,
+    /// Per-vertex marks of the swallowed-vertex search: equal to `stamp` when seen this time.
+    pub(super) vertex_stamp: Vec<u32>,
+    pub(super) stamp: u32,
 }
