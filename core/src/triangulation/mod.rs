@@ -1,4 +1,5 @@
-//! Triangulations: the `Triangulation` trait, Delaunay 3D and 2D, validity checking.
+//! Triangulations: the `Triangulation` trait, Delaunay 3D and 2D, regular (weighted) 3D, validity
+//! checking.
 //!
 //! # Identifiers
 //! Vertices and cells are named by the typed indices [`VertexId`] and [`CellId`]. Vertex ids are

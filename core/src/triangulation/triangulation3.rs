@@ -961,7 +961,7 @@ impl<K: ConflictKernel> Triangulation for Triangulation3<K> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::triangulation::validity::{ValidityError, check_delaunay3};
+    use crate::triangulation::validity::{ValidityError, check_delaunay3, check_regular3};
 
     fn lattice_with_jitter() -> Delaunay3 {
         let mut pts = Vec::new();
@@ -1018,6 +1018,60 @@ mod tests {
         // Move a vertex deep inside a neighbouring circumsphere without changing combinatorics.
         dt.points[4] = Point3::new(0.3, 0.3, 0.3);
         assert!(check_delaunay3(&dt).is_err());
+    }
+
+    /// A regular triangulation of a jittered lattice with weights, some of them hidden.
+    fn weighted_lattice() -> Regular3 {
+        let pts: Vec<(Point3, f64)> = (0..125u32)
+            .map(|i| {
+                let (x, y, z) = (i % 5, i / 5 % 5, i / 25);
+                let jitter = f64::from((i * 7919) % 13) * 1e-3;
+                let p = Point3::new(f64::from(x) + jitter, f64::from(y), f64::from(z) - jitter);
+                (p, f64::from((i * 104_729) % 17) * 0.3)
+            })
+            .collect();
+        Regular3::from_weighted_points(&pts).unwrap().0
+    }
+
+    #[test]
+    fn the_regular_checker_accepts_a_valid_triangulation() {
+        let rt = weighted_lattice();
+        assert!(rt.hidden_vertices().count() > 0);
+        assert_eq!(check_regular3(&rt), Ok(()));
+    }
+
+    #[test]
+    fn the_regular_checker_detects_a_wrong_weight() {
+        let mut rt = weighted_lattice();
+        let v = rt.vertices().find(|&v| !rt.is_hidden(v)).unwrap();
+        rt.kernel.state_mut().0[v.0 as usize] += 10.0;
+        assert!(matches!(
+            check_regular3(&rt),
+            Err(ValidityError::NotDelaunay { .. })
+        ));
+    }
+
+    #[test]
+    fn the_regular_checker_detects_a_vertex_that_should_not_be_hidden() {
+        let mut rt = weighted_lattice();
+        let h = rt.hidden_vertices().next().unwrap();
+        rt.kernel.state_mut().0[h.0 as usize] += 10.0;
+        assert!(matches!(
+            check_regular3(&rt),
+            Err(ValidityError::NotHidden { vertex, .. }) if vertex == h
+        ));
+    }
+
+    #[test]
+    fn the_regular_checker_detects_wrong_hidden_flags() {
+        let mut rt = weighted_lattice();
+        let h = rt.hidden_vertices().next().unwrap();
+        rt.kernel.state_mut().1[h.0 as usize] = false;
+        assert_eq!(check_regular3(&rt), Err(ValidityError::IsolatedVertex(h)));
+        let mut rt = weighted_lattice();
+        let v = rt.vertices().find(|&v| !rt.is_hidden(v)).unwrap();
+        rt.kernel.state_mut().1[v.0 as usize] = true;
+        assert_eq!(check_regular3(&rt), Err(ValidityError::HiddenInCell(v)));
     }
 
     #[test]

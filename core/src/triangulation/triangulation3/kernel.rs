@@ -137,6 +137,12 @@ impl Power {
     fn weighted(&self, points: &[Point3], v: u32) -> WeightedPoint3 {
         WeightedPoint3::new(points[v as usize], self.weights[v as usize])
     }
+
+    /// Weights and hidden flags, for the checker's tests to corrupt.
+    #[cfg(test)]
+    pub(super) fn state_mut(&mut self) -> (&mut Vec<f64>, &mut Vec<bool>) {
+        (&mut self.weights, &mut self.hidden)
+    }
 }
 
 impl ConflictKernel for Power {
