@@ -19,7 +19,7 @@ use super::{
     CellId, ConflictZone, InsertOutcome, InsertReport, Triangulation, TriangulationError, VertexId,
 };
 use crate::kernel::{Point2, Point3, Sign, StaticFilter, WeightedPoint3, orient2d, orient3d};
-use cavity::{ByteMarks, CavityMarks, HashMarks, Scratch};
+use cavity::{ByteMarks, CavityMarks, HashMarks, NewCell, Scratch};
 pub use kernel::{ConflictKernel, Euclidean, Power};
 pub use regular::MAX_WEIGHT;
 use std::collections::HashMap;
@@ -49,14 +49,22 @@ struct CellRecord {
     n: [u32; 4],
 }
 
-/// For a new cell whose facet `i` lies on the cavity boundary: the two vertex positions other than
-/// `i` and `j`, i.e. the boundary edge in its facet `j` (`j != i`; the diagonal is unused).
-const FACET_EDGE: [[(u8, u8); 4]; 4] = [
-    [(0, 0), (2, 3), (1, 3), (1, 2)],
-    [(2, 3), (0, 0), (0, 3), (0, 2)],
-    [(1, 3), (0, 3), (0, 0), (0, 1)],
-    [(1, 2), (0, 2), (0, 1), (0, 0)],
+/// For a new cell whose facet `i` lies on the cavity boundary: its three side facets `j` with the
+/// positions `(a, b)` of the boundary edge in each, ordered so that `(i, a, b, j)` is an even
+/// permutation. Two positively oriented cells sharing a facet induce opposite orientations on it,
+/// so the two new cells sharing a boundary edge list it in opposite directions.
+const SIDE_EDGE: [[(usize, usize, usize); 3]; 4] = [
+    [(1, 2, 3), (2, 3, 1), (3, 1, 2)],
+    [(0, 3, 2), (2, 0, 3), (3, 2, 0)],
+    [(0, 1, 3), (1, 3, 0), (3, 0, 1)],
+    [(0, 2, 1), (1, 0, 2), (2, 1, 0)],
 ];
+
+/// Hash key of the directed edge `x → y`.
+#[inline]
+fn edge_key(x: u32, y: u32) -> u64 {
+    (u64::from(x) << 32) | u64::from(y)
+}
 
 #[inline]
 fn pack(c: u32, i: usize) -> u32 {
@@ -689,13 +697,23 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 &mut s.boundary,
             );
         }
-        // Record the new cells before overwriting any cavity slot.
+        // Record the new cells before overwriting any cavity slot. The vertex array is built by
+        // selection, not by storing into a copy: a scalar store followed by a vector load of the
+        // same bytes stalls store forwarding.
         s.new_cells.clear();
         for &(c, i) in &s.boundary {
             let r = &self.cells[c as usize];
-            let mut verts = r.v;
-            verts[i as usize] = v;
-            s.new_cells.push((verts, i, r.n[i as usize]));
+            let i = i as usize;
+            s.new_cells.push(NewCell {
+                verts: std::array::from_fn(|k| {
+                    // Branch-free select: `i` varies unpredictably from one facet to the next.
+                    let here = u32::from(k == i).wrapping_neg();
+                    (r.v[k] & !here) | (v & here)
+                }),
+                apex: i as u8,
+                outside: r.n[i],
+                id: NO_CELL,
+            });
         }
         let removed_infinite = s
             .cavity
@@ -709,51 +727,53 @@ impl<K: ConflictKernel> Triangulation3<K> {
         if K::WEIGHTED {
             self.hide_swallowed(&mut s, report.as_deref_mut());
         }
-        s.edges.clear(s.new_cells.len());
         let reused = s.cavity.len().min(s.new_cells.len());
-        let mut last = self.last;
-        for (k, &(verts, i, outside)) in s.new_cells.iter().enumerate() {
-            let i = i as usize;
-            let nc = if k < reused {
+        for k in 0..s.new_cells.len() {
+            s.new_cells[k].id = if k < reused {
                 s.cavity[k]
             } else {
-                self.alloc_cell(verts)
+                self.alloc_cell(s.new_cells[k].verts)
             };
-            let mut rec = CellRecord {
-                v: verts,
-                n: [NO_CELL; 4],
-            };
-            rec.n[i] = outside;
-            self.cells[(outside >> 2) as usize].n[(outside & 3) as usize] = pack(nc, i);
+        }
+        // Pass 1: vertices, the link across the boundary facet, and the directed side edges.
+        s.edges.clear(s.new_cells.len());
+        for nc in &s.new_cells {
+            let (i, id, verts) = (nc.apex as usize, nc.id, nc.verts);
+            let cell = &mut self.cells[id as usize];
+            cell.v = verts;
+            cell.n[i] = nc.outside;
+            self.cells[(nc.outside >> 2) as usize].n[(nc.outside & 3) as usize] = pack(id, i);
             if verts[0].max(verts[1]).max(verts[2].max(verts[3])) != INFINITE {
                 self.num_finite += 1;
             }
-            for (j, &(a, b)) in FACET_EDGE[i].iter().enumerate() {
-                if j == i {
-                    continue;
-                }
-                // Facet j holds v and the cavity-boundary edge made of the two other vertices.
-                let (x, y) = (verts[a as usize], verts[b as usize]);
-                let key = (u64::from(x.min(y)) << 32) | u64::from(x.max(y));
-                if let Some(other) = s.edges.find_or_insert(key, pack(nc, j)) {
-                    rec.n[j] = other;
-                    self.cells[(other >> 2) as usize].n[(other & 3) as usize] = pack(nc, j);
-                }
+            for &(j, a, b) in &SIDE_EDGE[i] {
+                s.edges.insert(edge_key(verts[a], verts[b]), pack(id, j));
             }
-            self.cells[nc as usize] = rec;
-            if !self.bulk {
-                for w in verts {
+        }
+        // Pass 2: each side facet's twin holds the same edge in the other direction.
+        for nc in &s.new_cells {
+            let (i, id, verts) = (nc.apex as usize, nc.id, nc.verts);
+            for &(j, a, b) in &SIDE_EDGE[i] {
+                let twin = s.edges.get(edge_key(verts[b], verts[a]));
+                self.cells[id as usize].n[j] = twin.unwrap_or(NO_CELL);
+            }
+        }
+        if !self.bulk {
+            for nc in &s.new_cells {
+                for w in nc.verts {
                     if w != INFINITE {
-                        self.vertex_cell[w as usize] = nc;
+                        self.vertex_cell[w as usize] = nc.id;
                     }
                 }
             }
-            if let Some(rep) = report.as_deref_mut() {
-                rep.created.push(CellId(nc));
-            }
-            last = nc;
         }
-        self.last = last;
+        if let Some(rep) = report {
+            rep.created
+                .extend(s.new_cells.iter().map(|nc| CellId(nc.id)));
+        }
+        if let Some(nc) = s.new_cells.last() {
+            self.last = nc.id;
+        }
         for k in reused..s.cavity.len() {
             let c = s.cavity[k];
             self.free_cell(c);
@@ -761,8 +781,8 @@ impl<K: ConflictKernel> Triangulation3<K> {
         for &c in &s.cavity {
             s.mark[c as usize] = 0;
         }
-        for &(_, _, outside) in &s.new_cells {
-            s.mark[(outside >> 2) as usize] = 0;
+        for nc in &s.new_cells {
+            s.mark[(nc.outside >> 2) as usize] = 0;
         }
         self.scratch = s;
     }
@@ -780,8 +800,8 @@ impl<K: ConflictKernel> Triangulation3<K> {
         }
         s.stamp += 1;
         let stamp = s.stamp;
-        for (verts, _, _) in &s.new_cells {
-            for &x in verts.iter().filter(|&&x| x != INFINITE) {
+        for nc in &s.new_cells {
+            for &x in nc.verts.iter().filter(|&&x| x != INFINITE) {
                 s.vertex_stamp[x as usize] = stamp;
             }
         }

@@ -63,9 +63,12 @@ impl CavityMarks for HashMarks {
     }
 }
 
-/// Open-addressing map from a cavity-boundary edge to the half-linked new facet waiting for its
-/// twin. Every boundary edge is shared by exactly two new cells, so each key is inserted once and
-/// found once per insertion: found entries stay in place (their key cannot come back), and a
+/// Open-addressing map from a directed cavity-boundary edge to the new facet that holds it.
+///
+/// The boundary of a cavity is an oriented closed surface, so each of its edges is seen once in
+/// each direction by the two new cells sharing it. Linking runs in two passes — every new cell
+/// stores its three directed edges, then looks up their reversals — so neither pass branches on
+/// whether the twin came first (an unpredictable branch in a one-pass find-or-insert). A
 /// generation stamp empties the whole table between insertions without touching it.
 #[derive(Clone, Debug, Default)]
 pub(super) struct EdgeTable {
@@ -85,8 +88,8 @@ impl EdgeTable {
     /// Forgets every entry; sizes the table for a cavity of `facets` boundary facets.
     #[inline]
     pub(super) fn clear(&mut self, facets: usize) {
-        // 3/2 edges per facet in at least 4 slots per facet: probes stay short.
-        let want = (facets * 4).next_power_of_two().max(64);
+        // 3 directed edges per facet in at least 8 slots per facet: probes stay short.
+        let want = (facets * 8).next_power_of_two().max(64);
         if self.slots.len() < want || self.generation == u32::MAX {
             self.slots = vec![EdgeSlot::default(); want];
             self.generation = 0;
@@ -94,19 +97,34 @@ impl EdgeTable {
         self.generation += 1;
     }
 
-    /// If `key` is present, returns its value; otherwise stores `value` under it.
     #[inline]
-    pub(super) fn find_or_insert(&mut self, key: u64, value: u32) -> Option<u32> {
+    fn home(&self, key: u64) -> usize {
+        (key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 40) as usize & (self.slots.len() - 1)
+    }
+
+    /// Stores `value` under `key`, which must not be present.
+    #[inline]
+    pub(super) fn insert(&mut self, key: u64, value: u32) {
         let mask = self.slots.len() - 1;
-        let mut s = (key.wrapping_mul(0x9E37_79B9_7F4A_7C15) >> 40) as usize & mask;
+        let mut s = self.home(key);
+        while self.slots[s].generation == self.generation {
+            s = (s + 1) & mask;
+        }
+        self.slots[s] = EdgeSlot {
+            key,
+            value,
+            generation: self.generation,
+        };
+    }
+
+    /// The value stored under `key`, if any.
+    #[inline]
+    pub(super) fn get(&self, key: u64) -> Option<u32> {
+        let mask = self.slots.len() - 1;
+        let mut s = self.home(key);
         loop {
-            let slot = &mut self.slots[s];
+            let slot = &self.slots[s];
             if slot.generation != self.generation {
-                *slot = EdgeSlot {
-                    key,
-                    value,
-                    generation: self.generation,
-                };
                 return None;
             }
             if slot.key == key {
@@ -117,6 +135,20 @@ impl EdgeTable {
     }
 }
 
+/// A cell to create when starring a cavity: built from a boundary facet before any cavity slot
+/// is overwritten.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct NewCell {
+    /// The boundary facet's vertices with the new vertex in place of the cavity cell's.
+    pub(super) verts: [u32; 4],
+    /// Position of the new vertex (the facet on the cavity boundary).
+    pub(super) apex: u8,
+    /// Packed reference to the cell outside the cavity across the boundary facet.
+    pub(super) outside: u32,
+    /// The slot the cell gets.
+    pub(super) id: u32,
+}
+
 /// Buffers reused by every insertion.
 #[derive(Clone, Debug, Default)]
 pub(super) struct Scratch {
@@ -124,8 +156,7 @@ pub(super) struct Scratch {
     pub(super) stack: Vec<u32>,
     pub(super) cavity: Vec<u32>,
     pub(super) boundary: Vec<(u32, u8)>,
-    /// New cells: vertices, index of the new vertex's opposite facet, packed outside neighbour.
-    pub(super) new_cells: Vec<([u32; 4], u8, u32)>,
+    pub(super) new_cells: Vec<NewCell>,
     pub(super) edges: EdgeTable,
     /// Vertices swallowed by a weighted insertion.
     pub(super) swallowed: Vec<u32>,
