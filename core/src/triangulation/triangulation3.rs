@@ -593,14 +593,12 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 if next == prev {
                     continue;
                 }
-                // The cell with vertex i replaced by p: negative when p is beyond facet i.
-                let f = &self.filter;
-                let side = match i {
-                    0 => f.orient3d(p, b, cc, d),
-                    1 => f.orient3d(a, p, cc, d),
-                    2 => f.orient3d(a, b, p, d),
-                    _ => f.orient3d(a, b, cc, p),
-                };
+                // The cell with vertex i replaced by p: negative when p is beyond facet i. The
+                // points are placed by index rather than dispatched on i, which varies
+                // unpredictably.
+                let mut t = [a, b, cc, d];
+                t[i] = p;
+                let side = self.filter.orient3d(t[0], t[1], t[2], t[3]);
                 if side == Sign::Negative {
                     prev = c;
                     c = next;
