@@ -60,12 +60,6 @@ const SIDE_EDGE: [[(usize, usize, usize); 3]; 4] = [
     [(0, 2, 1), (1, 0, 2), (2, 1, 0)],
 ];
 
-/// Hash key of the directed edge `x → y`.
-#[inline]
-fn edge_key(x: u32, y: u32) -> u64 {
-    (u64::from(x) << 32) | u64::from(y)
-}
-
 #[inline]
 fn pack(c: u32, i: usize) -> u32 {
     (c << 2) | i as u32
@@ -711,6 +705,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 apex: i as u8,
                 outside: r.n[i],
                 id: NO_CELL,
+                local: [0; 4],
             });
         }
         let removed_infinite = s
@@ -733,8 +728,19 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 self.alloc_cell(s.new_cells[k].verts)
             };
         }
+        // The boundary of the cavity is an oriented closed surface: each of its edges is listed
+        // once in each direction by the two new cells sharing it. Linking runs in two passes —
+        // every new cell stores its three directed edges, then looks up their reversals — so
+        // neither pass branches on whether the twin came first.
+        s.edges.begin(self.points.len());
+        for nc in &mut s.new_cells {
+            // The side facets' positions are the boundary vertices' positions.
+            for &(k, _, _) in &SIDE_EDGE[nc.apex as usize] {
+                nc.local[k] = s.edges.number(nc.verts[k]);
+            }
+        }
+        s.edges.prepare(s.new_cells.len());
         // Pass 1: vertices, the link across the boundary facet, and the directed side edges.
-        s.edges.clear(s.new_cells.len());
         for nc in &s.new_cells {
             let (i, id, verts) = (nc.apex as usize, nc.id, nc.verts);
             let cell = &mut self.cells[id as usize];
@@ -745,15 +751,16 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 self.num_finite += 1;
             }
             for &(j, a, b) in &SIDE_EDGE[i] {
-                s.edges.insert(edge_key(verts[a], verts[b]), pack(id, j));
+                let (x, y) = ((verts[a], nc.local[a]), (verts[b], nc.local[b]));
+                s.edges.put(x, y, pack(id, j));
             }
         }
         // Pass 2: each side facet's twin holds the same edge in the other direction.
         for nc in &s.new_cells {
             let (i, id, verts) = (nc.apex as usize, nc.id, nc.verts);
             for &(j, a, b) in &SIDE_EDGE[i] {
-                let twin = s.edges.get(edge_key(verts[b], verts[a]));
-                self.cells[id as usize].n[j] = twin.unwrap_or(NO_CELL);
+                let (x, y) = ((verts[a], nc.local[a]), (verts[b], nc.local[b]));
+                self.cells[id as usize].n[j] = s.edges.get(y, x).unwrap_or(NO_CELL);
             }
         }
         if !self.bulk {

@@ -63,15 +63,11 @@ impl CavityMarks for HashMarks {
     }
 }
 
-/// Open-addressing map from a directed cavity-boundary edge to the new facet that holds it.
-///
-/// The boundary of a cavity is an oriented closed surface, so each of its edges is seen once in
-/// each direction by the two new cells sharing it. Linking runs in two passes — every new cell
-/// stores its three directed edges, then looks up their reversals — so neither pass branches on
-/// whether the twin came first (an unpredictable branch in a one-pass find-or-insert). A
-/// generation stamp empties the whole table between insertions without touching it.
+/// Open-addressing map from a directed cavity-boundary edge to the new facet that holds it, for
+/// cavities too large for [`EdgeLinker`]'s dense table. A generation stamp empties the whole
+/// table between insertions without touching it.
 #[derive(Clone, Debug, Default)]
-pub(super) struct EdgeTable {
+struct EdgeTable {
     slots: Vec<EdgeSlot>,
     generation: u32,
 }
@@ -87,7 +83,7 @@ struct EdgeSlot {
 impl EdgeTable {
     /// Forgets every entry; sizes the table for a cavity of `facets` boundary facets.
     #[inline]
-    pub(super) fn clear(&mut self, facets: usize) {
+    fn clear(&mut self, facets: usize) {
         // 3 directed edges per facet in at least 8 slots per facet: probes stay short.
         let want = (facets * 8).next_power_of_two().max(64);
         if self.slots.len() < want || self.generation == u32::MAX {
@@ -104,7 +100,7 @@ impl EdgeTable {
 
     /// Stores `value` under `key`, which must not be present.
     #[inline]
-    pub(super) fn insert(&mut self, key: u64, value: u32) {
+    fn insert(&mut self, key: u64, value: u32) {
         let mask = self.slots.len() - 1;
         let mut s = self.home(key);
         while self.slots[s].generation == self.generation {
@@ -119,7 +115,7 @@ impl EdgeTable {
 
     /// The value stored under `key`, if any.
     #[inline]
-    pub(super) fn get(&self, key: u64) -> Option<u32> {
+    fn get(&self, key: u64) -> Option<u32> {
         let mask = self.slots.len() - 1;
         let mut s = self.home(key);
         loop {
@@ -135,6 +131,95 @@ impl EdgeTable {
     }
 }
 
+/// Links the side facets of the new cells of a cavity. Boundary vertices get local numbers
+/// `0..count` (a per-vertex stamp, so no clearing between insertions); a directed edge `x → y`
+/// then indexes a dense `count × count` table directly, without hashing or probing. Every slot read
+/// was written by the same insertion (each edge has its twin), so the table is never cleared
+/// either. Cavities with too many boundary vertices for a dense table use the hash table.
+#[derive(Clone, Debug, Default)]
+pub(super) struct EdgeLinker {
+    /// Per vertex, at index `vertex + 1` (the infinite vertex `u32::MAX` wraps to 0): the
+    /// generation that numbered it and its local number then.
+    local: Vec<(u32, u32)>,
+    generation: u32,
+    count: u32,
+    dense: Vec<u32>,
+    use_dense: bool,
+    table: EdgeTable,
+}
+
+/// Largest number of boundary vertices linked through the dense table (256 KiB of slots).
+const MAX_DENSE: u32 = 256;
+
+impl EdgeLinker {
+    /// Starts numbering the boundary vertices of a new cavity in a triangulation of
+    /// `num_vertices` finite vertices.
+    #[inline]
+    pub(super) fn begin(&mut self, num_vertices: usize) {
+        if self.local.len() <= num_vertices {
+            self.local.resize(num_vertices + 1, (0, 0));
+        }
+        if self.generation == u32::MAX {
+            self.local.fill((0, 0));
+            self.generation = 0;
+        }
+        self.generation += 1;
+        self.count = 0;
+    }
+
+    /// The local number of vertex `x` in this cavity (branch-free: whether `x` was seen before
+    /// is a coin toss for the branch predictor).
+    #[inline]
+    pub(super) fn number(&mut self, x: u32) -> u32 {
+        let slot = &mut self.local[x.wrapping_add(1) as usize];
+        let seen = slot.0 == self.generation;
+        let l = if seen { slot.1 } else { self.count };
+        self.count += u32::from(!seen);
+        *slot = (self.generation, l);
+        l
+    }
+
+    /// Ends the numbering and prepares the table for `facets` boundary facets.
+    #[inline]
+    pub(super) fn prepare(&mut self, facets: usize) {
+        self.use_dense = self.count <= MAX_DENSE;
+        if self.use_dense {
+            let want = (self.count * self.count) as usize;
+            if self.dense.len() < want {
+                self.dense.resize(want, 0);
+            }
+        } else {
+            self.table.clear(facets);
+        }
+    }
+
+    /// Records `value` for the directed edge `x → y` with local numbers `lx`, `ly`.
+    #[inline]
+    pub(super) fn put(&mut self, (x, lx): (u32, u32), (y, ly): (u32, u32), value: u32) {
+        if self.use_dense {
+            self.dense[(lx * self.count + ly) as usize] = value;
+        } else {
+            self.table.insert(edge_key(x, y), value);
+        }
+    }
+
+    /// The value recorded for the directed edge `x → y` in this cavity.
+    #[inline]
+    pub(super) fn get(&self, (x, lx): (u32, u32), (y, ly): (u32, u32)) -> Option<u32> {
+        if self.use_dense {
+            self.dense.get((lx * self.count + ly) as usize).copied()
+        } else {
+            self.table.get(edge_key(x, y))
+        }
+    }
+}
+
+/// Hash key of the directed edge `x → y`.
+#[inline]
+fn edge_key(x: u32, y: u32) -> u64 {
+    (u64::from(x) << 32) | u64::from(y)
+}
+
 /// A cell to create when starring a cavity: built from a boundary facet before any cavity slot
 /// is overwritten.
 #[derive(Clone, Copy, Debug)]
@@ -147,6 +232,8 @@ pub(super) struct NewCell {
     pub(super) outside: u32,
     /// The slot the cell gets.
     pub(super) id: u32,
+    /// Local numbers of the boundary vertices (see [`EdgeLinker`]; unused at `apex`).
+    pub(super) local: [u32; 4],
 }
 
 /// Buffers reused by every insertion.
@@ -157,10 +244,54 @@ pub(super) struct Scratch {
     pub(super) cavity: Vec<u32>,
     pub(super) boundary: Vec<(u32, u8)>,
     pub(super) new_cells: Vec<NewCell>,
-    pub(super) edges: EdgeTable,
+    pub(super) edges: EdgeLinker,
     /// Vertices swallowed by a weighted insertion.
     pub(super) swallowed: Vec<u32>,
     /// Per-vertex marks of the swallowed-vertex search: equal to `stamp` when seen this time.
     pub(super) vertex_stamp: Vec<u32>,
     pub(super) stamp: u32,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Numbers `n` vertices (among them the infinite one) and links consecutive pairs.
+    fn link_chain(linker: &mut EdgeLinker, n: u32) {
+        linker.begin(10 * n as usize);
+        let vertices: Vec<(u32, u32)> = (0..n)
+            .map(|k| if k == 0 { u32::MAX } else { 7 * k })
+            .map(|x| (x, linker.number(x)))
+            .collect();
+        let locals: Vec<u32> = vertices.iter().map(|v| v.1).collect();
+        assert_eq!(locals, (0..n).collect::<Vec<_>>(), "fresh local numbers");
+        assert_eq!(linker.number(vertices[1].0), 1, "a vertex keeps its number");
+        linker.prepare(n as usize);
+        assert_eq!(linker.use_dense, n <= MAX_DENSE);
+        for (k, w) in vertices.windows(2).enumerate() {
+            linker.put(w[0], w[1], k as u32);
+        }
+        for (k, w) in vertices.windows(2).enumerate() {
+            assert_eq!(linker.get(w[0], w[1]), Some(k as u32));
+        }
+    }
+
+    #[test]
+    fn directed_edges_are_found_in_the_dense_and_the_hashed_table() {
+        let mut linker = EdgeLinker::default();
+        link_chain(&mut linker, 20);
+        link_chain(&mut linker, MAX_DENSE + 40);
+        link_chain(&mut linker, 5);
+    }
+
+    #[test]
+    fn the_hashed_table_tells_missing_edges() {
+        let mut table = EdgeTable::default();
+        table.clear(10);
+        table.insert(edge_key(1, 2), 5);
+        assert_eq!(table.get(edge_key(1, 2)), Some(5));
+        assert_eq!(table.get(edge_key(2, 1)), None);
+        table.clear(10);
+        assert_eq!(table.get(edge_key(1, 2)), None);
+    }
 }
