@@ -1,20 +1,24 @@
 //! Level 0 of the 2D mesher: constrained sub-segments. A sub-segment is refined while it is
-//! encroached (a vertex in its closed diametral disk, or missing from the triangulation); a point
+//! encroached (a vertex in its diametral lens, or missing from the triangulation); a point
 //! proposed by the triangle level that would encroach one is refused and the sub-segment queued.
 
-use super::constraints::{Constraints, edge_cell, needs_split};
+use super::constraints::{Constraints, Encroachment, edge_cell, needs_split};
 use crate::refine::{Candidate, Check, MesherLevel};
 use crate::triangulation::Triangulation;
-use crate::triangulation::delaunay2::predicates::dot_sign;
 use crate::triangulation::delaunay2::{CellId, ConflictZone, Delaunay2, InsertReport, VertexId};
 use glam::DVec2;
 use std::cell::RefCell;
-use std::cmp::Ordering;
 use std::collections::{HashSet, VecDeque};
 use std::rc::Rc;
 
 /// Input angles below this many degrees are "small": their sub-segments form a cluster.
 pub(crate) const SMALL_ANGLE_DEG: f64 = 60.0;
+
+/// Sub-segments at an input vertex where segments meet below this angle are split on concentric
+/// shells. Ruppert's termination argument covers input angles of 90° and more, where midpoint
+/// splitting gives fewer vertices (as in Triangle); the degree of slack keeps a right angle whose
+/// rounded coordinates make it look a hair acute on midpoints.
+const SHELL_ANGLE_DEG: f64 = 89.0;
 
 pub(crate) struct SegmentLevel {
     cons: Rc<RefCell<Constraints>>,
@@ -26,9 +30,9 @@ pub(crate) struct SegmentLevel {
     proposed: Option<(VertexId, VertexId)>,
     /// Sub-segments shorter than this are never split (a guard against runaway refinement).
     min_length: f64,
-    /// Only split sub-segments missing from the triangulation (segment recovery, before the
-    /// domain sides are known).
-    pub(crate) recover_only: bool,
+    /// What encroaches a sub-segment; `None` while only sub-segments missing from the
+    /// triangulation are split (segment recovery, before the domain sides are known).
+    pub(crate) encroachment: Option<Encroachment>,
     scratch: Vec<CellId>,
     zone: ConflictZone,
 }
@@ -41,7 +45,7 @@ impl SegmentLevel {
             queued: HashSet::new(),
             proposed: None,
             min_length,
-            recover_only: true,
+            encroachment: None,
             scratch: Vec::new(),
             zone: ConflictZone::default(),
         }
@@ -53,7 +57,7 @@ impl SegmentLevel {
             &self.cons.borrow(),
             a,
             b,
-            self.recover_only,
+            self.encroachment.as_ref(),
             &mut self.scratch,
         )
     }
@@ -73,15 +77,12 @@ impl SegmentLevel {
         }
     }
 
-    /// Split point: the midpoint, or — when exactly one end is an input vertex shared by several
-    /// segments — the point at a power-of-two distance from it (Shewchuk's concentric shells), so
-    /// that segments meeting at a small angle are split at matching radii.
+    /// Split point: the midpoint, or — when exactly one end is an input vertex where segments meet
+    /// at an acute angle — the point at a power-of-two distance from it (Shewchuk's concentric
+    /// shells), so that segments meeting at a small angle are split at matching radii.
     fn split_point(&self, tr: &Delaunay2, a: VertexId, b: VertexId) -> DVec2 {
         let cons = self.cons.borrow();
-        let apex = |v: VertexId| {
-            cons.is_input.get(v.0 as usize).copied().unwrap_or(false)
-                && cons.on_segments[v.0 as usize].len() >= 2
-        };
+        let apex = |v: VertexId| cons.is_small_angle_apex(tr, v, SHELL_ANGLE_DEG);
         let (pa, pb) = (tr.point(a), tr.point(b));
         let len = pa.distance(pb);
         let t = match (apex(a), apex(b)) {
@@ -173,6 +174,9 @@ impl MesherLevel<Delaunay2> for SegmentLevel {
         if own {
             return Check::Accepted;
         }
+        let Some(encroachment) = self.encroachment else {
+            return Check::Accepted;
+        };
         let mut zone = std::mem::take(&mut self.zone);
         tr.conflict_zone(c.point, c.hint, &mut zone);
         let mut encroached = Vec::new();
@@ -187,7 +191,7 @@ impl MesherLevel<Delaunay2> for SegmentLevel {
                     }
                     if let Some(s) = cons.get(x, y) {
                         let (px, py) = (tr.point(x), tr.point(y));
-                        if dot_sign(c.point, px, py) != Ordering::Greater {
+                        if encroachment.encroaches(c.point, px, py) {
                             encroached.push((s.a, s.b, s.origin));
                         }
                     }
