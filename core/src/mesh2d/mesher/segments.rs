@@ -35,6 +35,9 @@ pub(crate) struct SegmentLevel {
     pub(crate) encroachment: Option<Encroachment>,
     scratch: Vec<CellId>,
     zone: ConflictZone,
+    /// Reused buffers of `after_insertion`: cavity boundary vertices, sub-segments at them.
+    ends: Vec<VertexId>,
+    pairs: Vec<(VertexId, VertexId)>,
 }
 
 impl SegmentLevel {
@@ -48,6 +51,8 @@ impl SegmentLevel {
             encroachment: None,
             scratch: Vec::new(),
             zone: ConflictZone::default(),
+            ends: Vec::new(),
+            pairs: Vec::new(),
         }
     }
 
@@ -241,22 +246,32 @@ impl MesherLevel<Delaunay2> for SegmentLevel {
         }
         // A sub-segment can only have become encroached (or lost) if both its ends are on the
         // cavity boundary, i.e. are vertices of the new cells.
-        let mut ends: Vec<VertexId> = report
-            .created
-            .iter()
-            .flat_map(|&c| tr.cell(c))
-            .filter(|&x| !tr.is_infinite_vertex(x))
-            .collect();
+        let mut ends = std::mem::take(&mut self.ends);
+        ends.clear();
+        ends.extend(
+            report
+                .created
+                .iter()
+                .flat_map(|&c| tr.cell(c))
+                .filter(|&x| !tr.is_infinite_vertex(x)),
+        );
         ends.sort_unstable();
         ends.dedup();
-        for x in ends {
-            let others = self.cons.borrow().around(x).to_vec();
-            for y in others {
-                if x < y && self.needs_split(tr, x, y) {
-                    self.push(x, y, false);
-                }
+        let mut pairs = std::mem::take(&mut self.pairs);
+        pairs.clear();
+        {
+            let cons = self.cons.borrow();
+            for &x in &ends {
+                pairs.extend(cons.around(x).iter().filter(|&&y| x < y).map(|&y| (x, y)));
             }
         }
+        for &(x, y) in &pairs {
+            if self.needs_split(tr, x, y) {
+                self.push(x, y, false);
+            }
+        }
+        self.ends = ends;
+        self.pairs = pairs;
     }
 }
 
