@@ -113,3 +113,103 @@ fn bad_poly_files_fail_with_the_file_named() {
     }
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// The square with a square hole of `SQUARE_WITH_HOLE` as OBJ polylines (same point order).
+const SQUARE_WITH_HOLE_OBJ: &str = "v 0 0\nv 10 0\nv 10 10\nv 0 10 0\nv 4 4\nv 6 4\nv 6 6\nv 4 6\n\
+    l 1 2 3 4 1\nl 5 6 7 8 -4\n";
+
+/// The same as VTK legacy poly data lines.
+const SQUARE_WITH_HOLE_VTK: &str = "# vtk DataFile Version 3.0\nsquare\nASCII\nDATASET POLYDATA\n\
+    POINTS 8 double\n0 0 0 10 0 0 10 10 0 0 10 0\n4 4 0 6 4 0 6 6 0 4 6 0\n\
+    LINES 2 12\n5 0 1 2 3 0\n5 4 5 6 7 4\n";
+
+fn mesh2d(input: &std::path::Path, out: &std::path::Path, extra: &[&str]) -> std::process::Output {
+    delamesh()
+        .args([
+            "mesh2d",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .args(["--min-angle", "30", "--max-area", "0.5"])
+        .args(extra)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn obj_and_vtk_polylines_mesh_like_the_poly_file() {
+    let dir = scratch("polylines");
+    let mut outputs = Vec::new();
+    for (name, text, extra) in [
+        ("square.poly", SQUARE_WITH_HOLE, &[][..]),
+        ("square.obj", SQUARE_WITH_HOLE_OBJ, &["--hole", "5,5"][..]),
+        ("square.vtk", SQUARE_WITH_HOLE_VTK, &["--hole", "5,5"][..]),
+    ] {
+        let input = dir.join(name);
+        std::fs::write(&input, text).unwrap();
+        let out = dir.join(format!("{name}.vtu"));
+        let run = mesh2d(&input, &out, extra);
+        assert!(
+            run.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        outputs.push(std::fs::read(&out).unwrap());
+    }
+    // Same points in the same order, same segments, same hole: byte-identical meshes.
+    assert_eq!(outputs[0], outputs[1]);
+    assert_eq!(outputs[0], outputs[2]);
+    // Without the hole seed the hole is meshed: a different mesh.
+    let input = dir.join("square.obj");
+    let out = dir.join("filled.vtu");
+    assert!(mesh2d(&input, &out, &[]).status.success());
+    assert_ne!(std::fs::read(&out).unwrap(), outputs[0]);
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn bad_polyline_files_fail_with_the_file_named() {
+    let dir = scratch("bad-polylines");
+    let vtk_head = "# vtk DataFile Version 3.0\nbad\nASCII\nDATASET POLYDATA\n";
+    for (name, text, why) in [
+        (
+            "nan.obj",
+            "v 0 0\nv nan 0\nv 1 1\nl 1 2 3 1\n",
+            "non-finite",
+        ),
+        (
+            "lifted.obj",
+            "v 0 0\nv 1 0 0.5\nv 1 1\nl 1 2 3 1\n",
+            "z = 0.5",
+        ),
+        (
+            "degenerate.obj",
+            "v 0 0\nv 1 0\nv 1 1\nl 1 2 2 3 1\n",
+            "both ends",
+        ),
+        ("truncated.obj", "v 0 0\nv 1 0\nv 1\n", "x and y"),
+        ("dangling.obj", "v 0 0\nv 1 0\nl 1 2 3\n", "out of range"),
+        (
+            "lifted.vtk",
+            &format!("{vtk_head}POINTS 3 double\n0 0 0 1 0 2 1 1 0\nLINES 1 5\n4 0 1 2 0\n"),
+            "z = 2",
+        ),
+        (
+            "truncated.vtk",
+            &format!("{vtk_head}POINTS 3 double\n0 0 0 1 0 0 1 1 0\nLINES 1 5\n4 0 1\n"),
+            "",
+        ),
+    ] {
+        let input = dir.join(name);
+        std::fs::write(&input, text).unwrap();
+        let out = dir.join("out.vtu");
+        let run = mesh2d(&input, &out, &[]);
+        assert_eq!(run.status.code(), Some(1), "{name}");
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert!(err.contains(name) && err.contains(why), "{name}: {err}");
+        assert!(!err.contains("panicked"), "{name}: {err}");
+        assert!(!out.exists());
+    }
+    std::fs::remove_dir_all(dir).ok();
+}

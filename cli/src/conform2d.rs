@@ -23,7 +23,8 @@ pub enum AlgorithmArg {
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Input planar straight-line graph (Triangle `.poly`).
+    /// Input planar straight-line graph: Triangle `.poly`, or z = 0 polylines from OBJ `l` lines or
+    /// VTK line cells.
     pub input: PathBuf,
     /// Output (`.vtu`, `.vtk`...): the Delaunay triangles of the convex hull in the z = 0 plane and
     /// the subdivided constraint as lines.
@@ -37,7 +38,7 @@ pub struct Args {
 }
 
 pub fn run(args: &Args) -> Result<()> {
-    let pslg = delamesh_formats::poly::read_poly(&args.input)?;
+    let pslg = delamesh_formats::pslg::read_pslg(&args.input)?;
     let options = ConformOptions {
         algorithm: match args.algorithm {
             AlgorithmArg::Brute => Algorithm::Brute,

@@ -10,8 +10,13 @@ use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct Args {
-    /// Input planar straight-line graph (Triangle `.poly`: points, segments, holes, regions).
+    /// Input planar straight-line graph: Triangle `.poly` (points, segments, holes, regions), or
+    /// polylines in the z = 0 plane from OBJ `l` lines or VTK line cells (`.vtk`, `.vtu`, `.vtp`),
+    /// which cannot mark holes: see `--hole`.
     pub input: PathBuf,
+    /// A point inside a hole, as `X,Y` (repeat for several holes; added to the holes of a `.poly`).
+    #[arg(long = "hole", value_name = "X,Y", value_parser = parse_point)]
+    pub holes: Vec<Point2>,
     /// Output mesh (`.vtu`, `.vtk`, `.mesh`, `.msh`...): domain triangles in the z = 0 plane, with
     /// the region attribute as `patch`, and the constraint sub-segments as lines.
     #[arg(short, long)]
@@ -28,7 +33,8 @@ pub struct Args {
 }
 
 pub fn run(args: &Args) -> Result<()> {
-    let pslg = delamesh_formats::poly::read_poly(&args.input)?;
+    let mut pslg = delamesh_formats::pslg::read_pslg(&args.input)?;
+    pslg.holes.extend(&args.holes);
     let start = std::time::Instant::now();
     let options = MeshOptions {
         min_angle_deg: args.min_angle,
@@ -54,7 +60,7 @@ pub fn run(args: &Args) -> Result<()> {
     );
     delamesh_formats::write_tet_mesh(&args.output, &out, &WriteOptions::default())?;
     println!(
-        "{} vertices, {} triangles, {} sub-segments, smallest angle {:.2}°, {:.3} s -> {}",
+        "{} vertices, {} triangles, {} sub-segments, smallest angle {:.2}°, {:.4} s -> {}",
         m.points.len(),
         m.triangles.len(),
         m.segments.len(),
@@ -63,6 +69,19 @@ pub fn run(args: &Args) -> Result<()> {
         args.output.display()
     );
     Ok(())
+}
+
+/// A finite point given as `X,Y`.
+fn parse_point(s: &str) -> Result<Point2, String> {
+    let coords: Vec<f64> = s
+        .split(',')
+        .map(|w| w.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("{s:?} is not X,Y: {e}"))?;
+    match coords[..] {
+        [x, y] if x.is_finite() && y.is_finite() => Ok(Point2::new(x, y)),
+        _ => Err(format!("{s:?} is not X,Y with two finite numbers")),
+    }
 }
 
 /// Patch ids for regional attributes: the attribute itself when it is a small non-negative

@@ -8,6 +8,11 @@ spikes, random star-shaped polygons), meshes each with Triangle (`-pq30`, plus a
 given) and with `delamesh mesh2d --min-angle 30` (same area bound), and prints one line per case:
 mesh times (best of 3, meshing only: Triangle in-process, delamesh as reported by the CLI), the
 time ratio, triangle counts and their ratio, and the smallest angle of each mesh.
+
+The times compare like with like: process start, file reading and output writing are excluded on
+both sides. Triangle's time includes its conversion from and to numpy arrays; delamesh's covers
+the PSLG check, the Delaunay triangulation of the input points and the refinement. The machine's
+load skews small cases most: compare runs made at the same load.
 """
 
 import math

@@ -17,6 +17,7 @@ mod off;
 mod ply;
 mod points;
 pub mod poly;
+pub mod pslg;
 mod stl;
 mod text;
 mod vtk;

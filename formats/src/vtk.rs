@@ -9,6 +9,24 @@ use glam::DVec3;
 use vtkio::model::{Attribute, CellType, DataSet, IOBuffer, Piece, VertexNumbers};
 
 pub(crate) fn read(bytes: &[u8], format: Format) -> Result<(AnyMesh, Vec<String>), Problem> {
+    let (mesh, warnings, poly) = read_cells(bytes, format)?;
+    if poly || (mesh.tets.is_empty() && format == Format::Vtp) {
+        let mut s = mesh.boundary_surface();
+        if mesh.boundary_patches.iter().all(|p| p.0 == 0) {
+            s.patch_names = vec!["surface".into()];
+        }
+        Ok((AnyMesh::Surface(s), warnings))
+    } else {
+        Ok((AnyMesh::Volume(mesh), warnings))
+    }
+}
+
+/// Every cell of the file as a volume mesh (line cells as feature edges), its warnings, and whether
+/// it was poly data.
+pub(crate) fn read_cells(
+    bytes: &[u8],
+    format: Format,
+) -> Result<(TetMesh, Vec<String>, bool), Problem> {
     let start = bytes.trim_ascii_start();
     let magic_ok = match format {
         Format::Vtk => start.starts_with(b"# vtk DataFile"),
@@ -86,15 +104,7 @@ pub(crate) fn read(bytes: &[u8], format: Format) -> Result<(AnyMesh, Vec<String>
     for (ty, n) in skipped {
         warnings.push(format!("skipped {n} cells of VTK type {ty}"));
     }
-    if poly || (mesh.tets.is_empty() && format == Format::Vtp) {
-        let mut s = mesh.boundary_surface();
-        if mesh.boundary_patches.iter().all(|p| p.0 == 0) {
-            s.patch_names = vec!["surface".into()];
-        }
-        Ok((AnyMesh::Surface(s), warnings))
-    } else {
-        Ok((AnyMesh::Volume(mesh), warnings))
-    }
+    Ok((mesh, warnings, poly))
 }
 
 /// vtkio's ASCII number parser rejects `nan`, which VTK writes (and we write for the cells a per-tet

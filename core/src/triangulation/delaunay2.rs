@@ -94,6 +94,19 @@ pub struct Delaunay2 {
     walk_rng: Cell<u64>,
     /// Visit stamps of the conflict search, one per cell.
     marks: RefCell<(Vec<u32>, u32)>,
+    /// The last zone computed by `conflict_zone` and its point: a mesher usually asks for the zone
+    /// of a point (to check it) and then inserts that very point, which reuses the zone. Cleared by
+    /// every change of the triangulation.
+    last_zone: RefCell<Option<(DVec2, ConflictZone)>>,
+    /// Reused buffers of `insert_impl` and `star` (no allocation per insertion).
+    scratch: Scratch,
+}
+
+#[derive(Debug, Default)]
+struct Scratch {
+    zone: ConflictZone,
+    boundary: Vec<(VertexId, VertexId, CellId, usize)>,
+    created: Vec<CellId>,
 }
 
 impl Default for Delaunay2 {
@@ -117,6 +130,8 @@ impl Delaunay2 {
             hint: Cell::new(NO_CELL),
             walk_rng: Cell::new(0x2545_F491_4F6C_DD1D),
             marks: RefCell::new((Vec::new(), 0)),
+            last_zone: RefCell::new(None),
+            scratch: Scratch::default(),
         }
     }
 
@@ -293,11 +308,21 @@ impl Delaunay2 {
         if let Some(v) = self.duplicate_in(start, p) {
             return Ok(InsertOutcome::Duplicate(v));
         }
-        let mut zone = ConflictZone::default();
-        self.find_conflicts(p, start, &mut zone);
-        let v = self.push_vertex(p)?;
-        self.star(v, &zone, report)?;
-        Ok(InsertOutcome::Inserted(v))
+        let mut zone = std::mem::take(&mut self.scratch.zone);
+        zone.clear();
+        match self.last_zone.get_mut().take() {
+            Some((q, cached)) if q == p && cached.cells.contains(&start) => {
+                zone.cells.extend_from_slice(&cached.cells);
+                zone.boundary_facets
+                    .extend_from_slice(&cached.boundary_facets);
+            }
+            _ => self.find_conflicts(p, start, &mut zone),
+        }
+        let result = self
+            .push_vertex(p)
+            .and_then(|v| self.star(v, &zone, report).map(|()| v));
+        self.scratch.zone = zone;
+        Ok(InsertOutcome::Inserted(result?))
     }
 
     fn push_vertex(&mut self, p: DVec2) -> Result<VertexId, TriangulationError> {
@@ -337,19 +362,17 @@ impl Delaunay2 {
         report: Option<&mut InsertReport>,
     ) -> Result<(), TriangulationError> {
         // Read the boundary before freeing the zone's cells.
-        let boundary: Vec<(VertexId, VertexId, CellId, usize)> = zone
-            .boundary_facets
-            .iter()
-            .map(|&(c, i)| {
-                let cv = self.cells[c.0 as usize];
-                (
-                    cv[(i + 1) % 3],
-                    cv[(i + 2) % 3],
-                    self.neighbor(c, i),
-                    self.mirror_index(c, i),
-                )
-            })
-            .collect();
+        let mut boundary = std::mem::take(&mut self.scratch.boundary);
+        boundary.clear();
+        boundary.extend(zone.boundary_facets.iter().map(|&(c, i)| {
+            let cv = self.cells[c.0 as usize];
+            (
+                cv[(i + 1) % 3],
+                cv[(i + 2) % 3],
+                self.neighbor(c, i),
+                self.mirror_index(c, i),
+            )
+        }));
         for &c in &zone.cells {
             if !self.is_infinite_cell(c) {
                 self.num_finite_cells -= 1;
@@ -357,9 +380,17 @@ impl Delaunay2 {
             self.cells[c.0 as usize][0] = FREE;
             self.free.push(c);
         }
-        let mut created = Vec::with_capacity(boundary.len());
+        let mut created = std::mem::take(&mut self.scratch.created);
+        created.clear();
         for &(x, y, n, j) in &boundary {
-            let c = self.alloc_cell([v, x, y])?;
+            let c = match self.alloc_cell([v, x, y]) {
+                Ok(c) => c,
+                Err(e) => {
+                    self.scratch.boundary = boundary;
+                    self.scratch.created = created;
+                    return Err(e);
+                }
+            };
             self.neighbors[c.0 as usize][0] = n;
             self.neighbors[n.0 as usize][j] = c;
             // The cavity boundary is one cycle: each vertex starts exactly one new cell.
@@ -380,6 +411,8 @@ impl Delaunay2 {
             report.removed.extend_from_slice(&zone.cells);
             report.created.extend_from_slice(&created);
         }
+        self.scratch.boundary = boundary;
+        self.scratch.created = created;
         Ok(())
     }
 
@@ -619,6 +652,14 @@ impl Triangulation for Delaunay2 {
         if let Some(c) = self.locate(p, hint) {
             if self.duplicate_in(c, p).is_none() {
                 self.find_conflicts(p, c, out);
+                let mut last = self.last_zone.borrow_mut();
+                let (q, cached) = last.get_or_insert_with(Default::default);
+                *q = p;
+                cached.clear();
+                cached.cells.extend_from_slice(&out.cells);
+                cached
+                    .boundary_facets
+                    .extend_from_slice(&out.boundary_facets);
             }
         }
     }

@@ -4,6 +4,7 @@
 use crate::triangulation::Triangulation;
 use crate::triangulation::delaunay2::predicates::dot_sign;
 use crate::triangulation::delaunay2::{CellId, Delaunay2, VertexId};
+use glam::DVec2;
 use std::cmp::Ordering;
 use std::collections::HashMap;
 
@@ -159,16 +160,50 @@ pub(crate) fn edge_cell(
     })
 }
 
-/// Whether sub-segment `(a, b)` must be split: it is missing from the triangulation, or (unless
-/// `recover_only`) a vertex on a domain side lies in its closed diametral disk — the side rule of
-/// Triangle, which only tests the apex inside the domain; a vertex outside the domain may
-/// encroach as long as the sub-segment stays an edge.
+/// The region in which a vertex encroaches a sub-segment: Triangle's diametral lens, the points
+/// that see the sub-segment under an angle of at least 180° − 2θ for the angle bound θ. Vertices
+/// between the lens and the diametral circle cannot create triangles worse than θ there, so
+/// sparing those sub-segments gives fewer points (Shewchuk, "Delaunay refinement algorithms for
+/// triangular mesh generation", 2002, §3.4). Without an angle bound the lens has no meaning and
+/// the closed diametral disk (exact) is used.
+#[derive(Copy, Clone, Debug, PartialEq)]
+pub(crate) struct Encroachment {
+    /// cos(180° − 2θ), or `None` for the diametral disk.
+    lens_cos: Option<f64>,
+}
+
+impl Encroachment {
+    pub(crate) fn new(min_angle_deg: f64) -> Self {
+        Encroachment {
+            lens_cos: (min_angle_deg > 0.0)
+                .then(|| (180.0 - 2.0 * min_angle_deg).to_radians().cos()),
+        }
+    }
+
+    /// Whether `p` encroaches the sub-segment `(a, b)`.
+    pub(crate) fn encroaches(&self, p: DVec2, a: DVec2, b: DVec2) -> bool {
+        match self.lens_cos {
+            None => dot_sign(p, a, b) != Ordering::Greater,
+            Some(c) => {
+                let (u, v) = (a - p, b - p);
+                let dot = u.dot(v);
+                dot <= 0.0 && dot * dot >= c * c * u.length_squared() * v.length_squared()
+            }
+        }
+    }
+}
+
+/// Whether sub-segment `(a, b)` must be split: it is missing from the triangulation, or (given an
+/// `encroachment` rule) a vertex on a domain side encroaches it — the side rule of Triangle, which only
+/// tests the apex inside the domain; a vertex outside the domain may encroach as long as the
+/// sub-segment stays an edge. Testing the two apexes suffices: a vertex in the lens of a Delaunay
+/// edge would lie in the circumdisk of the triangle on its side.
 pub(crate) fn needs_split(
     tr: &Delaunay2,
     cons: &Constraints,
     a: VertexId,
     b: VertexId,
-    recover_only: bool,
+    encroachment: Option<&Encroachment>,
     scratch: &mut Vec<CellId>,
 ) -> bool {
     let Some(&s) = cons.get(a, b) else {
@@ -177,9 +212,9 @@ pub(crate) fn needs_split(
     let Some((c, i)) = edge_cell(tr, s.a, s.b, scratch) else {
         return true;
     };
-    if recover_only {
+    let Some(encroachment) = encroachment else {
         return false;
-    }
+    };
     let (pa, pb) = (tr.point(s.a), tr.point(s.b));
     let n = tr.neighbor(c, i);
     let sides = [
@@ -189,6 +224,6 @@ pub(crate) fn needs_split(
     sides.iter().any(|&(w, label)| {
         label != Label::Outside
             && !tr.is_infinite_vertex(w)
-            && dot_sign(tr.point(w), pa, pb) != Ordering::Greater
+            && encroachment.encroaches(tr.point(w), pa, pb)
     })
 }

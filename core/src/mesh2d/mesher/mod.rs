@@ -17,7 +17,7 @@ use super::pslg::{Pslg, PslgError};
 use crate::refine::{Engine, Limits};
 use crate::triangulation::Triangulation;
 use crate::triangulation::delaunay2::{CellId, Delaunay2, TriangulationError, VertexId};
-use constraints::{Constraints, Label, edge_cell};
+use constraints::{Constraints, Encroachment, Label, edge_cell};
 use segments::SegmentLevel;
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -115,7 +115,7 @@ pub fn mesh(pslg: &Pslg, options: &MeshOptions) -> Result<Mesh, MeshError> {
     set_side_labels(&tr, &mut cons.borrow_mut(), &labels);
 
     // Phase 2: quality refinement.
-    seg_level.recover_only = false;
+    seg_level.encroachment = Some(Encroachment::new(options.min_angle_deg));
     let global_area = options.max_area.unwrap_or(f64::INFINITY);
     let region_area = std::iter::once(global_area)
         .chain(

@@ -1,20 +1,24 @@
 //! Level 0 of the 2D mesher: constrained sub-segments. A sub-segment is refined while it is
-//! encroached (a vertex in its closed diametral disk, or missing from the triangulation); a point
+//! encroached (a vertex in its diametral lens, or missing from the triangulation); a point
 //! proposed by the triangle level that would encroach one is refused and the sub-segment queued.
 
-use super::constraints::{Constraints, edge_cell, needs_split};
+use super::constraints::{Constraints, Encroachment, edge_cell, needs_split};
 use crate::refine::{Candidate, Check, MesherLevel};
 use crate::triangulation::Triangulation;
-use crate::triangulation::delaunay2::predicates::dot_sign;
 use crate::triangulation::delaunay2::{CellId, ConflictZone, Delaunay2, InsertReport, VertexId};
 use glam::DVec2;
 use std::cell::RefCell;
-use std::cmp::Ordering;
 use std::collections::{HashSet, VecDeque};
 use std::rc::Rc;
 
 /// Input angles below this many degrees are "small": their sub-segments form a cluster.
 pub(crate) const SMALL_ANGLE_DEG: f64 = 60.0;
+
+/// Sub-segments at an input vertex where segments meet below this angle are split on concentric
+/// shells. Ruppert's termination argument covers input angles of 90° and more, where midpoint
+/// splitting gives fewer vertices (as in Triangle); the degree of slack keeps a right angle whose
+/// rounded coordinates make it look a hair acute on midpoints.
+const SHELL_ANGLE_DEG: f64 = 89.0;
 
 pub(crate) struct SegmentLevel {
     cons: Rc<RefCell<Constraints>>,
@@ -26,11 +30,14 @@ pub(crate) struct SegmentLevel {
     proposed: Option<(VertexId, VertexId)>,
     /// Sub-segments shorter than this are never split (a guard against runaway refinement).
     min_length: f64,
-    /// Only split sub-segments missing from the triangulation (segment recovery, before the
-    /// domain sides are known).
-    pub(crate) recover_only: bool,
+    /// What encroaches a sub-segment; `None` while only sub-segments missing from the
+    /// triangulation are split (segment recovery, before the domain sides are known).
+    pub(crate) encroachment: Option<Encroachment>,
     scratch: Vec<CellId>,
     zone: ConflictZone,
+    /// Reused buffers of `after_insertion`: cavity boundary vertices, sub-segments at them.
+    ends: Vec<VertexId>,
+    pairs: Vec<(VertexId, VertexId)>,
 }
 
 impl SegmentLevel {
@@ -41,9 +48,11 @@ impl SegmentLevel {
             queued: HashSet::new(),
             proposed: None,
             min_length,
-            recover_only: true,
+            encroachment: None,
             scratch: Vec::new(),
             zone: ConflictZone::default(),
+            ends: Vec::new(),
+            pairs: Vec::new(),
         }
     }
 
@@ -53,7 +62,7 @@ impl SegmentLevel {
             &self.cons.borrow(),
             a,
             b,
-            self.recover_only,
+            self.encroachment.as_ref(),
             &mut self.scratch,
         )
     }
@@ -73,15 +82,12 @@ impl SegmentLevel {
         }
     }
 
-    /// Split point: the midpoint, or — when exactly one end is an input vertex shared by several
-    /// segments — the point at a power-of-two distance from it (Shewchuk's concentric shells), so
-    /// that segments meeting at a small angle are split at matching radii.
+    /// Split point: the midpoint, or — when exactly one end is an input vertex where segments meet
+    /// at an acute angle — the point at a power-of-two distance from it (Shewchuk's concentric
+    /// shells), so that segments meeting at a small angle are split at matching radii.
     fn split_point(&self, tr: &Delaunay2, a: VertexId, b: VertexId) -> DVec2 {
         let cons = self.cons.borrow();
-        let apex = |v: VertexId| {
-            cons.is_input.get(v.0 as usize).copied().unwrap_or(false)
-                && cons.on_segments[v.0 as usize].len() >= 2
-        };
+        let apex = |v: VertexId| cons.is_small_angle_apex(tr, v, SHELL_ANGLE_DEG);
         let (pa, pb) = (tr.point(a), tr.point(b));
         let len = pa.distance(pb);
         let t = match (apex(a), apex(b)) {
@@ -173,6 +179,9 @@ impl MesherLevel<Delaunay2> for SegmentLevel {
         if own {
             return Check::Accepted;
         }
+        let Some(encroachment) = self.encroachment else {
+            return Check::Accepted;
+        };
         let mut zone = std::mem::take(&mut self.zone);
         tr.conflict_zone(c.point, c.hint, &mut zone);
         let mut encroached = Vec::new();
@@ -187,7 +196,7 @@ impl MesherLevel<Delaunay2> for SegmentLevel {
                     }
                     if let Some(s) = cons.get(x, y) {
                         let (px, py) = (tr.point(x), tr.point(y));
-                        if dot_sign(c.point, px, py) != Ordering::Greater {
+                        if encroachment.encroaches(c.point, px, py) {
                             encroached.push((s.a, s.b, s.origin));
                         }
                     }
@@ -237,22 +246,32 @@ impl MesherLevel<Delaunay2> for SegmentLevel {
         }
         // A sub-segment can only have become encroached (or lost) if both its ends are on the
         // cavity boundary, i.e. are vertices of the new cells.
-        let mut ends: Vec<VertexId> = report
-            .created
-            .iter()
-            .flat_map(|&c| tr.cell(c))
-            .filter(|&x| !tr.is_infinite_vertex(x))
-            .collect();
+        let mut ends = std::mem::take(&mut self.ends);
+        ends.clear();
+        ends.extend(
+            report
+                .created
+                .iter()
+                .flat_map(|&c| tr.cell(c))
+                .filter(|&x| !tr.is_infinite_vertex(x)),
+        );
         ends.sort_unstable();
         ends.dedup();
-        for x in ends {
-            let others = self.cons.borrow().around(x).to_vec();
-            for y in others {
-                if x < y && self.needs_split(tr, x, y) {
-                    self.push(x, y, false);
-                }
+        let mut pairs = std::mem::take(&mut self.pairs);
+        pairs.clear();
+        {
+            let cons = self.cons.borrow();
+            for &x in &ends {
+                pairs.extend(cons.around(x).iter().filter(|&&y| x < y).map(|&y| (x, y)));
             }
         }
+        for &(x, y) in &pairs {
+            if self.needs_split(tr, x, y) {
+                self.push(x, y, false);
+            }
+        }
+        self.ends = ends;
+        self.pairs = pairs;
     }
 }
 

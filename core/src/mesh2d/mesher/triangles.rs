@@ -97,6 +97,9 @@ pub(crate) struct TriangleLevel {
     /// Cells created since the last labelling, to label and assess.
     pending: Vec<CellId>,
     queue: BucketQueue,
+    /// Reused buffers of `resolve_labels`.
+    work: Vec<CellId>,
+    assess: Vec<CellId>,
 }
 
 impl TriangleLevel {
@@ -111,6 +114,8 @@ impl TriangleLevel {
             labels,
             pending: Vec::new(),
             queue: BucketQueue::default(),
+            work: Vec::new(),
+            assess: Vec::new(),
         }
     }
 
@@ -126,11 +131,16 @@ impl TriangleLevel {
     /// so that no cell straddles a constraint.
     pub(crate) fn resolve_labels(&mut self, tr: &Delaunay2) {
         let cons = self.cons.borrow();
-        let mut work: Vec<CellId> = std::mem::take(&mut self.pending)
-            .into_iter()
-            .filter(|&c| tr.is_live(c) && self.label(c) == Label::Unknown)
-            .collect();
-        let mut assess = work.clone();
+        let mut work = std::mem::take(&mut self.work);
+        work.clear();
+        work.extend(
+            self.pending
+                .drain(..)
+                .filter(|&c| tr.is_live(c) && self.labels[c.0 as usize] == Label::Unknown),
+        );
+        let mut assess = std::mem::take(&mut self.assess);
+        assess.clear();
+        assess.extend_from_slice(&work);
         let labels = &mut self.labels;
         loop {
             let before = work.len();
@@ -163,9 +173,11 @@ impl TriangleLevel {
         }
         drop(cons);
         assess.sort_unstable();
-        for c in assess {
+        for &c in &assess {
             self.assess(tr, c);
         }
+        self.work = work;
+        self.assess = assess;
     }
 
     /// Queues `c` if it is a bad triangle of the domain.
