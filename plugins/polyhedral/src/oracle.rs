@@ -331,22 +331,15 @@ impl PolyhedralOracle {
             return;
         }
         let start = out.len();
-        let d = b - a;
         self.tree.for_each_near_segment(a, b, |t| {
             if only.is_some_and(|k| k != self.component[t as usize]) {
                 return;
             }
             let tri = &self.triangles[t as usize];
             if let Crossing::Proper { .. } | Crossing::Degenerate = segment_crossing(a, b, tri) {
-                let normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]);
-                let denom = normal.dot(d);
-                let s = if denom != 0.0 {
-                    (normal.dot(tri[0] - a) / denom).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
+                let (point, s) = crossing_point(a, b, tri);
                 out.push(SurfaceHit {
-                    point: a + s * d,
+                    point,
                     t: s,
                     patch: self.patch[t as usize],
                 });
@@ -413,6 +406,31 @@ impl Oracle for PolyhedralOracle {
 
     fn initial_points(&self) -> Vec<SurfacePoint> {
         self.initial.clone()
+    }
+}
+
+/// Where segment `[a, b]`, known to meet triangle `tri`, crosses its plane: the point and its
+/// parameter along `a → b`.
+///
+/// The point is interpolated from the endpoint nearer to the plane: the circumcentre of a nearly
+/// flat cell can be 10¹⁵ away, and interpolating from it would lose every significant digit.
+fn crossing_point(a: DVec3, b: DVec3, tri: &[DVec3; 3]) -> (DVec3, f64) {
+    let normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]);
+    let (ha, hb) = (normal.dot(a - tri[0]), normal.dot(b - tri[0]));
+    let denom = ha - hb;
+    if denom == 0.0 || !denom.is_finite() {
+        return if ha.abs() <= hb.abs() {
+            (a, 0.0)
+        } else {
+            (b, 1.0)
+        };
+    }
+    if ha.abs() <= hb.abs() {
+        let s = (ha / denom).clamp(0.0, 1.0);
+        (a + s * (b - a), s)
+    } else {
+        let s = (hb / -denom).clamp(0.0, 1.0);
+        (b + s * (a - b), 1.0 - s)
     }
 }
 
