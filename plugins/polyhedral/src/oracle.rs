@@ -41,6 +41,8 @@ pub enum PolyhedralError {
 /// A domain bounded by a closed, consistently oriented, non-self-intersecting triangle surface.
 pub struct PolyhedralOracle {
     triangles: Vec<[DVec3; 3]>,
+    /// The plane of each triangle, for a floating-point test that settles most segment tests.
+    planes: Vec<Plane>,
     patch: Vec<PatchId>,
     /// Connected component of each triangle.
     component: Vec<u32>,
@@ -125,6 +127,7 @@ impl PolyhedralOracle {
             .ok_or(PolyhedralError::Empty)?;
         let tree = TriangleTree::new(&geometry);
         let mut oracle = PolyhedralOracle {
+            planes: geometry.iter().map(Plane::of).collect(),
             triangles: geometry,
             patch,
             component,
@@ -335,6 +338,9 @@ impl PolyhedralOracle {
             if only.is_some_and(|k| k != self.component[t as usize]) {
                 return;
             }
+            if self.planes[t as usize].strictly_one_side(a, b) {
+                return;
+            }
             let tri = &self.triangles[t as usize];
             if let Crossing::Proper { .. } | Crossing::Degenerate = segment_crossing(a, b, tri) {
                 let (point, s) = crossing_point(a, b, tri);
@@ -406,6 +412,48 @@ impl Oracle for PolyhedralOracle {
 
     fn initial_points(&self) -> Vec<SurfacePoint> {
         self.initial.clone()
+    }
+}
+
+/// A triangle's plane with an error bound, so that a floating-point side test is trusted only
+/// when its sign cannot be an artefact of rounding; the exact predicates decide the rest.
+#[derive(Clone, Copy, Debug)]
+struct Plane {
+    origin: DVec3,
+    normal: DVec3,
+    /// Bound on the rounding error of `normal · (p − origin)`, per unit of `|p − origin|∞`.
+    error: f64,
+}
+
+impl Plane {
+    fn of(t: &[DVec3; 3]) -> Self {
+        let (u, v) = (t[1] - t[0], t[2] - t[0]);
+        // The determinant's rounding error is a few ulps of |u|·|v|·|p − origin|; 1e-12 leaves
+        // a margin of three orders of magnitude, and √3 covers the max-norm of `p − origin`.
+        let error = 1e-12 * 3f64.sqrt() * u.length() * v.length();
+        Plane {
+            origin: t[0],
+            normal: u.cross(v),
+            error,
+        }
+    }
+
+    /// Are `a` and `b` both certainly on the same side of the plane, off it?
+    fn strictly_one_side(&self, a: DVec3, b: DVec3) -> bool {
+        let side = |p: DVec3| {
+            let d = p - self.origin;
+            let h = self.normal.dot(d);
+            let bound = self.error * d.abs().max_element();
+            if h > bound {
+                1
+            } else if h < -bound {
+                -1
+            } else {
+                0
+            }
+        };
+        let sa = side(a);
+        sa != 0 && sa == side(b)
     }
 }
 
