@@ -10,12 +10,12 @@
 use super::criteria::FacetCriteria;
 use super::engine::{Candidate, Check, MesherLevel};
 use super::geometry::{
-    cell_vertices, crowds_a_vertex, facet_vertices, is_same_cell, triangle_circumcenter,
-    triangle_min_angle_deg,
+    cell_vertices, clipped_dual_edge, crowds_a_vertex, dual_parameter, facet_normal_away_from_apex,
+    facet_vertices, is_same_cell, triangle_circumcenter, triangle_min_angle_deg,
 };
 use super::queue::RefineQueue;
 use crate::kernel::Point3;
-use crate::oracle::{Oracle, PatchId, SurfaceHit};
+use crate::oracle::{Aabb, Oracle, PatchId, SurfaceHit};
 use crate::triangulation::{CellId, ConflictZone, InsertReport, Triangulation, VertexId};
 
 /// An empty ball centred on the boundary, through the vertices of a restricted facet.
@@ -43,6 +43,8 @@ const URGENT: f64 = f64::INFINITY;
 
 pub struct SurfaceLevel<'o> {
     oracle: &'o dyn Oracle,
+    /// The oracle's bounding box: dual edges are clipped to its neighbourhood.
+    bbox: Aabb,
     criteria: FacetCriteria,
     /// Surface ball of each facet of each cell, indexed by `CellId` then by opposite vertex.
     balls: Vec<[Option<SurfaceBall>; 4]>,
@@ -62,6 +64,7 @@ impl<'o> SurfaceLevel<'o> {
     pub fn new(oracle: &'o dyn Oracle, criteria: FacetCriteria) -> Self {
         SurfaceLevel {
             oracle,
+            bbox: oracle.bounding_box(),
             criteria,
             balls: Vec::new(),
             on_surface: Vec::new(),
@@ -102,42 +105,16 @@ impl<'o> SurfaceLevel<'o> {
     /// The surface ball of facet `(c, i)`, computed from its dual Voronoi edge. When the edge
     /// crosses the boundary several times, the largest ball wins (thesis: the centre with the
     /// largest r/σ is inserted).
-    ///
-    /// A flat cell (four coplanar vertices, which exact degeneracies on planar patches create)
-    /// has its circumcentre at infinity: its side of the edge is then a ray, like an infinite
-    /// cell's, pointing away from the other cell.
     fn compute_ball<T: Triangulation<Point = Point3>>(
         &mut self,
         tr: &T,
         c: CellId,
         i: usize,
     ) -> Option<SurfaceBall> {
-        let n = tr.neighbor(c, i);
-        let here = tr.circumcenter(c);
-        let there = (!tr.is_infinite_cell(n))
-            .then(|| tr.circumcenter(n))
-            .filter(|p| p.is_finite());
-        let (c, i, here, there) = match (here.is_finite(), there) {
-            (true, _) => (c, i, here, there),
-            (false, Some(p)) => (n, tr.mirror_index(c, i), p, None),
-            (false, None) => return None,
-        };
-        let cell = cell_vertices(tr, c);
-        let [a, b, d] = facet_vertices(&cell, i).map(|v| tr.point(v));
+        let (from, to) = self.dual_edge(tr, c, i)?;
+        let a = tr.point(cell_vertices(tr, c)[(i + 1) % 4]);
         self.hits.clear();
-        match there {
-            Some(p) => self.oracle.segment_hits(here, p, &mut self.hits),
-            None => {
-                let mut normal = (b - a).cross(d - a);
-                if normal.dot(tr.point(cell[i]) - a) > 0.0 {
-                    normal = -normal;
-                }
-                if normal.length_squared() == 0.0 {
-                    return None;
-                }
-                self.oracle.ray_hits(here, normal, &mut self.hits);
-            }
-        }
+        self.oracle.segment_hits(from, to, &mut self.hits);
         self.hits
             .iter()
             .map(|h| SurfaceBall {
@@ -146,6 +123,45 @@ impl<'o> SurfaceLevel<'o> {
                 patch: h.patch,
             })
             .max_by(|x, y| x.radius2.total_cmp(&y.radius2))
+    }
+
+    /// The dual Voronoi edge of facet `(c, i)`, clipped to the neighbourhood of the domain.
+    ///
+    /// Its ends, the circumcentres of `c` and of its neighbour, are found as parameters along
+    /// the facet's normal line from each cell's apex rather than from the cells'
+    /// circumcentres: the circumcentre of a nearly flat cell is 10¹⁴ away and may even come
+    /// out on the wrong side, which would turn an edge far outside into a line through the
+    /// whole domain.
+    fn dual_edge<T: Triangulation<Point = Point3>>(
+        &self,
+        tr: &T,
+        c: CellId,
+        i: usize,
+    ) -> Option<(Point3, Point3)> {
+        let cell = cell_vertices(tr, c);
+        let [a, b, d] = facet_vertices(&cell, i).map(|v| tr.point(v));
+        let n = tr.neighbor(c, i);
+        let axis = facet_normal_away_from_apex([a, b, d], i).normalize_or_zero();
+        let center = triangle_circumcenter(a, b, d);
+        if axis == Point3::ZERO || !center.is_finite() {
+            // Collinear facet vertices: no circumcircle, only the cells' circumcentres.
+            let there = (!tr.is_infinite_cell(n)).then(|| tr.circumcenter(n));
+            return Some((tr.circumcenter(c), there?))
+                .filter(|(p, q)| p.is_finite() && q.is_finite());
+        }
+        let radius2 = center.distance_squared(a);
+        let t_here = if tr.is_infinite_cell(c) {
+            f64::NEG_INFINITY
+        } else {
+            -dual_parameter(center, radius2, -axis, tr.point(cell[i]))
+        };
+        let t_there = if tr.is_infinite_cell(n) {
+            f64::INFINITY
+        } else {
+            let apex = tr.mirror_index(c, i);
+            dual_parameter(center, radius2, axis, tr.point(tr.cell(n).as_ref()[apex]))
+        };
+        clipped_dual_edge(center, axis, t_here, t_there, &self.bbox)
     }
 
     /// Why facet `(c, i)` with ball `ball` needs refinement, as a queue priority (`None`: good).

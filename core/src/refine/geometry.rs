@@ -2,6 +2,7 @@
 
 use super::engine::Candidate;
 use crate::kernel::Point3;
+use crate::oracle::Aabb;
 use crate::triangulation::{CellId, Triangulation, VertexId};
 
 /// The four vertex ids of a cell of a 3D triangulation.
@@ -39,6 +40,45 @@ pub(crate) fn crowds_a_vertex<T: Triangulation<Point = Point3>>(
 /// The three vertices of the facet of a cell opposite its vertex `i`.
 pub(crate) fn facet_vertices(cell: &[VertexId; 4], i: usize) -> [VertexId; 3] {
     [cell[(i + 1) % 4], cell[(i + 2) % 4], cell[(i + 3) % 4]]
+}
+
+/// Where the centre of the ball through a facet and an apex lies along the facet's normal line.
+///
+/// The facet has circumcentre `center` and squared circumradius `radius2`; `axis` is its unit
+/// normal pointing towards `apex`'s side. The centre is `center + t·axis`, with `t` from
+/// `|center + t·axis − apex|² = radius2 + t²`. Only the apex's height above the facet's plane
+/// is small for a nearly flat cell, and its sign is known from the side, so `t` gets the right
+/// sign and a magnitude that is merely large (±∞ when the apex lies in the plane).
+pub(crate) fn dual_parameter(center: Point3, radius2: f64, axis: Point3, apex: Point3) -> f64 {
+    let height = axis.dot(apex - center).abs();
+    (apex.distance_squared(center) - radius2) / (2.0 * height)
+}
+
+/// The dual Voronoi edge of a facet, from `center + lo·axis` to `center + hi·axis` (`axis` a
+/// unit vector, the ends possibly infinite), clipped to a ball around `bbox` so that a segment
+/// query gets ends with significant digits. `None` when the clipped edge is empty.
+pub(crate) fn clipped_dual_edge(
+    center: Point3,
+    axis: Point3,
+    lo: f64,
+    hi: f64,
+    bbox: &Aabb,
+) -> Option<(Point3, Point3)> {
+    let reach = center.distance(bbox.center()) + bbox.diagonal();
+    // `f64::max` and `min` ignore a NaN end (an apex on the facet's circle and plane).
+    let (lo, hi) = (lo.max(-reach), hi.min(reach));
+    (lo <= hi).then(|| (center + lo * axis, center + hi * axis))
+}
+
+/// The normal of the facet `facet` (as [`facet_vertices`] lists it) of a positively oriented
+/// cell, pointing away from the cell's vertex `i`. The side comes from the orientation the cell
+/// is known to have, not from the sign of a dot product, which is noise for a nearly flat cell.
+pub(crate) fn facet_normal_away_from_apex(facet: [Point3; 3], i: usize) -> Point3 {
+    let [a, b, c] = facet;
+    let normal = (b - a).cross(c - a);
+    // `(v[i+1], v[i+2], v[i+3], v[i])` is `v` rotated by `i + 1` places, an odd permutation per
+    // place; a positively oriented tetrahedron has `det[b - a, c - a, d - a] < 0`.
+    if i % 2 == 0 { -normal } else { normal }
 }
 
 /// Circumcentre of a triangle in space.
@@ -86,6 +126,89 @@ mod tests {
         let (ra, rb, rc) = (o.distance(a), o.distance(b), o.distance(c));
         assert!((ra - rb).abs() < 1e-12 && (ra - rc).abs() < 1e-12);
         assert!((o - a).dot((b - a).cross(c - a)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn dual_parameter_gives_the_circumcentre_of_the_cell() {
+        let (a, b, c) = (
+            Point3::new(1.0, 0.2, 0.0),
+            Point3::new(-0.3, 2.0, 0.1),
+            Point3::new(0.5, -1.0, 0.2),
+        );
+        let center = triangle_circumcenter(a, b, c);
+        let axis = (b - a).cross(c - a).normalize();
+        for apex in [
+            Point3::new(0.2, 0.3, 1.5),
+            Point3::new(3.0, -2.0, -0.7),
+            Point3::new(0.1, 0.4, -0.2),
+        ] {
+            let side = if axis.dot(apex - a) > 0.0 {
+                axis
+            } else {
+                -axis
+            };
+            let o = center + dual_parameter(center, center.distance_squared(a), side, apex) * side;
+            let r = o.distance(a);
+            for p in [b, c, apex] {
+                assert!((o.distance(p) - r).abs() < 1e-9 * r.max(1.0));
+            }
+        }
+    }
+
+    #[test]
+    fn nearly_flat_cell_has_its_circumcentre_on_the_right_side() {
+        // An apex inside the facet's circle, a hair above its plane: the circumcentre is far
+        // away on the side opposite the apex, never on the apex's side.
+        let (a, b, c) = (Point3::X, Point3::Y, Point3::new(-1.0, -1.0, 0.0));
+        let center = triangle_circumcenter(a, b, c);
+        let radius2 = center.distance_squared(a);
+        let apex = Point3::new(0.1, 0.1, 1e-15);
+        let t = dual_parameter(center, radius2, Point3::Z, apex);
+        assert!(t < -1e10);
+        // In the plane, outside the circle: at +∞ on the apex's side.
+        let t = dual_parameter(center, radius2, Point3::Z, Point3::new(5.0, 5.0, 0.0));
+        assert_eq!(t, f64::INFINITY);
+    }
+
+    #[test]
+    fn facet_normals_point_away_from_the_apex() {
+        use crate::kernel::{Sign, orient3d};
+        let mut p = [
+            Point3::new(0.1, 0.0, 0.2),
+            Point3::new(1.0, 0.3, -0.1),
+            Point3::new(0.2, 1.1, 0.0),
+            Point3::new(0.3, 0.2, 0.9),
+        ];
+        for flip in [false, true] {
+            if flip || orient3d(p[0], p[1], p[2], p[3]) != Sign::Positive {
+                p.swap(0, 1);
+            }
+            assert_eq!(orient3d(p[0], p[1], p[2], p[3]), Sign::Positive);
+            let ids = [0, 1, 2, 3].map(VertexId);
+            for i in 0..4 {
+                let facet = facet_vertices(&ids, i).map(|v| p[v.0 as usize]);
+                let normal = facet_normal_away_from_apex(facet, i);
+                assert!(normal.dot(p[i] - facet[0]) < 0.0, "facet {i}");
+            }
+            p.swap(2, 3);
+        }
+    }
+
+    #[test]
+    fn dual_edge_is_clipped_to_the_box() {
+        let bbox = Aabb {
+            min: Point3::splat(-1.0),
+            max: Point3::splat(1.0),
+        };
+        let center = Point3::new(0.1, 0.2, 0.3);
+        let in_reach = |p: Point3| p.distance(bbox.center()) <= 2.0 * bbox.diagonal();
+        let (p, q) = clipped_dual_edge(center, Point3::Z, -4.8e15, 0.2, &bbox).unwrap();
+        assert!(p.z < -1.0 && in_reach(p) && (q.z - 0.5).abs() < 1e-12);
+        let (p, q) = clipped_dual_edge(center, Point3::Z, 0.2, f64::INFINITY, &bbox).unwrap();
+        assert!((p.z - 0.5).abs() < 1e-12 && q.z > 1.0 && in_reach(q));
+        let (p, q) = clipped_dual_edge(center, Point3::Z, f64::NAN, f64::NAN, &bbox).unwrap();
+        assert!(p.z < -1.0 && q.z > 1.0);
+        assert!(clipped_dual_edge(center, Point3::Z, 1e9, f64::INFINITY, &bbox).is_none());
     }
 
     #[test]

@@ -41,6 +41,8 @@ pub enum PolyhedralError {
 /// A domain bounded by a closed, consistently oriented, non-self-intersecting triangle surface.
 pub struct PolyhedralOracle {
     triangles: Vec<[DVec3; 3]>,
+    /// The plane of each triangle, for a floating-point test that settles most segment tests.
+    planes: Vec<Plane>,
     patch: Vec<PatchId>,
     /// Connected component of each triangle.
     component: Vec<u32>,
@@ -125,6 +127,7 @@ impl PolyhedralOracle {
             .ok_or(PolyhedralError::Empty)?;
         let tree = TriangleTree::new(&geometry);
         let mut oracle = PolyhedralOracle {
+            planes: geometry.iter().map(Plane::of).collect(),
             triangles: geometry,
             patch,
             component,
@@ -331,22 +334,18 @@ impl PolyhedralOracle {
             return;
         }
         let start = out.len();
-        let d = b - a;
         self.tree.for_each_near_segment(a, b, |t| {
             if only.is_some_and(|k| k != self.component[t as usize]) {
                 return;
             }
+            if self.planes[t as usize].strictly_one_side(a, b) {
+                return;
+            }
             let tri = &self.triangles[t as usize];
             if let Crossing::Proper { .. } | Crossing::Degenerate = segment_crossing(a, b, tri) {
-                let normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]);
-                let denom = normal.dot(d);
-                let s = if denom != 0.0 {
-                    (normal.dot(tri[0] - a) / denom).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
+                let (point, s) = crossing_point(a, b, tri);
                 out.push(SurfaceHit {
-                    point: a + s * d,
+                    point,
                     t: s,
                     patch: self.patch[t as usize],
                 });
@@ -413,6 +412,73 @@ impl Oracle for PolyhedralOracle {
 
     fn initial_points(&self) -> Vec<SurfacePoint> {
         self.initial.clone()
+    }
+}
+
+/// A triangle's plane with an error bound, so that a floating-point side test is trusted only
+/// when its sign cannot be an artefact of rounding; the exact predicates decide the rest.
+#[derive(Clone, Copy, Debug)]
+struct Plane {
+    origin: DVec3,
+    normal: DVec3,
+    /// Bound on the rounding error of `normal · (p − origin)`, per unit of `|p − origin|∞`.
+    error: f64,
+}
+
+impl Plane {
+    fn of(t: &[DVec3; 3]) -> Self {
+        let (u, v) = (t[1] - t[0], t[2] - t[0]);
+        // The determinant's rounding error is a few ulps of |u|·|v|·|p − origin|; 1e-12 leaves
+        // a margin of three orders of magnitude, and √3 covers the max-norm of `p − origin`.
+        let error = 1e-12 * 3f64.sqrt() * u.length() * v.length();
+        Plane {
+            origin: t[0],
+            normal: u.cross(v),
+            error,
+        }
+    }
+
+    /// Are `a` and `b` both certainly on the same side of the plane, off it?
+    fn strictly_one_side(&self, a: DVec3, b: DVec3) -> bool {
+        let side = |p: DVec3| {
+            let d = p - self.origin;
+            let h = self.normal.dot(d);
+            let bound = self.error * d.abs().max_element();
+            if h > bound {
+                1
+            } else if h < -bound {
+                -1
+            } else {
+                0
+            }
+        };
+        let sa = side(a);
+        sa != 0 && sa == side(b)
+    }
+}
+
+/// Where segment `[a, b]`, known to meet triangle `tri`, crosses its plane: the point and its
+/// parameter along `a → b`.
+///
+/// The point is interpolated from the endpoint nearer to the plane: the circumcentre of a nearly
+/// flat cell can be 10¹⁵ away, and interpolating from it would lose every significant digit.
+fn crossing_point(a: DVec3, b: DVec3, tri: &[DVec3; 3]) -> (DVec3, f64) {
+    let normal = (tri[1] - tri[0]).cross(tri[2] - tri[0]);
+    let (ha, hb) = (normal.dot(a - tri[0]), normal.dot(b - tri[0]));
+    let denom = ha - hb;
+    if denom == 0.0 || !denom.is_finite() {
+        return if ha.abs() <= hb.abs() {
+            (a, 0.0)
+        } else {
+            (b, 1.0)
+        };
+    }
+    if ha.abs() <= hb.abs() {
+        let s = (ha / denom).clamp(0.0, 1.0);
+        (a + s * (b - a), s)
+    } else {
+        let s = (hb / -denom).clamp(0.0, 1.0);
+        (b + s * (a - b), 1.0 - s)
     }
 }
 

@@ -106,6 +106,33 @@ fn segment_hits_are_sorted_with_patches() {
     assert!((hits[0].point.z - 1.0).abs() < 1e-12 && (hits[0].t - 0.25).abs() < 1e-12);
 }
 
+/// The circumcentre of a nearly flat cell can lie 10¹⁵ away: a segment from there must still
+/// report its crossing on the surface, not a point smeared by cancellation.
+#[test]
+fn crossing_of_a_segment_from_very_far_lies_on_the_surface() {
+    let (p, t) = cube(DVec3::ZERO, 1.0, false);
+    let o = PolyhedralOracle::new(&p, &t, None).expect("valid cube");
+    let near = DVec3::new(0.5, 0.3, 0.4);
+    for far in [
+        DVec3::new(-4.8e15, 0.3, 0.4),
+        DVec3::new(-4.8e15, -1.8e15, 1.5e15),
+        DVec3::new(3.0e15, 1.0e15, -2.0e15),
+    ] {
+        for (a, b) in [(far, near), (near, far)] {
+            let mut hits = Vec::new();
+            o.segment_hits(a, b, &mut hits);
+            assert_eq!(hits.len(), 1, "{a} → {b}");
+            let q = hits[0].point;
+            let on_a_face = (0..3).any(|k| q[k].abs() < 1e-9 || (q[k] - 1.0).abs() < 1e-9);
+            let in_the_cube = (0..3).all(|k| (-1e-9..=1.0 + 1e-9).contains(&q[k]));
+            assert!(on_a_face && in_the_cube, "{a} → {b} crosses at {q}");
+            // And the crossing lies on the segment.
+            let along = (q - near).normalize().dot((far - near).normalize());
+            assert!(along > 1.0 - 1e-9, "{q} is off the segment");
+        }
+    }
+}
+
 #[test]
 fn initial_points_lie_on_every_component() {
     let (p, t) = merge(
