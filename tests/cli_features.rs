@@ -147,3 +147,29 @@ fn bad_feature_options_are_clean_errors() {
     assert!(e.contains("--no-features"), "{e}");
     assert!(!out.exists());
 }
+
+#[test]
+fn info_counts_the_features_mesh_would_find() {
+    let out = delamesh()
+        .args(["info", "--json"])
+        .arg(features("box_with_hole.off"))
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let v: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let f = &v["features"];
+    // The outer box's 12 edges and the hole's 12, meeting at 8 + 8 corners.
+    assert_eq!(f["curves"], 24);
+    assert_eq!(f["corners"], 16);
+    assert_eq!(f["closed_curves"], 0);
+    let out = delamesh()
+        .args(["info", "--json"])
+        .arg(features("cylinder.off"))
+        .output()
+        .unwrap();
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["features"]["closed_curves"], 2);
+    assert_eq!(v["features"]["corners"], 0);
+}
