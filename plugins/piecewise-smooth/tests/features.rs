@@ -362,3 +362,29 @@ fn a_convex_prism_is_closed_and_outward() {
     assert_eq!(box_with_hole().topology().genus, Some(1));
     assert!((box_with_hole().topology().signed_volume - 8.0).abs() < 1e-12);
 }
+
+#[test]
+fn arc_length_parametrisation_returns_vertices_exactly() {
+    let f = extract(&cylinder(1.0, 1.0, 12));
+    let circle = &f.curves[0];
+    let s = circle.arc_lengths();
+    assert_eq!(s.len(), circle.points.len() + 1, "closed: one more entry");
+    for (i, &p) in circle.points.iter().enumerate() {
+        assert_eq!(circle.point_at(s[i]), p);
+    }
+    // Closed curves wrap around; points between vertices lie on the chords.
+    let total = circle.length();
+    assert_eq!(circle.point_at(total), circle.points[0]);
+    assert_eq!(
+        circle.point_at(-s[1] + total),
+        circle.point_at(total - s[1])
+    );
+    let mid = circle.point_at(0.5 * s[1]);
+    assert!((mid - 0.5 * (circle.points[0] + circle.points[1])).length() < 1e-15);
+    // Open curves clamp at their ends.
+    let f = extract(&l_bracket());
+    let long = f.curves.iter().find(|c| c.points.len() == 3).unwrap();
+    assert_eq!(long.point_at(-1.0), long.points[0]);
+    assert_eq!(long.point_at(10.0), long.points[2]);
+    assert!((long.length() - 2.0).abs() < 1e-15);
+}
