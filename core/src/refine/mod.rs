@@ -9,6 +9,7 @@
 
 pub mod cells;
 pub mod criteria;
+pub mod curves;
 mod engine;
 pub mod facets;
 mod geometry;
