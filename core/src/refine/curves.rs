@@ -226,7 +226,12 @@ pub fn point_segment_distance(p: Point3, a: Point3, b: Point3) -> f64 {
 }
 
 /// The parts of segment `[a, b]` outside the open ball `(center, radius)`.
-fn segment_outside_ball(a: Point3, b: Point3, center: Point3, radius: f64) -> Vec<(Point3, Point3)> {
+fn segment_outside_ball(
+    a: Point3,
+    b: Point3,
+    center: Point3,
+    radius: f64,
+) -> Vec<(Point3, Point3)> {
     let d = b - a;
     let len2 = d.length_squared();
     let f = a - center;
@@ -335,6 +340,9 @@ mod tests {
         assert_eq!(pts[1], Point3::new(1.0, 0.0, 0.0));
         assert_eq!(pts[2], Point3::new(1.0, 1.0, 0.0));
         let wrapped = sq.arc_points(3.5, 4.5);
-        assert_eq!(wrapped, vec![sq.point_at(3.5), Point3::ZERO, sq.point_at(0.5)]);
+        assert_eq!(
+            wrapped,
+            vec![sq.point_at(3.5), Point3::ZERO, sq.point_at(0.5)]
+        );
     }
 }

@@ -14,6 +14,7 @@ mod engine;
 pub mod facets;
 mod geometry;
 mod mesh3;
+pub mod protect;
 mod queue;
 
 pub use engine::{
