@@ -4,7 +4,9 @@
 
 use super::criteria::CellCriteria;
 use super::engine::{Candidate, Check, MesherLevel};
-use super::geometry::{cell_vertices, crowds_a_vertex, is_same_cell, shortest_edge};
+use super::geometry::{
+    cell_vertices, crowds_a_vertex, is_same_cell, power_distance, shortest_edge,
+};
 use super::queue::RefineQueue;
 use crate::kernel::Point3;
 use crate::oracle::{OUTSIDE, Oracle, SubdomainId, SurfaceHit};
@@ -116,7 +118,7 @@ impl<'o> CellLevel<'o> {
         sub: SubdomainId,
     ) -> Option<f64> {
         let p = vertices.map(|v| tr.point(v));
-        let radius = center.distance(p[0]);
+        let radius = power_distance(tr, vertices[0], center).max(0.0).sqrt();
         let size_excess = radius / self.criteria.size.at(center, sub);
         let shape_excess = if self.criteria.radius_edge_ratio > 0.0 {
             radius / shortest_edge(&p) / self.criteria.radius_edge_ratio
@@ -159,7 +161,7 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for CellLevel<'o> {
 
     fn refinement_point(&mut self, tr: &T, q: &QueuedCell) -> Option<Candidate<Point3>> {
         let center = tr.circumcenter(q.cell);
-        self.proposed_radius2 = center.distance_squared(tr.point(q.vertices[0]));
+        self.proposed_radius2 = power_distance(tr, q.vertices[0], center);
         Some(Candidate {
             point: center,
             hint: Some(q.cell),

@@ -48,6 +48,9 @@ pub struct SurfaceLevel<'o> {
     balls: Vec<[Option<SurfaceBall>; 4]>,
     /// Vertices lying on the boundary (P0 and surface-ball centres), indexed by `VertexId`.
     on_surface: Vec<bool>,
+    /// Patch of each surface vertex when patches are checked (rule R3 of chapter 4), indexed by
+    /// `VertexId`; 0 for vertices on curves and corners, which lie on several patches.
+    vertex_patch: Option<Vec<PatchId>>,
     queue: RefineQueue<QueuedFacet>,
     /// Marks the cells created by the insertion being processed: `created_mark[c] == stamp`.
     created_mark: Vec<u64>,
@@ -56,6 +59,8 @@ pub struct SurfaceLevel<'o> {
     zone: ConflictZone,
     /// Squared radius of the ball whose centre was last proposed.
     proposed_radius2: f64,
+    /// Patch of the ball whose centre was last proposed.
+    proposed_patch: PatchId,
 }
 
 impl<'o> SurfaceLevel<'o> {
@@ -65,13 +70,46 @@ impl<'o> SurfaceLevel<'o> {
             criteria,
             balls: Vec::new(),
             on_surface: Vec::new(),
+            vertex_patch: None,
             queue: RefineQueue::default(),
             created_mark: Vec::new(),
             stamp: 0,
             hits: Vec::new(),
             zone: ConflictZone::default(),
             proposed_radius2: 0.0,
+            proposed_patch: 0,
         }
+    }
+
+    /// Also refine every restricted facet with a vertex on another patch than the facet's
+    /// (rule R3 of chapter 4), so that each patch is meshed on its own: for piecewise-smooth
+    /// domains, whose patches meet along sharp curves.
+    pub fn check_patches(mut self) -> Self {
+        self.vertex_patch = Some(Vec::new());
+        self
+    }
+
+    /// Record that `v` lies on surface patch `patch` (0: on a curve or a corner, several patches).
+    pub fn mark_on_patch(&mut self, v: VertexId, patch: PatchId) {
+        self.mark_on_surface(v);
+        if let Some(patches) = &mut self.vertex_patch {
+            let i = v.0 as usize;
+            if patches.len() <= i {
+                patches.resize(i + 1, 0);
+            }
+            patches[i] = patch;
+        }
+    }
+
+    /// Does a vertex of the facet lie on another patch than `patch`? Only when patches are
+    /// checked; vertices on curves and corners are on every patch they bound.
+    fn off_patch(&self, fv: &[VertexId; 3], patch: PatchId) -> bool {
+        self.vertex_patch.as_ref().is_some_and(|patches| {
+            fv.iter().any(|v| {
+                let p = patches.get(v.0 as usize).copied().unwrap_or(0);
+                p != 0 && p != patch
+            })
+        })
     }
 
     /// Record that `v` lies on the boundary (the initial points are inserted by the caller).
@@ -123,7 +161,11 @@ impl<'o> SurfaceLevel<'o> {
             (false, None) => return None,
         };
         let cell = cell_vertices(tr, c);
-        let [a, b, d] = facet_vertices(&cell, i).map(|v| tr.point(v));
+        let fv = facet_vertices(&cell, i);
+        let [a, b, d] = fv.map(|v| tr.point(v));
+        // The power distance: in a regular triangulation the ball is orthogonal to the
+        // vertices' balls rather than through their centres.
+        let w = tr.weight(fv[0]);
         self.hits.clear();
         match there {
             Some(p) => self.oracle.segment_hits(here, p, &mut self.hits),
@@ -142,7 +184,7 @@ impl<'o> SurfaceLevel<'o> {
             .iter()
             .map(|h| SurfaceBall {
                 center: h.point,
-                radius2: h.point.distance_squared(a),
+                radius2: h.point.distance_squared(a) - w,
                 patch: h.patch,
             })
             .max_by(|x, y| x.radius2.total_cmp(&y.radius2))
@@ -157,7 +199,7 @@ impl<'o> SurfaceLevel<'o> {
         ball: &SurfaceBall,
     ) -> Option<f64> {
         let fv = facet_vertices(cell, i);
-        if fv.iter().any(|&v| !self.is_on_surface(v)) {
+        if fv.iter().any(|&v| !self.is_on_surface(v)) || self.off_patch(&fv, ball.patch) {
             return Some(URGENT);
         }
         let [a, b, c] = fv.map(|v| tr.point(v));
@@ -267,6 +309,7 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for SurfaceLevel<'o> {
     fn refinement_point(&mut self, _tr: &T, f: &QueuedFacet) -> Option<Candidate<Point3>> {
         let ball = self.balls[f.cell.0 as usize][f.index as usize]?;
         self.proposed_radius2 = ball.radius2;
+        self.proposed_patch = ball.patch;
         Some(Candidate {
             point: ball.center,
             hint: Some(f.cell),
@@ -314,7 +357,7 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for SurfaceLevel<'o> {
 
     fn after_insertion(&mut self, tr: &T, v: VertexId, report: &InsertReport, own: bool) {
         if own {
-            self.mark_on_surface(v);
+            self.mark_on_patch(v, self.proposed_patch);
         }
         self.grow(tr.cell_capacity());
         self.stamp += 1;

@@ -33,7 +33,17 @@ pub(crate) fn crowds_a_vertex<T: Triangulation<Point = Point3>>(
         .as_ref()
         .iter()
         .filter(|&&v| !tr.is_infinite_vertex(v))
-        .any(|&v| tr.point(v).distance_squared(c.point) < 0.25 * radius2)
+        .any(|&v| power_distance(tr, v, c.point) < 0.25 * radius2)
+}
+
+/// Power distance from `p` to vertex `v`: `|p − p_v|² − w_v`, the squared distance when `v` has
+/// no weight (Delaunay), negative inside a protecting ball.
+pub(crate) fn power_distance<T: Triangulation<Point = Point3>>(
+    tr: &T,
+    v: VertexId,
+    p: Point3,
+) -> f64 {
+    tr.point(v).distance_squared(p) - tr.weight(v)
 }
 
 /// The three vertices of the facet of a cell opposite its vertex `i`.

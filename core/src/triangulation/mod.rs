@@ -198,6 +198,10 @@ pub trait Triangulation {
     }
     /// Centre of the circumsphere of a finite cell (floating point construction).
     fn circumcenter(&self, c: CellId) -> Self::Point;
+    /// Weight of a vertex (the squared radius of its ball): 0 in a Delaunay triangulation.
+    fn weight(&self, _v: VertexId) -> f64 {
+        0.0
+    }
     /// All cells (finite and infinite) incident to `v`, written to `out` (cleared first).
     fn incident_cells(&self, v: VertexId, out: &mut Vec<CellId>);
 }
