@@ -1,10 +1,11 @@
-//! Bulk construction of `Delaunay3`: uniform random points (seed 42) and a regular grid.
+//! Bulk construction of `Delaunay3`: uniform random points (seed 42) and a regular grid; of
+//! `Regular3`: uniform random points with random weights up to half the squared spacing.
 //! Sample counts are kept at criterion's minimum so the whole bench runs in a few minutes.
 //! The CGAL comparison (same N, construction time only) is `examples/dt3_points.rs`.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use delamesh_core::kernel::Point3;
-use delamesh_core::triangulation::{Delaunay3, Triangulation};
+use delamesh_core::triangulation::{Delaunay3, Regular3, Triangulation};
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use std::hint::black_box;
@@ -60,5 +61,27 @@ fn bench_grid(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench_uniform, bench_grid);
+fn bench_regular(c: &mut Criterion) {
+    let n = 100_000;
+    let spacing = (n as f64).powf(-1.0 / 3.0);
+    let mut rng = StdRng::seed_from_u64(43);
+    let points: Vec<(Point3, f64)> = uniform(n)
+        .into_iter()
+        .map(|p| (p, rng.random::<f64>() * 0.5 * spacing * spacing))
+        .collect();
+    let mut group = c.benchmark_group("regular3");
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(10));
+    group.bench_function("1e5 weighted points", |b| {
+        b.iter(|| {
+            let (rt, _) = Regular3::from_weighted_points(&points).expect("valid benchmark points");
+            black_box(rt.num_finite_cells())
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench_uniform, bench_grid, bench_regular);
 criterion_main!(benches);

@@ -12,7 +12,7 @@
 //! cofactor of a cell vertex `v` is the orientation of the cell with `v` replaced by the query
 //! point; the cofactor of the query point is minus the (positive) orientation of the cell.
 
-use super::power::off_plane_point;
+use super::power::{WeightedPoint3, coplanar_power_test, off_plane_point, power_test};
 use super::{Point3, Sign, insphere, orient3d};
 use std::cmp::Ordering;
 
@@ -84,6 +84,13 @@ pub fn in_circle_coplanar_perturbed(tri: [Point3; 3], e: Point3) -> bool {
     if s != Sign::Zero {
         return s == plane_sign;
     }
+    in_circle_tie_break(tri, q, plane_sign, e)
+}
+
+/// The perturbed answer for a query exactly on the (orthogonal) circle of `tri`, with `q` and
+/// `plane_sign` from [`off_plane_point`]. The lifts' infinitesimals do not depend on weights.
+#[cold]
+fn in_circle_tie_break(tri: [Point3; 3], q: Point3, plane_sign: Sign, e: Point3) -> bool {
     let pts = [tri[0], tri[1], tri[2], e];
     for k in by_decreasing_rank(&pts) {
         if k == 3 {
@@ -97,6 +104,42 @@ pub fn in_circle_coplanar_perturbed(tri: [Point3; 3], e: Point3) -> bool {
         }
     }
     unreachable!("the query point is one of the ranked points")
+}
+
+/// Does the weighted point `e` conflict with the positively oriented weighted tetrahedron `cell`
+/// (negative power distance to its orthogonal sphere)? Exact ties are broken by the same
+/// perturbation of the lifts as [`in_sphere_perturbed`] (the lift `|p|² − w` is linear in the
+/// perturbed column, so its cofactors are the same orientations), hence with all weights zero the
+/// answer is exactly the in-sphere one. `e` must not share its position with a vertex of `cell`
+/// and the same weight.
+pub fn power_test_perturbed(cell: [WeightedPoint3; 4], e: WeightedPoint3) -> bool {
+    match power_test(cell[0], cell[1], cell[2], cell[3], e) {
+        Sign::Positive => true,
+        Sign::Negative => false,
+        Sign::Zero => in_sphere_tie_break(cell.map(|c| c.point), e.point),
+    }
+}
+
+/// [`beyond_hull_facet_perturbed`] for weighted points: on the hull facet's plane, the conflict
+/// test is the coplanar power test against the circle orthogonal to the facet's vertices.
+pub fn power_beyond_hull_facet_perturbed(
+    tri: [WeightedPoint3; 3],
+    orient: Sign,
+    e: WeightedPoint3,
+) -> bool {
+    match orient {
+        Sign::Positive => true,
+        Sign::Negative => false,
+        Sign::Zero => match coplanar_power_test(tri[0], tri[1], tri[2], e) {
+            Sign::Positive => true,
+            Sign::Negative => false,
+            Sign::Zero => {
+                let points = tri.map(|t| t.point);
+                let (q, plane_sign) = off_plane_point(points);
+                in_circle_tie_break(points, q, plane_sign, e.point)
+            }
+        },
+    }
 }
 
 /// Is `e` in conflict with the infinite cell whose finite facet, completed by `e`, gives the

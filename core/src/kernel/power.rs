@@ -62,6 +62,27 @@ pub fn power_test(
     power_test_exact([a, b, c, d, e])
 }
 
+/// Centre of the sphere orthogonal to four affinely independent weighted points (the point with
+/// equal power distance `|x − p|² − w` to all four; floating point, not exact). With zero weights
+/// it is the circumcentre.
+pub fn orthocenter3(
+    a: WeightedPoint3,
+    b: WeightedPoint3,
+    c: WeightedPoint3,
+    d: WeightedPoint3,
+) -> Point3 {
+    // Relative to `a`: 2 (q − a)·x = |q − a|² − (w_q − w_a) for q = b, c, d.
+    let (ba, ca, da) = (b.point - a.point, c.point - a.point, d.point - a.point);
+    let lb = ba.length_squared() - (b.weight - a.weight);
+    let lc = ca.length_squared() - (c.weight - a.weight);
+    let ld = da.length_squared() - (d.weight - a.weight);
+    let cd = ca.cross(da);
+    let db = da.cross(ba);
+    let bc = ba.cross(ca);
+    let denom = 2.0 * ba.dot(cd);
+    a.point + (lb * cd + lc * db + ld * bc) / denom
+}
+
 /// For weighted points `a, b, c, e` with coplanar positions (`a, b, c` not collinear): positive
 /// when `e` has a negative power distance to the circle orthogonal to `a, b, c` in their plane —
 /// the conflict test of a hull facet with a point on its plane in a regular triangulation.

@@ -376,12 +376,7 @@ impl Conformer {
     /// The live sub-edges as a constraint, and the Delaunay triangulation of all points.
     fn finish(self, iterations: usize) -> Result<Conformed, ConformError> {
         let (triangulation, outcomes) = Delaunay2::from_points(&self.points)?;
-        let vertex_of_point = outcomes
-            .into_iter()
-            .map(|o| match o {
-                InsertOutcome::Inserted(v) | InsertOutcome::Duplicate(v) => v,
-            })
-            .collect();
+        let vertex_of_point = outcomes.into_iter().map(InsertOutcome::vertex).collect();
         let live: Vec<&SubEdge> = self.edges.iter().filter(|e| e.alive).collect();
         Ok(Conformed {
             segments: live.iter().map(|e| e.ends).collect(),

@@ -98,13 +98,7 @@ fn transforms(p: &[DVec2]) -> Vec<Vec<DVec2>> {
 
 fn check_against_oracle(pts: &[DVec2]) -> usize {
     let (t, outcomes) = Delaunay2::from_points(pts).expect("finite");
-    let ids: Vec<VertexId> = outcomes
-        .iter()
-        .map(|o| match *o {
-            crate::triangulation::delaunay2::InsertOutcome::Inserted(v)
-            | crate::triangulation::delaunay2::InsertOutcome::Duplicate(v) => v,
-        })
-        .collect();
+    let ids: Vec<VertexId> = outcomes.iter().map(|o| o.vertex()).collect();
     let images = transforms(pts);
     let mut admissible = 0;
     for i in 0..pts.len() {

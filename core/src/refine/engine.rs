@@ -206,7 +206,10 @@ impl<'a, T: Triangulation> Engine<'a, T> {
                                 progress(&self.progress(tr, total));
                             }
                         }
-                        InsertOutcome::Duplicate(_) => stats.dropped += 1,
+                        // A hidden point (regular triangulations only) changed nothing either.
+                        InsertOutcome::Duplicate(_) | InsertOutcome::Hidden(_) => {
+                            stats.dropped += 1
+                        }
                     }
                 }
                 Check::Rejected => {

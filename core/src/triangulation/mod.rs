@@ -1,4 +1,5 @@
-//! Triangulations: the `Triangulation` trait, Delaunay 3D and 2D, validity checking.
+//! Triangulations: the `Triangulation` trait, Delaunay 3D and 2D, regular (weighted) 3D, validity
+//! checking.
 //!
 //! # Identifiers
 //! Vertices and cells are named by the typed indices [`VertexId`] and [`CellId`]. Vertex ids are
@@ -18,12 +19,12 @@
 //! all cells at once.
 
 pub mod delaunay2;
-pub mod delaunay3;
 pub mod spatial_sort;
+pub mod triangulation3;
 pub mod validity;
 
 pub use delaunay2::Delaunay2;
-pub use delaunay3::Delaunay3;
+pub use triangulation3::{Delaunay3, Regular3, Triangulation3};
 
 /// A vertex of a triangulation. Stable once assigned; finite vertices are numbered densely from 0
 /// (one-by-one insertions in insertion order; a bulk build numbers its points along a space-filling
@@ -40,15 +41,21 @@ pub struct CellId(pub u32);
 pub enum InsertOutcome {
     /// The point became this new vertex.
     Inserted(VertexId),
-    /// The point equals the point of this existing vertex; nothing changed.
+    /// The point equals the point of this existing vertex (with the same weight); nothing changed.
     Duplicate(VertexId),
+    /// The weighted point lies inside the union of its heavier neighbours' power cells: it got
+    /// this vertex id (so `point()` still works) but is in no cell. Delaunay triangulations never
+    /// return it.
+    Hidden(VertexId),
 }
 
 impl InsertOutcome {
     /// The vertex at the point, new or existing.
     pub fn vertex(self) -> VertexId {
         match self {
-            InsertOutcome::Inserted(v) | InsertOutcome::Duplicate(v) => v,
+            InsertOutcome::Inserted(v) | InsertOutcome::Duplicate(v) | InsertOutcome::Hidden(v) => {
+                v
+            }
         }
     }
 }
@@ -59,12 +66,15 @@ impl InsertOutcome {
 pub struct InsertReport {
     pub created: Vec<CellId>,
     pub removed: Vec<CellId>,
+    /// Vertices that this insertion hid (they are in no cell any more; regular triangulations).
+    pub hidden: Vec<VertexId>,
 }
 
 impl InsertReport {
     pub fn clear(&mut self) {
         self.created.clear();
         self.removed.clear();
+        self.hidden.clear();
     }
 }
 
@@ -102,6 +112,14 @@ pub enum TriangulationError {
     TooLarge { index: usize, limit: f64 },
     #[error("too many vertices or cells for 32-bit indices")]
     TooManyElements,
+    #[error(
+        "point {index} has weight {weight}; weights must be finite, non-negative and at most {limit:e}"
+    )]
+    InvalidWeight {
+        index: usize,
+        weight: f64,
+        limit: f64,
+    },
 }
 
 /// A simplicial complex covering the convex hull of its vertices, closed by an infinite vertex.
@@ -134,7 +152,7 @@ pub trait Triangulation {
     /// already a vertex or when there are no cells yet.
     fn conflict_zone(&self, p: Self::Point, hint: Option<CellId>, out: &mut ConflictZone);
 
-    /// Number of finite vertices.
+    /// Number of finite vertices (in a regular triangulation, hidden ones included).
     fn num_vertices(&self) -> usize;
     /// Number of live finite cells.
     fn num_finite_cells(&self) -> usize;
@@ -142,7 +160,7 @@ pub trait Triangulation {
     fn num_cells(&self) -> usize;
     /// The point of a finite vertex. Panics on the infinite vertex, which has none.
     fn point(&self, v: VertexId) -> Self::Point;
-    /// The finite vertices.
+    /// The finite vertices (in a regular triangulation, hidden ones included).
     fn vertices(&self) -> impl Iterator<Item = VertexId> + '_;
     /// The infinite vertex.
     fn infinite_vertex(&self) -> VertexId;
@@ -196,9 +214,10 @@ pub trait Triangulation {
         edges.dedup();
         edges
     }
-    /// Centre of the circumsphere of a finite cell (floating point construction).
+    /// Centre of the circumsphere of a finite cell (floating point construction); in a regular
+    /// triangulation, its orthocentre (equal power distance to the four weighted vertices).
     fn circumcenter(&self, c: CellId) -> Self::Point;
-    /// Weight of a vertex (the squared radius of its ball): 0 in a Delaunay triangulation.
+    /// Weight of `v` (the squared radius of its ball); 0 in a Delaunay triangulation.
     fn weight(&self, _v: VertexId) -> f64 {
         0.0
     }

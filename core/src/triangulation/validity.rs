@@ -1,11 +1,13 @@
-//! Validity checks of a `Delaunay3`: combinatorial consistency, orientation, and the exact local
-//! Delaunay property of every facet (under the kernel's symbolic perturbation).
+//! Validity checks of a `Delaunay3` or `Regular3`: combinatorial consistency, orientation, and the
+//! exact local Delaunay (regularity) property of every facet under the kernel's symbolic
+//! perturbation; for `Regular3` also that every hidden vertex is really hidden.
 //!
-//! By the local-implies-global theorem the last check makes the whole triangulation Delaunay, and
-//! with perturbation the Delaunay triangulation is unique, so a passing check pins the result
-//! down exactly. Meant for tests (O(n log n)), including other crates' tests.
+//! By the local-implies-global theorem the facet check makes the whole triangulation Delaunay
+//! (regular), and with perturbation that triangulation is unique, so a passing check pins the
+//! result down exactly. Meant for tests (O(n log n)), including other crates' tests.
 
-use super::{CellId, Delaunay3, Triangulation, VertexId};
+use super::triangulation3::ConflictKernel;
+use super::{CellId, Delaunay3, Regular3, Triangulation, Triangulation3, VertexId};
 use crate::kernel::{Sign, orient3d};
 
 /// The first defect found.
@@ -54,6 +56,12 @@ pub enum ValidityError {
     },
     #[error("vertex {0:?} belongs to no cell")]
     IsolatedVertex(VertexId),
+    #[error("hidden vertex {0:?} belongs to a cell")]
+    HiddenInCell(VertexId),
+    #[error(
+        "hidden vertex {vertex:?} conflicts with cell {cell:?}, which contains its point: it should be in the triangulation"
+    )]
+    NotHidden { vertex: VertexId, cell: CellId },
     #[error("Euler characteristic V - E + F - C = {0}, expected 0 for a closed 3-sphere")]
     Euler(i64),
     #[error(
@@ -69,6 +77,17 @@ pub enum ValidityError {
 /// Checks everything listed in the module documentation; `Ok` means `dt` is the (perturbed)
 /// Delaunay triangulation of its vertices.
 pub fn check_delaunay3(dt: &Delaunay3) -> Result<(), ValidityError> {
+    check_triangulation3(dt)
+}
+
+/// Checks everything listed in the module documentation; `Ok` means `rt` is the (perturbed)
+/// regular triangulation of its weighted vertices, hidden ones included.
+pub fn check_regular3(rt: &Regular3) -> Result<(), ValidityError> {
+    check_triangulation3(rt)?;
+    check_hidden(rt)
+}
+
+fn check_triangulation3<K: ConflictKernel>(dt: &Triangulation3<K>) -> Result<(), ValidityError> {
     if dt.dimension() < 3 {
         return match dt.num_cells() {
             0 => Ok(()),
@@ -81,7 +100,7 @@ pub fn check_delaunay3(dt: &Delaunay3) -> Result<(), ValidityError> {
     check_local_delaunay(dt)
 }
 
-fn check_cells(dt: &Delaunay3) -> Result<(), ValidityError> {
+fn check_cells<K: ConflictKernel>(dt: &Triangulation3<K>) -> Result<(), ValidityError> {
     let inf = dt.infinite_vertex();
     let n = dt.num_vertices() as u32;
     let (mut live, mut finite) = (0, 0);
@@ -145,7 +164,7 @@ fn check_cells(dt: &Delaunay3) -> Result<(), ValidityError> {
     Ok(())
 }
 
-fn check_vertices(dt: &Delaunay3) -> Result<(), ValidityError> {
+fn check_vertices<K: ConflictKernel>(dt: &Triangulation3<K>) -> Result<(), ValidityError> {
     let mut used = vec![false; dt.num_vertices()];
     for c in dt.cells() {
         for v in dt.cell(c) {
@@ -155,6 +174,12 @@ fn check_vertices(dt: &Delaunay3) -> Result<(), ValidityError> {
         }
     }
     for v in dt.vertices() {
+        if dt.is_hidden(v) {
+            if used[v.0 as usize] || dt.vertex_cell(v).is_some() {
+                return Err(ValidityError::HiddenInCell(v));
+            }
+            continue;
+        }
         if !used[v.0 as usize] {
             return Err(ValidityError::IsolatedVertex(v));
         }
@@ -166,8 +191,8 @@ fn check_vertices(dt: &Delaunay3) -> Result<(), ValidityError> {
     Ok(())
 }
 
-fn check_euler(dt: &Delaunay3) -> Result<(), ValidityError> {
-    let v = dt.num_vertices() as i64 + 1;
+fn check_euler<K: ConflictKernel>(dt: &Triangulation3<K>) -> Result<(), ValidityError> {
+    let v = (dt.num_vertices() - dt.hidden_vertices().count()) as i64 + 1;
     let e = dt.edges().len() as i64;
     let f = dt.facets().count() as i64;
     let c = dt.num_cells() as i64;
@@ -178,19 +203,38 @@ fn check_euler(dt: &Delaunay3) -> Result<(), ValidityError> {
     Ok(())
 }
 
-fn check_local_delaunay(dt: &Delaunay3) -> Result<(), ValidityError> {
+fn check_local_delaunay<K: ConflictKernel>(dt: &Triangulation3<K>) -> Result<(), ValidityError> {
     for c in dt.cells() {
         for i in 0..4 {
             let nb = dt.neighbor(c, i);
             let vertex = dt.cell(nb)[dt.mirror_index(c, i)];
             // The infinite vertex conflicts with no finite cell.
-            if !dt.is_infinite_vertex(vertex) && dt.is_in_conflict(c, dt.point(vertex)) {
+            if !dt.is_infinite_vertex(vertex)
+                && dt.in_conflict(c.0, dt.point(vertex), dt.weight(vertex))
+            {
                 return Err(ValidityError::NotDelaunay {
                     cell: c,
                     facet: i,
                     vertex,
                 });
             }
+        }
+    }
+    Ok(())
+}
+
+/// Every hidden vertex lies in a cell it does not conflict with (exact, perturbed power test).
+fn check_hidden(rt: &Regular3) -> Result<(), ValidityError> {
+    if rt.dimension() < 3 {
+        return Ok(());
+    }
+    for vertex in rt.hidden_vertices() {
+        let p = rt.point(vertex);
+        let cell = rt
+            .locate(p, None)
+            .ok_or(ValidityError::CellsBeforeDimension3(0))?;
+        if rt.in_conflict(cell.0, p, rt.weight(vertex)) {
+            return Err(ValidityError::NotHidden { vertex, cell });
         }
     }
     Ok(())

@@ -214,6 +214,7 @@ fn duplicates_are_reported_not_inserted() {
                 assert_eq!(t.point(v), pts[i]);
             }
             InsertOutcome::Duplicate(v) => assert_eq!(t.point(v), pts[i]),
+            InsertOutcome::Hidden(v) => panic!("a Delaunay triangulation hid vertex {v:?}"),
         }
     }
     assert_eq!(inserted, 100);

@@ -127,4 +127,9 @@ pub(super) struct Scratch {
     /// New cells: vertices, index of the new vertex's opposite facet, packed outside neighbour.
     pub(super) new_cells: Vec<([u32; 4], u8, u32)>,
     pub(super) edges: EdgeTable,
+    /// Vertices swallowed by a weighted insertion.
+    pub(super) swallowed: Vec<u32>,
+    /// Per-vertex marks of the swallowed-vertex search: equal to `stamp` when seen this time.
+    pub(super) vertex_stamp: Vec<u32>,
+    pub(super) stamp: u32,
 }

@@ -1,4 +1,8 @@
-//! `Delaunay3`: the Delaunay triangulation of a 3D point set, built by Bowyer–Watson insertion.
+//! `Triangulation3<K>`: the 3D triangulation engine shared by [`Delaunay3`] (Euclidean in-sphere
+//! test) and [`Regular3`] (power test on weighted points), built by Bowyer–Watson insertion. The
+//! conflict kernel `K` is a type parameter, so the Delaunay instance compiles to the same code as a
+//! dedicated implementation: the hidden-vertex bookkeeping of regular triangulations sits behind
+//! the constant [`ConflictKernel::WEIGHTED`].
 //!
 //! Storage is flat: one 32-byte record per cell slot (four vertex indices and four packed
 //! neighbour references `cell << 2 | mirror index`), a free list threaded through dead slots, one
@@ -7,14 +11,17 @@
 //! symbolic perturbation of [`crate::kernel::perturbation`], and stars it from the new vertex.
 
 mod cavity;
+mod kernel;
+mod regular;
 
 use super::spatial_sort::{brio_order, brio_rounds, hilbert_order};
 use super::{
     CellId, ConflictZone, InsertOutcome, InsertReport, Triangulation, TriangulationError, VertexId,
 };
-use crate::kernel::perturbation::{beyond_hull_facet_perturbed, in_sphere_perturbed};
-use crate::kernel::{Point2, Point3, Sign, StaticFilter, circumcenter3, orient2d, orient3d};
+use crate::kernel::{Point2, Point3, Sign, StaticFilter, WeightedPoint3, orient2d, orient3d};
 use cavity::{ByteMarks, CavityMarks, HashMarks, Scratch};
+pub use kernel::{ConflictKernel, Euclidean, Power};
+pub use regular::MAX_WEIGHT;
 use std::collections::HashMap;
 
 /// Index of the infinite vertex in cell records.
@@ -57,9 +64,21 @@ fn pack(c: u32, i: usize) -> u32 {
 }
 
 /// The 3D Delaunay triangulation (see the module documentation and [`Triangulation`]).
+pub type Delaunay3 = Triangulation3<Euclidean>;
+
+/// The 3D regular (weighted Delaunay) triangulation: the weighted analogue of [`Delaunay3`], whose
+/// cells have empty orthogonal spheres. A weighted point whose power cell would be empty is
+/// *hidden*: it keeps its vertex id and point but belongs to no cell. Hidden vertices never come
+/// back: insertion only makes power cells smaller, and vertices are never removed.
+pub type Regular3 = Triangulation3<Power>;
+
+/// A 3D triangulation closed by an infinite vertex, generic over its conflict kernel (use the
+/// aliases [`Delaunay3`] and [`Regular3`]).
 #[derive(Clone, Debug)]
-pub struct Delaunay3 {
+pub struct Triangulation3<K: ConflictKernel> {
     points: Vec<Point3>,
+    /// Vertex weights and hidden flags (nothing for Delaunay).
+    kernel: K,
     vertex_cell: Vec<u32>,
     cells: Vec<CellRecord>,
     free_head: u32,
@@ -124,30 +143,13 @@ pub(crate) fn validate_point(p: Point3, index: usize) -> Result<(), Triangulatio
     Ok(())
 }
 
-impl Default for Delaunay3 {
+impl<K: ConflictKernel> Default for Triangulation3<K> {
     fn default() -> Self {
         Self::new()
     }
 }
 
 impl Delaunay3 {
-    /// An empty triangulation.
-    pub fn new() -> Self {
-        Delaunay3 {
-            points: Vec::new(),
-            vertex_cell: Vec::new(),
-            cells: Vec::new(),
-            free_head: NO_CELL,
-            num_live: 0,
-            num_finite: 0,
-            last: NO_CELL,
-            lower: Some(LowerDimension::default()),
-            bulk: false,
-            filter: StaticFilter::default(),
-            scratch: Scratch::default(),
-        }
-    }
-
     /// The Delaunay triangulation of `points` (inserted in a BRIO / Hilbert order; the result does
     /// not depend on the order). Fails without building anything if a point is not finite.
     pub fn from_points(points: &[Point3]) -> Result<Self, TriangulationError> {
@@ -161,6 +163,42 @@ impl Delaunay3 {
     pub fn insert_points(
         &mut self,
         points: &[Point3],
+    ) -> Result<Vec<VertexId>, TriangulationError> {
+        self.insert_many(points, |_| 0.0)
+    }
+
+    /// Whether `p` conflicts with the live cell `c`: `p` is strictly inside its circumsphere under
+    /// the symbolic perturbation (for an infinite cell: strictly beyond its hull facet, or on its
+    /// plane and inside its circle). `p` must not be a vertex of `c`.
+    pub fn is_in_conflict(&self, c: CellId, p: Point3) -> bool {
+        self.in_conflict(c.0, p, 0.0)
+    }
+}
+
+impl<K: ConflictKernel> Triangulation3<K> {
+    /// An empty triangulation.
+    pub fn new() -> Self {
+        Triangulation3 {
+            points: Vec::new(),
+            kernel: K::default(),
+            vertex_cell: Vec::new(),
+            cells: Vec::new(),
+            free_head: NO_CELL,
+            num_live: 0,
+            num_finite: 0,
+            last: NO_CELL,
+            lower: Some(LowerDimension::default()),
+            bulk: false,
+            filter: StaticFilter::default(),
+            scratch: Scratch::default(),
+        }
+    }
+
+    /// Bulk insertion of validated points with the given weights (see [`Delaunay3::insert_points`]).
+    fn insert_many(
+        &mut self,
+        points: &[Point3],
+        weight: impl Fn(usize) -> f64,
     ) -> Result<Vec<VertexId>, TriangulationError> {
         for (i, &p) in points.iter().enumerate() {
             validate_point(p, i)?;
@@ -176,15 +214,16 @@ impl Delaunay3 {
         let mut vertex_of = vec![VertexId(0); points.len()];
         self.bulk = true;
         let mut result = Ok(());
-        if self.points.is_empty() {
+        if self.points.is_empty() && !K::WEIGHTED {
             // Fresh build: number the distinct points along the Hilbert curve, so the points of
-            // any cell sit close together in memory, then insert them in BRIO order.
+            // any cell sit close together in memory, then insert them in BRIO order. (Weighted
+            // points take the general path below, which resolves coincident points by weight.)
             let curve = hilbert_order(points);
             let mut prev: Option<Point3> = None;
             for i in curve {
                 let p = points[i as usize];
                 if prev != Some(p) {
-                    self.push_vertex(p);
+                    self.push_vertex(p, 0.0);
                     prev = Some(p);
                 }
                 vertex_of[i as usize] = VertexId((self.points.len() - 1) as u32);
@@ -196,8 +235,9 @@ impl Delaunay3 {
             }
         } else {
             for i in brio_order(points, BRIO_SEED) {
-                match self.insert_validated(points[i as usize], None, None) {
-                    Ok(outcome) => vertex_of[i as usize] = outcome.vertex(),
+                let i = i as usize;
+                match self.insert_validated(points[i], weight(i), None, None) {
+                    Ok(outcome) => vertex_of[i] = outcome.vertex(),
                     Err(e) => {
                         result = Err(e);
                         break;
@@ -231,13 +271,6 @@ impl Delaunay3 {
             .map(CellId)
     }
 
-    /// Whether `p` conflicts with the live cell `c`: `p` is strictly inside its circumsphere under
-    /// the symbolic perturbation (for an infinite cell: strictly beyond its hull facet, or on its
-    /// plane and inside its circle). `p` must not be a vertex of `c`.
-    pub fn is_in_conflict(&self, c: CellId, p: Point3) -> bool {
-        self.in_conflict(c.0, p)
-    }
-
     fn live(&self, c: u32) -> bool {
         (c as usize) < self.cells.len() && self.cells[c as usize].v[0] != FREE
     }
@@ -252,6 +285,17 @@ impl Delaunay3 {
         r.v.contains(&INFINITE)
     }
 
+    /// Whether vertex `v` is hidden: its weighted point lies inside the union of its neighbours'
+    /// power cells, so it belongs to no cell. Always false in a Delaunay triangulation.
+    pub fn is_hidden(&self, v: VertexId) -> bool {
+        K::WEIGHTED && self.kernel.is_hidden(v.0)
+    }
+
+    /// The hidden vertices, in increasing order.
+    pub fn hidden_vertices(&self) -> impl Iterator<Item = VertexId> + '_ {
+        self.vertices().filter(|&v| self.is_hidden(v))
+    }
+
     /// The dimension of the affine hull of the vertices (-1 when empty); cells exist only at 3.
     pub fn dimension(&self) -> i32 {
         match &self.lower {
@@ -260,9 +304,11 @@ impl Delaunay3 {
         }
     }
 
+    /// Inserts the validated point `p` of weight `w` (0 for Delaunay).
     fn insert_validated(
         &mut self,
         p: Point3,
+        w: f64,
         hint: Option<CellId>,
         report: Option<&mut InsertReport>,
     ) -> Result<InsertOutcome, TriangulationError> {
@@ -270,27 +316,60 @@ impl Delaunay3 {
             return Err(TriangulationError::TooManyElements);
         }
         if let Some(lower) = &self.lower {
-            if let Some(&v) = lower.seen.get(&coordinate_key(p)) {
-                return Ok(InsertOutcome::Duplicate(VertexId(v)));
+            if let Some(&u) = lower.seen.get(&coordinate_key(p)) {
+                let wu = self.kernel.weight(u);
+                if w == wu {
+                    return Ok(InsertOutcome::Duplicate(VertexId(u)));
+                }
+                // Same position, different weights: the heavier one takes the place.
+                let v = self.push_vertex(p, w);
+                if w < wu {
+                    self.kernel.hide(v);
+                    return Ok(InsertOutcome::Hidden(VertexId(v)));
+                }
+                self.replace_lower_dimensional(u, v);
+                if let Some(rep) = report {
+                    rep.hidden.push(VertexId(u));
+                }
+                return Ok(InsertOutcome::Inserted(VertexId(v)));
             }
-            let v = self.push_vertex(p);
+            let v = self.push_vertex(p, w);
             self.insert_new_vertex(v, hint, report);
             return Ok(InsertOutcome::Inserted(VertexId(v)));
         }
         let start = self.locate_cell(p, hint.map(|c| c.0));
         let rec = &self.cells[start as usize];
         if !Self::is_infinite_record(rec)
-            && let Some(&v) = rec.v.iter().find(|&&v| self.pt(v) == p)
+            && let Some(&u) = rec.v.iter().find(|&&u| self.pt(u) == p)
         {
-            return Ok(InsertOutcome::Duplicate(VertexId(v)));
+            // A heavier point at the same position hides `u` through the ordinary cavity (every
+            // cell around `u` conflicts with it); a lighter one is hidden below.
+            if w == self.kernel.weight(u) {
+                return Ok(InsertOutcome::Duplicate(VertexId(u)));
+            }
         }
-        let v = self.push_vertex(p);
-        self.star_from(v, start, report);
-        Ok(InsertOutcome::Inserted(VertexId(v)))
+        let v = self.push_vertex(p, w);
+        if self.insert_at(v, start, report) {
+            Ok(InsertOutcome::Inserted(VertexId(v)))
+        } else {
+            Ok(InsertOutcome::Hidden(VertexId(v)))
+        }
     }
 
-    fn push_vertex(&mut self, p: Point3) -> u32 {
+    /// Stars new vertex `v` from located cell `start`, or hides it if it conflicts with nothing
+    /// (only possible with weights). Returns whether `v` is in the triangulation.
+    fn insert_at(&mut self, v: u32, start: u32, report: Option<&mut InsertReport>) -> bool {
+        if K::WEIGHTED && !self.in_conflict(start, self.pt(v), self.kernel.weight(v)) {
+            self.kernel.hide(v);
+            return false;
+        }
+        self.star_from(v, start, report);
+        true
+    }
+
+    fn push_vertex(&mut self, p: Point3, w: f64) -> u32 {
         self.filter.include(p);
+        self.kernel.push_vertex(w);
         self.points.push(p);
         self.vertex_cell.push(NO_CELL);
         (self.points.len() - 1) as u32
@@ -307,7 +386,7 @@ impl Delaunay3 {
             self.add_lower_dimensional(v, report);
         } else {
             let start = self.locate_cell(self.pt(v), hint.map(|c| c.0));
-            self.star_from(v, start, report);
+            self.insert_at(v, start, report);
         }
     }
 
@@ -332,9 +411,29 @@ impl Delaunay3 {
         }
         lower.basis.push(v);
         if lower.basis.len() == 4 {
+            // Vertices hidden earlier were reported by the insertions that hid them.
+            let hidden_before: Vec<VertexId> = self.hidden_vertices().collect();
             self.build_first_cells();
             if let Some(report) = report {
                 report.created.extend(self.cells());
+                report.hidden.extend(
+                    self.hidden_vertices()
+                        .filter(|h| hidden_before.binary_search(h).is_err()),
+                );
+            }
+        }
+    }
+
+    /// Puts vertex `v` in place of `u` (same position, lighter) while there are no cells.
+    fn replace_lower_dimensional(&mut self, u: u32, v: u32) {
+        self.kernel.hide(u);
+        let lower = self.lower.as_mut().expect("lower-dimensional phase");
+        lower
+            .seen
+            .insert(coordinate_key(self.points[v as usize]), v);
+        for x in lower.basis.iter_mut().chain(lower.pending.iter_mut()) {
+            if *x == u {
+                *x = v;
             }
         }
     }
@@ -378,7 +477,7 @@ impl Delaunay3 {
         for i in brio_order(&pending_points, BRIO_SEED) {
             let v = pending[i as usize];
             let start = self.locate_cell(self.pt(v), None);
-            self.star_from(v, start, None);
+            self.insert_at(v, start, None);
         }
     }
 
@@ -445,8 +544,9 @@ impl Delaunay3 {
     }
 
     /// Visibility walk: a finite cell whose closure contains `p`, or an infinite cell whose hull
-    /// facet has `p` strictly beyond it. Terminates on Delaunay triangulations; the random first
-    /// facet only shortens walks. Requires cells to exist.
+    /// facet has `p` strictly beyond it. Terminates on Delaunay triangulations; on regular ones
+    /// a deterministic visibility walk could cycle, and the per-point pseudo-random facet order
+    /// (a stochastic walk) is what makes it terminate. Requires cells to exist.
     fn locate_cell(&self, p: Point3, hint: Option<u32>) -> u32 {
         let mut c = match hint {
             Some(h) if self.live(h) => h,
@@ -503,61 +603,42 @@ impl Delaunay3 {
         }
     }
 
-    /// Whether `p` conflicts with cell `c` (its perturbed circumsphere strictly contains `p`).
+    /// Whether `(p, w)` conflicts with cell `c` (negative power distance to its perturbed
+    /// orthogonal sphere; with zero weights, strictly inside its perturbed circumsphere).
     #[inline]
-    fn in_conflict(&self, c: u32, p: Point3) -> bool {
+    pub(crate) fn in_conflict(&self, c: u32, p: Point3, w: f64) -> bool {
         let v = self.cells[c as usize].v;
         // The infinite vertex is the largest index: one comparison tells infinite cells apart.
         if v[0].max(v[1]).max(v[2].max(v[3])) == INFINITE {
-            return self.in_conflict_infinite(v, p);
+            return self.in_conflict_infinite(v, p, w);
         }
-        let pts = &self.points;
-        let (a, b, c, d) = (
-            pts[v[0] as usize],
-            pts[v[1] as usize],
-            pts[v[2] as usize],
-            pts[v[3] as usize],
-        );
-        match self.filter.insphere_static(a, b, c, d, p) {
-            Some(s) => s == Sign::Positive,
-            None => self.in_conflict_refined(v, p),
-        }
-    }
-
-    /// [`Self::vertices_in_conflict`] for a finite cell when the static filter cannot decide.
-    #[cold]
-    #[inline(never)]
-    fn in_conflict_refined(&self, v: [u32; 4], p: Point3) -> bool {
-        let q = v.map(|w| self.pt(w));
-        match self.filter.insphere(q[0], q[1], q[2], q[3], p) {
-            Sign::Positive => true,
-            Sign::Negative => false,
-            Sign::Zero => in_sphere_perturbed(q, p),
-        }
+        self.kernel
+            .in_conflict_finite(&self.filter, &self.points, v, p, w)
     }
 
     /// [`Self::in_conflict`] for an infinite cell with vertices `v`.
     #[inline(never)]
-    fn in_conflict_infinite(&self, v: [u32; 4], p: Point3) -> bool {
+    fn in_conflict_infinite(&self, v: [u32; 4], p: Point3, w: f64) -> bool {
         let i = v.iter().position(|&w| w == INFINITE).unwrap_or(0);
         let mut t = [p; 4];
-        let mut tri = [p; 3];
+        let mut tri = [0u32; 3];
         let mut k = 0;
-        for (j, &w) in v.iter().enumerate() {
+        for (j, &x) in v.iter().enumerate() {
             if j != i {
-                t[j] = self.pt(w);
-                tri[k] = t[j];
+                t[j] = self.pt(x);
+                tri[k] = x;
                 k += 1;
             }
         }
         let o = self.filter.orient3d(t[0], t[1], t[2], t[3]);
-        beyond_hull_facet_perturbed(tri, o, p)
+        self.kernel.beyond_hull_facet(&self.points, tri, o, p, w)
     }
 
-    /// Grows the conflict zone of `p` from `start` (which must conflict with `p`).
+    /// Grows the conflict zone of the weighted point `q` (weight 0 for Delaunay) from `start`
+    /// (which must conflict with `q`).
     fn find_cavity<M: CavityMarks>(
         &self,
-        p: Point3,
+        q: WeightedPoint3,
         start: u32,
         marks: &mut M,
         stack: &mut Vec<u32>,
@@ -578,7 +659,7 @@ impl Delaunay3 {
                     Some(true) => {}
                     Some(false) => boundary.push((c, i as u8)),
                     None => {
-                        if self.in_conflict(n, p) {
+                        if self.in_conflict(n, q.point, q.weight) {
                             marks.set_in(n);
                             stack.push(n);
                             cavity.push(n);
@@ -595,11 +676,12 @@ impl Delaunay3 {
     /// Inserts vertex `v` (already in `points`) by starring its cavity, grown from `start`.
     fn star_from(&mut self, v: u32, start: u32, mut report: Option<&mut InsertReport>) {
         let p = self.pt(v);
+        let w = self.kernel.weight(v);
         let mut s = std::mem::take(&mut self.scratch);
         {
             let mut marks = ByteMarks::new(&mut s.mark, self.cells.len());
             self.find_cavity(
-                p,
+                WeightedPoint3::new(p, w),
                 start,
                 &mut marks,
                 &mut s.stack,
@@ -623,6 +705,9 @@ impl Delaunay3 {
         self.num_finite -= s.cavity.len() - removed_infinite;
         if let Some(rep) = report.as_deref_mut() {
             rep.removed.extend(s.cavity.iter().map(|&c| CellId(c)));
+        }
+        if K::WEIGHTED {
+            self.hide_swallowed(&mut s, report.as_deref_mut());
         }
         s.edges.clear(s.new_cells.len());
         let reused = s.cavity.len().min(s.new_cells.len());
@@ -681,15 +766,52 @@ impl Delaunay3 {
         }
         self.scratch = s;
     }
+
+    /// Hides the vertices of cavity cells that lie on no cavity-boundary facet: the new vertex's
+    /// power cell swallows theirs. Called before the cavity is re-triangulated.
+    fn hide_swallowed(&mut self, s: &mut Scratch, report: Option<&mut InsertReport>) {
+        // Stamp the boundary vertices, then collect the unstamped cavity vertices once each.
+        if s.vertex_stamp.len() < self.points.len() {
+            s.vertex_stamp.resize(self.points.len(), 0);
+        }
+        if s.stamp == u32::MAX {
+            s.vertex_stamp.fill(0);
+            s.stamp = 0;
+        }
+        s.stamp += 1;
+        let stamp = s.stamp;
+        for (verts, _, _) in &s.new_cells {
+            for &x in verts.iter().filter(|&&x| x != INFINITE) {
+                s.vertex_stamp[x as usize] = stamp;
+            }
+        }
+        s.swallowed.clear();
+        for &c in &s.cavity {
+            for &x in self.cells[c as usize].v.iter().filter(|&&x| x != INFINITE) {
+                if s.vertex_stamp[x as usize] != stamp {
+                    s.vertex_stamp[x as usize] = stamp;
+                    s.swallowed.push(x);
+                }
+            }
+        }
+        for &x in &s.swallowed {
+            self.kernel.hide(x);
+            self.vertex_cell[x as usize] = NO_CELL;
+        }
+        if let Some(rep) = report {
+            rep.hidden.extend(s.swallowed.iter().map(|&x| VertexId(x)));
+        }
+    }
 }
 
-impl Triangulation for Delaunay3 {
+impl<K: ConflictKernel> Triangulation for Triangulation3<K> {
     type Point = Point3;
     type Cell = [VertexId; 4];
 
+    /// Inserts `p` (with weight 0 in a regular triangulation).
     fn insert(&mut self, p: Point3) -> Result<InsertOutcome, TriangulationError> {
         validate_point(p, self.points.len())?;
-        self.insert_validated(p, None, None)
+        self.insert_validated(p, 0.0, None, None)
     }
 
     fn insert_reporting(
@@ -700,7 +822,7 @@ impl Triangulation for Delaunay3 {
     ) -> Result<InsertOutcome, TriangulationError> {
         report.clear();
         validate_point(p, self.points.len())?;
-        self.insert_validated(p, hint, Some(report))
+        self.insert_validated(p, 0.0, hint, Some(report))
     }
 
     fn locate(&self, p: Point3, hint: Option<CellId>) -> Option<CellId> {
@@ -719,10 +841,14 @@ impl Triangulation for Delaunay3 {
         if !Self::is_infinite_record(r) && r.v.iter().any(|&v| self.pt(v) == p) {
             return;
         }
+        // A weight-0 point is hidden when its own cell does not conflict with it.
+        if K::WEIGHTED && !self.in_conflict(start.0, p, 0.0) {
+            return;
+        }
         let mut marks = HashMarks::default();
         let (mut stack, mut cavity, mut boundary) = (Vec::new(), Vec::new(), Vec::new());
         self.find_cavity(
-            p,
+            WeightedPoint3::new(p, 0.0),
             start.0,
             &mut marks,
             &mut stack,
@@ -790,9 +916,14 @@ impl Triangulation for Delaunay3 {
             .map(|(c, _)| CellId(c as u32))
     }
 
+    /// The circumcentre, or for [`Regular3`] the orthocentre (equal power distance to the four
+    /// weighted vertices).
     fn circumcenter(&self, c: CellId) -> Point3 {
-        let [a, b, c, d] = self.cells[c.0 as usize].v.map(|v| self.pt(v));
-        circumcenter3(a, b, c, d)
+        self.kernel.center(&self.points, self.cells[c.0 as usize].v)
+    }
+
+    fn weight(&self, v: VertexId) -> f64 {
+        self.kernel.weight(v.0)
     }
 
     fn incident_cells(&self, v: VertexId, out: &mut Vec<CellId>) {
@@ -830,7 +961,7 @@ impl Triangulation for Delaunay3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::triangulation::validity::{ValidityError, check_delaunay3};
+    use crate::triangulation::validity::{ValidityError, check_delaunay3, check_regular3};
 
     fn lattice_with_jitter() -> Delaunay3 {
         let mut pts = Vec::new();
@@ -887,6 +1018,60 @@ mod tests {
         // Move a vertex deep inside a neighbouring circumsphere without changing combinatorics.
         dt.points[4] = Point3::new(0.3, 0.3, 0.3);
         assert!(check_delaunay3(&dt).is_err());
+    }
+
+    /// A regular triangulation of a jittered lattice with weights, some of them hidden.
+    fn weighted_lattice() -> Regular3 {
+        let pts: Vec<(Point3, f64)> = (0..125u32)
+            .map(|i| {
+                let (x, y, z) = (i % 5, i / 5 % 5, i / 25);
+                let jitter = f64::from((i * 7919) % 13) * 1e-3;
+                let p = Point3::new(f64::from(x) + jitter, f64::from(y), f64::from(z) - jitter);
+                (p, f64::from((i * 104_729) % 17) * 0.3)
+            })
+            .collect();
+        Regular3::from_weighted_points(&pts).unwrap().0
+    }
+
+    #[test]
+    fn the_regular_checker_accepts_a_valid_triangulation() {
+        let rt = weighted_lattice();
+        assert!(rt.hidden_vertices().count() > 0);
+        assert_eq!(check_regular3(&rt), Ok(()));
+    }
+
+    #[test]
+    fn the_regular_checker_detects_a_wrong_weight() {
+        let mut rt = weighted_lattice();
+        let v = rt.vertices().find(|&v| !rt.is_hidden(v)).unwrap();
+        rt.kernel.state_mut().0[v.0 as usize] += 10.0;
+        assert!(matches!(
+            check_regular3(&rt),
+            Err(ValidityError::NotDelaunay { .. })
+        ));
+    }
+
+    #[test]
+    fn the_regular_checker_detects_a_vertex_that_should_not_be_hidden() {
+        let mut rt = weighted_lattice();
+        let h = rt.hidden_vertices().next().unwrap();
+        rt.kernel.state_mut().0[h.0 as usize] += 10.0;
+        assert!(matches!(
+            check_regular3(&rt),
+            Err(ValidityError::NotHidden { vertex, .. }) if vertex == h
+        ));
+    }
+
+    #[test]
+    fn the_regular_checker_detects_wrong_hidden_flags() {
+        let mut rt = weighted_lattice();
+        let h = rt.hidden_vertices().next().unwrap();
+        rt.kernel.state_mut().1[h.0 as usize] = false;
+        assert_eq!(check_regular3(&rt), Err(ValidityError::IsolatedVertex(h)));
+        let mut rt = weighted_lattice();
+        let v = rt.vertices().find(|&v| !rt.is_hidden(v)).unwrap();
+        rt.kernel.state_mut().1[v.0 as usize] = true;
+        assert_eq!(check_regular3(&rt), Err(ValidityError::HiddenInCell(v)));
     }
 
     #[test]
