@@ -436,3 +436,40 @@ fn cylinder_rims_are_closed_chains_on_the_circles() {
             .all(|&d| d != VertexDimension::Corner)
     );
 }
+
+#[test]
+fn zz_debug() {
+    let mut o = options(0.25);
+    o.limits.max_vertices = 5000;
+    o.keep_partial = true;
+    let r = mesh_domain(&Cylinder, &o, &mut |p| eprintln!("{:?}", p));
+    match r {
+        Ok(o) => eprintln!("{:?}", o.stats),
+        Err(delamesh_core::refine::MeshError::Refinement {
+            partial: Some(c), ..
+        }) => {
+            let c = *c;
+            let mut counts = [0usize; 4];
+            for d in &c.vertex_dimension {
+                counts[*d as usize] += 1;
+            }
+            eprintln!(
+                "dims {counts:?} tets {} facets {}",
+                c.tets.len(),
+                c.facets.len()
+            );
+            // where are the volume vertices / surface vertices concentrated?
+            let mut hist = [0usize; 10];
+            for (p, d) in c.points.iter().zip(&c.vertex_dimension) {
+                if *d == VertexDimension::Surface {
+                    let r = p.truncate().length();
+                    let dz = p.z.min(1.0 - p.z);
+                    let dist = (1.0 - r).hypot(dz);
+                    hist[((dist * 20.0) as usize).min(9)] += 1;
+                }
+            }
+            eprintln!("surface vertex distance-to-rim histogram (0.05 bins) {hist:?}");
+        }
+        Err(e) => eprintln!("{e}"),
+    }
+}

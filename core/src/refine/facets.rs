@@ -11,7 +11,7 @@ use super::criteria::FacetCriteria;
 use super::engine::{Candidate, Check, MesherLevel};
 use super::geometry::{
     cell_vertices, crowds_a_vertex, facet_vertices, is_same_cell, triangle_circumcenter,
-    triangle_min_angle_deg,
+    triangle_min_angle_deg, weighted_triangle_circumcenter,
 };
 use super::queue::RefineQueue;
 use crate::kernel::Point3;
@@ -203,6 +203,10 @@ impl<'o> SurfaceLevel<'o> {
             return Some(URGENT);
         }
         let [a, b, c] = fv.map(|v| tr.point(v));
+        let weights = fv.map(|v| tr.weight(v));
+        // With weights (protecting balls), shape is measured against the smallest orthogonal
+        // sphere, as CGAL does: a facet fanning around a heavy vertex is not a sliver.
+        let weighted = weights != [0.0; 3];
         let r = ball.radius2.sqrt();
         let size = self.criteria.size.at(ball.center, ball.patch);
         let mut worst: Option<f64> = None;
@@ -210,15 +214,31 @@ impl<'o> SurfaceLevel<'o> {
         if r > size {
             note(r / size);
         }
+        let (center, radius2) = if weighted {
+            weighted_triangle_circumcenter([a, b, c], weights)
+        } else {
+            (triangle_circumcenter(a, b, c), 0.0)
+        };
         if self.criteria.angle_deg > 0.0 {
-            let angle = triangle_min_angle_deg(a, b, c);
+            let angle = if weighted {
+                let shortest2 = a
+                    .distance_squared(b)
+                    .min(b.distance_squared(c))
+                    .min(c.distance_squared(a));
+                (0.5 * (shortest2 / radius2.max(f64::MIN_POSITIVE)).sqrt())
+                    .min(1.0)
+                    .asin()
+                    .to_degrees()
+            } else {
+                triangle_min_angle_deg(a, b, c)
+            };
             if angle < self.criteria.angle_deg {
                 note(self.criteria.angle_deg / angle.max(1e-9));
             }
         }
         let distance = self.criteria.distance.at(ball.center, ball.patch);
         if distance.is_finite() {
-            let d = triangle_circumcenter(a, b, c).distance(ball.center);
+            let d = center.distance(ball.center);
             if d > distance {
                 note(d / distance);
             }

@@ -63,6 +63,24 @@ pub(crate) fn triangle_circumcenter(a: Point3, b: Point3, c: Point3) -> Point3 {
     a + (ac.length_squared() * n.cross(ab) + ab.length_squared() * ac.cross(n)) / (2.0 * n2)
 }
 
+/// Centre and squared radius of the smallest sphere orthogonal to three weighted points (the
+/// weighted circumcircle of a facet of a regular triangulation): the point of the triangle's
+/// plane with the same power distance to the three, and that power distance.
+pub(crate) fn weighted_triangle_circumcenter(p: [Point3; 3], w: [f64; 3]) -> (Point3, f64) {
+    let (u, v) = (p[1] - p[0], p[2] - p[0]);
+    let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
+    let (ru, rv) = (0.5 * (uu + w[0] - w[1]), 0.5 * (vv + w[0] - w[2]));
+    let det = uu * vv - uv * uv;
+    if det == 0.0 {
+        let c = (p[0] + p[1] + p[2]) / 3.0;
+        return (c, c.distance_squared(p[0]) - w[0]);
+    }
+    let alpha = (ru * vv - rv * uv) / det;
+    let beta = (rv * uu - ru * uv) / det;
+    let x = alpha * u + beta * v;
+    (p[0] + x, x.length_squared() - w[0])
+}
+
 /// Smallest angle of a triangle, in degrees.
 pub(crate) fn triangle_min_angle_deg(a: Point3, b: Point3, c: Point3) -> f64 {
     let angle = |p: Point3, q: Point3, r: Point3| (q - p).angle_between(r - p).to_degrees();
@@ -96,6 +114,24 @@ mod tests {
         let (ra, rb, rc) = (o.distance(a), o.distance(b), o.distance(c));
         assert!((ra - rb).abs() < 1e-12 && (ra - rc).abs() < 1e-12);
         assert!((o - a).dot((b - a).cross(c - a)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn weighted_circumcenter_has_equal_powers() {
+        let p = [
+            Point3::new(1.0, 0.2, 0.0),
+            Point3::new(-0.3, 2.0, 1.0),
+            Point3::new(0.5, -1.0, 2.0),
+        ];
+        let w = [0.3, 0.0, 1.1];
+        let (c, r2) = weighted_triangle_circumcenter(p, w);
+        for i in 0..3 {
+            assert!((c.distance_squared(p[i]) - w[i] - r2).abs() < 1e-12);
+        }
+        assert!((c - p[0]).dot((p[1] - p[0]).cross(p[2] - p[0])).abs() < 1e-12);
+        let (o, r2) = weighted_triangle_circumcenter(p, [0.0; 3]);
+        assert!(o.distance(triangle_circumcenter(p[0], p[1], p[2])) < 1e-12);
+        assert!((r2 - o.distance_squared(p[0])).abs() < 1e-12);
     }
 
     #[test]

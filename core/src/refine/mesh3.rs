@@ -11,7 +11,9 @@ use super::protect::{ProtectError, protect};
 use crate::complex::MeshComplex;
 use crate::kernel::Point3;
 use crate::oracle::{FeatureCurve, Oracle};
-use crate::triangulation::{Delaunay3, InsertOutcome, Triangulation, TriangulationError, VertexId};
+use crate::triangulation::{
+    Delaunay3, InsertOutcome, InsertReport, Regular3, Triangulation, TriangulationError, VertexId,
+};
 use std::time::{Duration, Instant};
 
 #[derive(Clone, Debug)]
@@ -74,8 +76,14 @@ pub fn mesh_domain(
         options,
         &curves,
         &corners,
-        Delaunay3::new(),
-        &mut |tr, p, _w| Ok(Some(tr.insert(p)?.vertex())),
+        Regular3::new(),
+        &mut |tr, p, w| {
+            let mut report = InsertReport::default();
+            Ok(match tr.insert_weighted(p, w, None, &mut report)? {
+                InsertOutcome::Inserted(v) | InsertOutcome::Duplicate(v) => Some(v),
+                InsertOutcome::Hidden(_) => None,
+            })
+        },
         progress,
     )
 }
