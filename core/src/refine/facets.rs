@@ -15,7 +15,7 @@ use super::geometry::{
 };
 use super::queue::RefineQueue;
 use crate::kernel::Point3;
-use crate::oracle::{Oracle, PatchId, SurfaceHit};
+use crate::oracle::{Aabb, Oracle, PatchId, SurfaceHit};
 use crate::triangulation::{CellId, ConflictZone, InsertReport, Triangulation, VertexId};
 
 /// An empty ball centred on the boundary, through the vertices of a restricted facet.
@@ -48,6 +48,10 @@ pub struct SurfaceLevel<'o> {
     balls: Vec<[Option<SurfaceBall>; 4]>,
     /// Vertices lying on the boundary (P0 and surface-ball centres), indexed by `VertexId`.
     on_surface: Vec<bool>,
+    /// When set, dual Voronoi edges are clipped to this box (the domain's, enlarged) before the
+    /// oracle is asked: a regular triangulation of protecting balls has nearly flat cells whose
+    /// orthocentres lie ~1e16 away, and a segment from there loses every digit of the crossing.
+    clip: Option<Aabb>,
     /// Patch of each surface vertex when patches are checked (rule R3 of chapter 4), indexed by
     /// `VertexId`; 0 for vertices on curves and corners, which lie on several patches.
     vertex_patch: Option<Vec<PatchId>>,
@@ -71,6 +75,7 @@ impl<'o> SurfaceLevel<'o> {
             balls: Vec::new(),
             on_surface: Vec::new(),
             vertex_patch: None,
+            clip: None,
             queue: RefineQueue::default(),
             created_mark: Vec::new(),
             stamp: 0,
@@ -86,6 +91,12 @@ impl<'o> SurfaceLevel<'o> {
     /// domains, whose patches meet along sharp curves.
     pub fn check_patches(mut self) -> Self {
         self.vertex_patch = Some(Vec::new());
+        let b = self.oracle.bounding_box();
+        let margin = Point3::splat(0.1 * b.diagonal());
+        self.clip = Some(Aabb {
+            min: b.min - margin,
+            max: b.max + margin,
+        });
         self
     }
 
@@ -167,17 +178,38 @@ impl<'o> SurfaceLevel<'o> {
         // vertices' balls rather than through their centres.
         let w = tr.weight(fv[0]);
         self.hits.clear();
-        match there {
-            Some(p) => self.oracle.segment_hits(here, p, &mut self.hits),
-            None => {
-                let mut normal = (b - a).cross(d - a);
-                if normal.dot(tr.point(cell[i]) - a) > 0.0 {
-                    normal = -normal;
+        if let Some(clip) = self.clip {
+            // The dual edge lies on the line through the facet's weighted circumcentre along
+            // its normal; the orthocentres only bound it. Querying that line from near the
+            // domain keeps the crossing exact when an orthocentre is far away.
+            let mut normal = (b - a).cross(d - a);
+            if normal.dot(tr.point(cell[i]) - a) > 0.0 {
+                normal = -normal;
+            }
+            let len = normal.length();
+            if len == 0.0 {
+                return None;
+            }
+            let normal = normal / len;
+            let (center, _) = weighted_triangle_circumcenter([a, b, d], fv.map(|v| tr.weight(v)));
+            let t0 = (here - center).dot(normal);
+            let t1 = there.map_or(f64::INFINITY, |p| (p - center).dot(normal));
+            if let Some((p, q)) = clip_line(center, normal, t0.min(t1), t0.max(t1), &clip) {
+                self.oracle.segment_hits(p, q, &mut self.hits);
+            }
+        } else {
+            match there {
+                Some(p) => self.oracle.segment_hits(here, p, &mut self.hits),
+                None => {
+                    let mut normal = (b - a).cross(d - a);
+                    if normal.dot(tr.point(cell[i]) - a) > 0.0 {
+                        normal = -normal;
+                    }
+                    if normal.length_squared() == 0.0 {
+                        return None;
+                    }
+                    self.oracle.ray_hits(here, normal, &mut self.hits);
                 }
-                if normal.length_squared() == 0.0 {
-                    return None;
-                }
-                self.oracle.ray_hits(here, normal, &mut self.hits);
             }
         }
         self.hits
@@ -284,6 +316,23 @@ impl<'o> SurfaceLevel<'o> {
             })
         })
     }
+}
+
+/// The part of the line `o + t d`, `t ∈ [t0, t1]`, inside `clip` (slab method), as a segment.
+fn clip_line(o: Point3, d: Point3, t0: f64, t1: f64, clip: &Aabb) -> Option<(Point3, Point3)> {
+    let (mut t0, mut t1) = (t0, t1);
+    for k in 0..3 {
+        if d[k] == 0.0 {
+            if o[k] < clip.min[k] || o[k] > clip.max[k] {
+                return None;
+            }
+            continue;
+        }
+        let (a, b) = ((clip.min[k] - o[k]) / d[k], (clip.max[k] - o[k]) / d[k]);
+        t0 = t0.max(a.min(b));
+        t1 = t1.min(a.max(b));
+    }
+    (t0 <= t1 && t0.is_finite() && t1.is_finite()).then(|| (o + t0 * d, o + t1 * d))
 }
 
 impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for SurfaceLevel<'o> {
