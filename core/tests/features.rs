@@ -395,7 +395,8 @@ fn sharp_wedges_terminate_with_their_curves_and_corners() {
         let exact = 0.5 * 0.5 * degrees.to_radians().sin();
         assert!(
             (volume(&m) - exact).abs() < 1e-9 * exact.max(1.0),
-            "{degrees}°: volume"
+            "{degrees}°: volume {} instead of {exact}",
+            volume(&m)
         );
     }
 }

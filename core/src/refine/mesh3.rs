@@ -133,7 +133,7 @@ pub fn mesh_with_features<T: Triangulation<Point = Point3>>(
     let min_radius = MIN_BALL_FRACTION * oracle.bounding_box().diagonal();
     let protection = protect(curves, corners, &options.criteria.edge_size, min_radius)?;
     let mut surface = SurfaceLevel::new(oracle, options.criteria.facet.clone()).check_patches();
-    let cells = CellLevel::new(oracle, options.criteria.cell.clone());
+    let cells = CellLevel::new(oracle, options.criteria.cell.clone()).outside_box();
     let mut vertices = Vec::with_capacity(protection.balls.len());
     for b in &protection.balls {
         let v =
