@@ -87,8 +87,10 @@ fn polyhedral_plugin_library_writes_the_bytes_of_the_built_in_oracle() {
         dir.path().join("built-in.vtu"),
         dir.path().join("loaded.vtu"),
     );
+    // The polyhedral oracle is the smooth one: the cube's edges are no features.
     delamesh()
         .arg(&cube)
+        .arg("--no-features")
         .arg("-o")
         .arg(&built_in)
         .assert()
@@ -108,6 +110,59 @@ fn polyhedral_plugin_library_writes_the_bytes_of_the_built_in_oracle() {
     );
     assert!(!a.is_empty());
     assert!(a == b, "static and dynamic meshes of the same cube differ");
+}
+
+#[test]
+fn piecewise_smooth_plugin_library_writes_the_bytes_of_the_default_oracle() {
+    let library = common::rust_plugin(
+        "delamesh-piecewise-smooth",
+        "delamesh_piecewise_smooth",
+        &["cdylib"],
+    );
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let cube = dir.path().join("cube.off");
+    std::fs::write(&cube, CUBE_OFF).expect("write the cube");
+    let (built_in, loaded) = (
+        dir.path().join("built-in.vtu"),
+        dir.path().join("loaded.vtu"),
+    );
+    delamesh()
+        .arg(&cube)
+        .args(["--feature-angle", "45"])
+        .arg("-o")
+        .arg(&built_in)
+        .assert()
+        .success();
+    delamesh()
+        .arg("--plugin")
+        .arg(&library)
+        .arg("--plugin-config")
+        .arg(format!("{}\nfeature-angle=45", cube.display()))
+        .arg("-o")
+        .arg(&loaded)
+        .assert()
+        .success();
+    let (a, b) = (
+        std::fs::read(&built_in).expect("static output"),
+        std::fs::read(&loaded).expect("dynamic output"),
+    );
+    assert!(!a.is_empty());
+    assert!(a == b, "static and dynamic meshes of the same cube differ");
+    // A bad configuration is reported, naming the problem.
+    let bad = delamesh()
+        .arg("--plugin")
+        .arg(&library)
+        .arg("--plugin-config")
+        .arg(format!("{}\nfeature-angle=wide", cube.display()))
+        .arg("-o")
+        .arg(dir.path().join("bad.vtu"))
+        .assert()
+        .failure()
+        .get_output()
+        .stderr
+        .clone();
+    let bad = String::from_utf8_lossy(&bad);
+    assert!(bad.contains("feature-angle"), "{bad}");
 }
 
 #[test]

@@ -90,6 +90,21 @@ fn volume_json(v: &TetMesh) -> Value {
     })
 }
 
+/// Sharp features at the default angle, as `delamesh mesh` would find them (surfaces only).
+fn features_json(s: &SurfaceMesh) -> Value {
+    use delamesh_piecewise_smooth::{DEFAULT_FEATURE_ANGLE_DEG, FeatureOptions, Features};
+    match Features::extract(s, &FeatureOptions::default(), &[]) {
+        Ok(f) => json!({
+            "angle_deg": DEFAULT_FEATURE_ANGLE_DEG,
+            "curves": f.curves.len(),
+            "closed_curves": f.curves.iter().filter(|c| c.closed).count(),
+            "corners": f.corners.len(),
+            "patches": f.num_patches,
+        }),
+        Err(_) => Value::Null,
+    }
+}
+
 pub fn run(args: InfoArgs) -> Result<()> {
     let read = delamesh_formats::read(&args.input, args.format)?;
     let (surface, volume, kind) = match &read.mesh {
@@ -114,6 +129,7 @@ pub fn run(args: InfoArgs) -> Result<()> {
         "patches": patches_json(&surface),
         "topology": topology_json(&topo),
         "volume_mesh": volume.map_or(Value::Null, volume_json),
+        "features": if volume.is_none() { features_json(&surface) } else { Value::Null },
         "warnings": read.warnings,
     });
     if args.json {
@@ -180,6 +196,12 @@ fn print_text(r: &Value, t: &Topology) {
         "  signed volume: {}   degenerate triangles: {}",
         t.signed_volume, t.degenerate_triangles
     );
+    if let Some(f) = r["features"].as_object() {
+        println!(
+            "  features at {}°: {} curves ({} closed), {} corners, {} patches",
+            f["angle_deg"], f["curves"], f["closed_curves"], f["corners"], f["patches"]
+        );
+    }
     for w in r["warnings"].as_array().into_iter().flatten() {
         println!("  warning: {}", w.as_str().unwrap_or_default());
     }

@@ -6,6 +6,7 @@
 mod conform2d;
 mod convert;
 mod delaunay;
+mod domain;
 mod info;
 mod mesh;
 mod mesh2d;

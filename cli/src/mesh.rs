@@ -1,9 +1,10 @@
 //! `delamesh mesh`: a quality tetrahedral mesh of the volume bounded by a closed surface.
 
+use crate::domain::{Domain, FeatureArgs};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use delamesh_core::complex::MeshComplex;
-use delamesh_core::oracle::{Oracle, PatchId};
+use delamesh_core::oracle::Oracle;
 use delamesh_core::quality::{self, TetQuality};
 use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
 use delamesh_core::refine::{Limits, MeshError, MeshOptions, MeshOutcome, Progress, mesh_domain};
@@ -53,6 +54,17 @@ pub struct MeshArgs {
     /// Write a JSON report (counts, timings, quality, approximation, topology) here.
     #[arg(long)]
     pub report: Option<PathBuf>,
+    /// Edges whose two triangles' normals differ by more than this many degrees are sharp
+    /// features, kept as curves in the mesh (as CGAL's detect_features).
+    #[arg(long, value_name = "DEG", default_value_t = delamesh_piecewise_smooth::DEFAULT_FEATURE_ANGLE_DEG)]
+    pub feature_angle: f64,
+    /// More feature curves: polylines along surface edges, CGAL's .polylines.txt format (one per
+    /// line: `n x1 y1 z1 ... xn yn zn`).
+    #[arg(long, value_name = "FILE", conflicts_with = "no_features")]
+    pub features: Option<PathBuf>,
+    /// Mesh the surface as smooth: no feature curves nor corners.
+    #[arg(long)]
+    pub no_features: bool,
     /// ASCII instead of binary for .vtu / .vtk.
     #[arg(long)]
     pub ascii: bool,
@@ -78,19 +90,16 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     times.read = t.elapsed();
 
     let t = Instant::now();
-    // The oracle numbers patches from 1 (0 marks facets of no patch in the output).
-    let patches: Vec<PatchId> = surface.patches.iter().map(|p| p.0 + 1).collect();
-    let oracle = PolyhedralOracle::new(&surface.positions, &surface.triangles, Some(&patches))
-        .map_err(|e| {
-            anyhow::anyhow!(
-                "{}: cannot mesh this surface: {e}\n(run `delamesh info {}` for a full diagnosis)",
-                input.display(),
-                input.display()
-            )
-        })?;
+    let features = FeatureArgs {
+        enabled: !args.no_features,
+        angle_deg: args.feature_angle,
+        polylines: args.features.as_deref(),
+    };
+    let domain = Domain::new(input, &surface, &features)?;
+    let oracle = domain.oracle();
     times.oracle = t.elapsed();
 
-    let criteria = criteria(args, &oracle)?;
+    let criteria = criteria(args, oracle)?;
     let options = MeshOptions {
         criteria: criteria.clone(),
         limits: Limits {
@@ -113,7 +122,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         ));
         bar.tick();
     };
-    let outcome = mesh_domain(&oracle, &options, &mut on_progress);
+    let outcome = mesh_domain(oracle, &options, &mut on_progress);
     bar.finish_and_clear();
     let (outcome, partial_error) = match outcome {
         Ok(o) => (o, None),
@@ -157,7 +166,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             args,
             &surface.positions,
             &surface.triangles,
-            &oracle,
+            domain.polyhedral(),
             &criteria,
             &outcome,
         );

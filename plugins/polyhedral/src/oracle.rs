@@ -144,18 +144,18 @@ impl PolyhedralOracle {
     /// each component with respect to all the others; and the volume of the domain.
     fn label_components(&mut self, n: usize) -> Result<(), PolyhedralError> {
         let mut volume = vec![0.0f64; n];
-        let mut probe = vec![None; n];
+        let mut members: Vec<Vec<usize>> = vec![Vec::new(); n];
         for (t, tri) in self.triangles.iter().enumerate() {
             let k = self.component[t] as usize;
             volume[k] += tri[0].dot(tri[1].cross(tri[2])) / 6.0;
-            probe[k].get_or_insert(tri[0]);
+            members[k].push(t);
         }
         if let Some(k) = volume.iter().position(|&v| v == 0.0) {
             return Err(PolyhedralError::FlatComponent(k));
         }
         // around[k]: winding number of every component around component k.
         let around: Vec<Vec<i32>> = (0..n)
-            .map(|k| self.windings(probe[k].unwrap_or(DVec3::ZERO), Some(k as u32), n))
+            .map(|k| self.windings_around(k as u32, &members[k], n))
             .collect();
         self.depth = around
             .iter()
@@ -186,12 +186,35 @@ impl PolyhedralOracle {
         Ok(())
     }
 
+    /// Winding numbers of the other components around component `k` (triangles `members`), probed
+    /// at a point of `k`: its first vertex, or when that lies on another component (components
+    /// sharing a face, see [`surface_defects`]) the centroid of the first triangle of `k` that
+    /// lies on no other component.
+    fn windings_around(&self, k: u32, members: &[usize], n: usize) -> Vec<i32> {
+        let first = members
+            .first()
+            .map_or(DVec3::ZERO, |&t| self.triangles[t][0]);
+        let (w, resolved) = self.windings(first, Some(k), n);
+        if resolved {
+            return w;
+        }
+        for &t in members {
+            let [a, b, c] = self.triangles[t];
+            let (w, resolved) = self.windings((a + b + c) / 3.0, Some(k), n);
+            if resolved {
+                return w;
+            }
+        }
+        w
+    }
+
     /// Winding number of each component around `p` (components numbered `0..n`), ignoring
-    /// `skip` (used for points lying on that component). Exact: a ray through an edge or a vertex
-    /// is replaced by another one.
-    fn windings(&self, p: DVec3, skip: Option<u32>, n: usize) -> Vec<i32> {
+    /// `skip` (used for points lying on that component), and whether a ray avoided every edge and
+    /// vertex. Exact: a ray through an edge or a vertex is replaced by another one.
+    fn windings(&self, p: DVec3, skip: Option<u32>, n: usize) -> (Vec<i32>, bool) {
         let reach = 2.0 * (self.bbox.diagonal() + p.distance(self.bbox.center())) + 1.0;
         let mut w = vec![0i32; n];
+        let mut resolved = false;
         for attempt in 0..64 {
             // First towards the nearest side of the box (the shortest walk through the tree),
             // slightly tilted off the axis; then along well-spread directions.
@@ -216,10 +239,11 @@ impl PolyhedralOracle {
                 }
             });
             if !degenerate {
+                resolved = true;
                 break;
             }
         }
-        w
+        (w, resolved)
     }
 
     /// A point just outside the bounding box, beyond its side nearest to `p`.
@@ -395,7 +419,7 @@ impl Oracle for PolyhedralOracle {
         if !p.is_finite() || !self.bbox.contains(p) {
             return OUTSIDE;
         }
-        let w = self.windings(p, None, self.depth.len());
+        let (w, _) = self.windings(p, None, self.depth.len());
         w.iter()
             .enumerate()
             .filter(|&(_, &x)| x != 0)

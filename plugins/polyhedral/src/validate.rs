@@ -85,8 +85,15 @@ fn first_intersection(points: &[DVec3], triangles: &[[u32; 3]]) -> Option<(usize
 /// Do two triangles cross? Triangles sharing an edge never do (a fold onto itself is not
 /// detected); triangles sharing a vertex cross when the edge opposite the shared vertex of one
 /// passes through the other.
+///
+/// Vertices are shared when their indices or their coordinates are equal, so that closed components
+/// touching along a common face (each with its own copy of the face, as the piecewise-smooth
+/// plugin gives two subdomains sharing an interface) are not mistaken for crossing ones. Coincident
+/// triangles share all three vertices and never cross.
 fn triangles_cross(ti: &[u32; 3], gi: &[DVec3; 3], tj: &[u32; 3], gj: &[DVec3; 3]) -> bool {
-    let shared = ti.iter().filter(|v| tj.contains(v)).count();
+    let shared = (0..3)
+        .filter(|&a| (0..3).any(|b| ti[a] == tj[b] || gi[a] == gj[b]))
+        .count();
     let hits = |edge: (DVec3, DVec3), g: &[DVec3; 3], strict: bool| match segment_crossing(
         edge.0, edge.1, g,
     ) {
@@ -99,11 +106,13 @@ fn triangles_cross(ti: &[u32; 3], gi: &[DVec3; 3], tj: &[u32; 3], gj: &[DVec3; 3
             hits((gi[k], gi[(k + 1) % 3]), gj, false) || hits((gj[k], gj[(k + 1) % 3]), gi, false)
         }),
         1 => {
-            let opposite = |t: &[u32; 3], g: &[DVec3; 3], other: &[u32; 3]| {
-                let k = (0..3).find(|&k| other.contains(&t[k])).unwrap_or(0);
+            let opposite = |t: &[u32; 3], g: &[DVec3; 3], other: &[u32; 3], og: &[DVec3; 3]| {
+                let k = (0..3)
+                    .find(|&k| other.contains(&t[k]) || og.contains(&g[k]))
+                    .unwrap_or(0);
                 (g[(k + 1) % 3], g[(k + 2) % 3])
             };
-            hits(opposite(ti, gi, tj), gj, true) || hits(opposite(tj, gj, ti), gi, true)
+            hits(opposite(ti, gi, tj, gj), gj, true) || hits(opposite(tj, gj, ti, gi), gi, true)
         }
         _ => false,
     }

@@ -157,3 +157,36 @@ fn rejects_surfaces_that_bound_no_volume() {
         Err(PolyhedralError::NonFinite(3))
     ));
 }
+
+#[test]
+fn boxes_sharing_a_face_are_two_subdomains_not_a_self_intersection() {
+    // Each box keeps its own copy of the common face x = 1 (coincident triangles, opposite
+    // orientations): a supported multi-domain input, not a crossing.
+    let (p, t) = merge(cube(DVec3::ZERO, 1.0, false), cube(DVec3::X, 1.0, false));
+    let o = PolyhedralOracle::new(&p, &t, None).expect("touching boxes are valid");
+    assert_eq!(o.num_subdomains(), 2);
+    let left = o.subdomain(DVec3::new(0.4, 0.6, 0.3));
+    let right = o.subdomain(DVec3::new(1.6, 0.3, 0.7));
+    assert!(left != OUTSIDE && right != OUTSIDE && left != right);
+    assert_eq!(o.subdomain(DVec3::new(2.5, 0.5, 0.5)), OUTSIDE);
+    assert!((o.domain_volume() - 2.0).abs() < 1e-12);
+    // Crossing the common face meets it once.
+    let mut hits = Vec::new();
+    o.segment_hits(
+        DVec3::new(0.5, 0.3, 0.4),
+        DVec3::new(1.5, 0.3, 0.4),
+        &mut hits,
+    );
+    assert_eq!(hits.len(), 1);
+    assert_eq!(hits[0].point.x, 1.0);
+
+    // A box poking into the other one still crosses it.
+    let (p, t) = merge(
+        cube(DVec3::ZERO, 1.0, false),
+        cube(DVec3::new(0.5, 0.25, 0.25), 1.0, false),
+    );
+    assert!(matches!(
+        PolyhedralOracle::new(&p, &t, None),
+        Err(PolyhedralError::SelfIntersecting(..))
+    ));
+}
