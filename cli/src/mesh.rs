@@ -167,6 +167,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             &surface.positions,
             &surface.triangles,
             domain.polyhedral(),
+            domain.oracle(),
             &criteria,
             &outcome,
         );
@@ -435,6 +436,7 @@ impl Report {
         input_points: &[DVec3],
         input_triangles: &[[u32; 3]],
         oracle: &PolyhedralOracle,
+        domain: &dyn Oracle,
         criteria: &MeshCriteria,
         outcome: &MeshOutcome,
     ) -> Report {
@@ -505,7 +507,7 @@ impl Report {
                 input_components: input_topology.components,
                 unrestricted_facets: c.facet_patch.iter().filter(|&&p| p == 0).count(),
             },
-            features: FeaturesReport::new(oracle, criteria, c),
+            features: FeaturesReport::new(domain, criteria, c),
         }
     }
 }

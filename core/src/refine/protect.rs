@@ -100,6 +100,30 @@ struct Piece {
     ends: Option<[usize; 2]>,
     /// `(s, r)`: the radius at `s` is at most `r + GROWTH · |s' − s|` (shrunk balls).
     limits: Vec<(f64, f64)>,
+    /// Bounding box of the polyline, to skip far pieces in distance queries.
+    bounds: (Point3, Point3),
+}
+
+impl Piece {
+    fn new(curve: CurveId, line: Polyline, ends: Option<[usize; 2]>) -> Self {
+        let pts = line.points();
+        let bounds = pts
+            .iter()
+            .fold((pts[0], pts[0]), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+        Piece {
+            curve,
+            line,
+            ends,
+            limits: Vec::new(),
+            bounds,
+        }
+    }
+
+    /// A lower bound on the distance from `p` to the piece.
+    fn distance_bound(&self, p: Point3) -> f64 {
+        let (lo, hi) = self.bounds;
+        (lo - p).max(p - hi).max(Point3::ZERO).length()
+    }
 }
 
 /// Place protecting balls on `curves` and `corners`. `edge_size` bounds the radii (evaluated at
@@ -208,12 +232,7 @@ fn split_at_corners(
     let l = line.length();
     if line.is_closed() {
         if cuts.is_empty() {
-            out.push(Piece {
-                curve: id,
-                line: line.clone(),
-                ends: None,
-                limits: Vec::new(),
-            });
+            out.push(Piece::new(id, line.clone(), None));
             return;
         }
         for i in 0..cuts.len() {
@@ -251,33 +270,30 @@ fn push_piece(
     out: &mut Vec<Piece>,
 ) {
     if let Some(sub) = Polyline::new(&line.arc_points(s0, s1), false) {
-        out.push(Piece {
-            curve: id,
-            line: sub,
-            ends: Some(ends),
-            limits: Vec::new(),
-        });
+        out.push(Piece::new(id, sub, Some(ends)));
     }
 }
 
 /// Distance from `p` to the features other than piece `i`: other corners and pieces, ignoring
-/// the parts of neighbouring pieces inside the ball of a shared corner.
+/// the parts of neighbouring pieces inside the ball of a shared corner. Distances of `cap` or
+/// more are not looked for (`cap` is returned).
 fn distance_to_other_features(
     pieces: &[Piece],
     i: usize,
     p: Point3,
     corners: &[Point3],
     corner_radius: &[f64],
+    cap: f64,
 ) -> f64 {
     let own = pieces[i].ends;
-    let mut d = f64::INFINITY;
+    let mut d = cap;
     for (k, &c) in corners.iter().enumerate() {
         if own.is_none_or(|e| !e.contains(&k)) {
             d = d.min(c.distance(p));
         }
     }
     for (j, piece) in pieces.iter().enumerate() {
-        if j == i {
+        if j == i || piece.distance_bound(p) >= d {
             continue;
         }
         let shared = match (own, piece.ends) {
@@ -307,7 +323,6 @@ fn piece_radius(
     let piece = &pieces[i];
     let p = piece.line.point_at(s);
     let mut r = edge_size.at(p, piece.curve);
-    r = r.min(FEATURE_FRACTION * distance_to_other_features(pieces, i, p, corners, corner_radius));
     if let Some([a, b]) = piece.ends {
         r = r.min(corner_radius[a] + GROWTH * s);
         r = r.min(corner_radius[b] + GROWTH * (piece.line.length() - s));
@@ -315,7 +330,8 @@ fn piece_radius(
     for &(s0, r0) in &piece.limits {
         r = r.min(r0 + GROWTH * piece.line.geodesic_distance(s, s0));
     }
-    r
+    let cap = r / FEATURE_FRACTION;
+    r.min(FEATURE_FRACTION * distance_to_other_features(pieces, i, p, corners, corner_radius, cap))
 }
 
 /// Balls for the current limits: corners first, then each piece's chain.
@@ -336,7 +352,7 @@ fn populate(
                 }
             }
             for piece in pieces {
-                if piece.ends.is_none_or(|e| !e.contains(&k)) {
+                if piece.distance_bound(c) < d && piece.ends.is_none_or(|e| !e.contains(&k)) {
                     d = d.min(piece.line.project(c).distance);
                 }
             }
