@@ -36,7 +36,13 @@ fn mesh(name: &str, extra: &[&str]) -> (serde_json::Value, delamesh::core::mesh:
 
 #[test]
 fn cad_shapes_keep_corners_and_curves_exactly() {
-    for name in ["cube.off", "l_bracket.off", "box_with_hole.off", "wedge20.off", "wedge5.off"] {
+    for name in [
+        "cube.off",
+        "l_bracket.off",
+        "box_with_hole.off",
+        "wedge20.off",
+        "wedge5.off",
+    ] {
         let (r, m) = mesh(name, &[]);
         let f = &r["features"];
         assert!(f["corners"].as_u64().expect("corners") > 0, "{name}");
@@ -84,7 +90,11 @@ fn edge_size_bounds_the_feature_edges() {
     for e in &m.feature_edges {
         let [a, b] = e.map(|v| m.positions[v as usize]);
         // Consecutive protecting balls of radius ≤ edge_size overlap: edges are shorter than 2×.
-        assert!(a.distance(b) < 2.0 * 0.1, "feature edge of length {}", a.distance(b));
+        assert!(
+            a.distance(b) < 2.0 * 0.1,
+            "feature edge of length {}",
+            a.distance(b)
+        );
     }
     let dir = tempfile::tempdir().expect("temp dir");
     let out = dir.path().join("never.vtu");

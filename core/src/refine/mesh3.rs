@@ -12,7 +12,7 @@ use crate::complex::MeshComplex;
 use crate::kernel::Point3;
 use crate::oracle::{FeatureCurve, Oracle};
 use crate::triangulation::{
-    Delaunay3, InsertOutcome, Regular3, Triangulation, TriangulationError, VertexId,
+    Delaunay3, InsertOutcome, InsertReport, Regular3, Triangulation, TriangulationError, VertexId,
 };
 use std::time::{Duration, Instant};
 
@@ -76,13 +76,13 @@ pub fn mesh_domain(
         options,
         &curves,
         &corners,
-        &mut |balls| {
-            let (tr, vertices) = Regular3::from_weighted_points(balls)?;
-            let vertices = vertices
-                .into_iter()
-                .map(|v| (!tr.is_hidden(v)).then_some(v))
-                .collect();
-            Ok((tr, vertices))
+        Regular3::new(),
+        &mut |tr, p, w| {
+            let mut report = InsertReport::default();
+            Ok(match tr.insert_weighted(p, w, None, &mut report)? {
+                InsertOutcome::Inserted(v) | InsertOutcome::Duplicate(v) => Some(v),
+                InsertOutcome::Hidden(_) => None,
+            })
         },
         progress,
     )
@@ -113,20 +113,20 @@ fn mesh_smooth(
     refine_and_collect(tr, surface, cells, None, options, initial_points, progress)
 }
 
-/// Builds a weighted triangulation of protecting balls `(centre, radius²)`, returning the vertex
-/// of each ball (`None` when hidden).
-pub type BuildWeighted<'a, T> =
-    dyn FnMut(&[(Point3, f64)]) -> Result<(T, Vec<Option<VertexId>>), TriangulationError> + 'a;
+/// Inserts a protecting ball as a weighted vertex; `None` when the triangulation hides it.
+pub type InsertBall<'a, T> =
+    dyn FnMut(&mut T, Point3, f64) -> Result<Option<VertexId>, TriangulationError> + 'a;
 
 /// The mesher of chapter 4 with CGAL's protection: protecting balls on corners and curves
-/// (weighted vertices of the triangulation made by `build`), the initial surface points outside
+/// (weighted vertices of `tr`, inserted by `insert_ball`), the initial surface points outside
 /// them, then [curve balls, surface facets with patch checks, cells].
 pub fn mesh_with_features<T: Triangulation<Point = Point3>>(
     oracle: &dyn Oracle,
     options: &MeshOptions,
     curves: &[FeatureCurve],
     corners: &[Point3],
-    build: &mut BuildWeighted<'_, T>,
+    mut tr: T,
+    insert_ball: &mut InsertBall<'_, T>,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<MeshOutcome, MeshError> {
     let start = Instant::now();
@@ -134,14 +134,14 @@ pub fn mesh_with_features<T: Triangulation<Point = Point3>>(
     let protection = protect(curves, corners, &options.criteria.edge_size, min_radius)?;
     let mut surface = SurfaceLevel::new(oracle, options.criteria.facet.clone()).check_patches();
     let cells = CellLevel::new(oracle, options.criteria.cell.clone()).outside_box();
-    let balls: Vec<(Point3, f64)> = protection
-        .balls
-        .iter()
-        .map(|b| (b.center, b.radius * b.radius))
-        .collect();
-    let (mut tr, vertices) = build(&balls).map_err(MeshError::InitialPoint)?;
-    for v in vertices.iter().flatten() {
-        surface.mark_on_patch(*v, 0);
+    let mut vertices = Vec::with_capacity(protection.balls.len());
+    for b in &protection.balls {
+        let v =
+            insert_ball(&mut tr, b.center, b.radius * b.radius).map_err(MeshError::InitialPoint)?;
+        if let Some(v) = v {
+            surface.mark_on_patch(v, 0);
+        }
+        vertices.push(v);
     }
     let curve_level = CurveLevel::new(protection, vertices);
     for p in oracle.initial_points() {

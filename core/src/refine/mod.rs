@@ -23,5 +23,5 @@ pub use engine::{
 };
 pub(crate) use geometry::{cell_vertices, facet_vertices};
 pub use mesh3::{
-    BuildWeighted, MeshError, MeshOptions, MeshOutcome, PhaseTimes, mesh_domain, mesh_with_features,
+    InsertBall, MeshError, MeshOptions, MeshOutcome, PhaseTimes, mesh_domain, mesh_with_features,
 };
