@@ -26,6 +26,10 @@ pub struct MeshArgs {
     /// for the boundary only).
     #[arg(short, long)]
     pub output: PathBuf,
+    /// Largest protecting ball radius along sharp feature curves, so the length of the edges
+    /// that follow them (default: bounding-box diagonal / 20). Unused without features.
+    #[arg(long)]
+    pub edge_size: Option<f64>,
     /// Smallest facet angle, in degrees (0 disables; ≤ 30 guarantees termination).
     #[arg(long)]
     pub facet_angle: Option<f64>,
@@ -163,6 +167,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             &surface.positions,
             &surface.triangles,
             domain.polyhedral(),
+            domain.oracle(),
             &criteria,
             &outcome,
         );
@@ -198,6 +203,9 @@ pub(crate) fn criteria(args: &MeshArgs, oracle: &dyn Oracle) -> Result<MeshCrite
             bail!("--{name} must be a number ≥ 0, got {v}")
         }
     };
+    if let Some(v) = args.edge_size {
+        c.edge_size = Sizing::Constant(positive("edge-size", v)?);
+    }
     if let Some(v) = args.facet_angle {
         c.facet.angle_deg = non_negative("facet-angle", v)?;
         if v > 30.0 {
@@ -288,6 +296,76 @@ struct Report {
     quality: QualityReport,
     approximation: Approximation,
     boundary: BoundaryReport,
+    /// Sharp features: absent for smooth domains.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    features: Option<FeaturesReport>,
+}
+
+#[derive(Serialize)]
+struct FeaturesReport {
+    edge_size: f64,
+    curves: usize,
+    corners: usize,
+    /// Corners without a mesh vertex.
+    missing_corners: usize,
+    /// Largest distance between an input corner and its mesh vertex.
+    max_corner_displacement: f64,
+    /// Curves with no feature edge in the mesh.
+    lost_curves: usize,
+    feature_edges: usize,
+    /// Largest per-curve Hausdorff distance between the input polyline and the feature edges.
+    max_curve_hausdorff: Option<f64>,
+    per_curve: Vec<CurveReport>,
+}
+
+#[derive(Serialize)]
+struct CurveReport {
+    curve: u32,
+    feature_edges: usize,
+    hausdorff: Option<f64>,
+}
+
+impl FeaturesReport {
+    /// `None` when the oracle has no sharp feature.
+    fn new(oracle: &dyn Oracle, criteria: &MeshCriteria, c: &MeshComplex) -> Option<Self> {
+        let curves = oracle.feature_curves();
+        if curves.is_empty() && c.corners.is_empty() {
+            return None;
+        }
+        let bbox = oracle.bounding_box();
+        let f = quality::feature_fidelity(
+            &curves,
+            &c.points,
+            &c.feature_edges,
+            &c.feature_edge_curve,
+            &c.corners,
+            bbox.diagonal() / 2000.0,
+        );
+        let max_curve_hausdorff = f
+            .curves
+            .iter()
+            .map(|c| c.hausdorff)
+            .try_fold(0.0f64, |m, h| h.map(|h| m.max(h)));
+        Some(FeaturesReport {
+            edge_size: criteria.edge_size.at(bbox.center(), 1),
+            curves: curves.len(),
+            corners: f.corners,
+            missing_corners: f.missing_corners,
+            max_corner_displacement: f.max_corner_displacement,
+            lost_curves: f.curves.iter().filter(|c| c.hausdorff.is_none()).count(),
+            feature_edges: c.feature_edges.len(),
+            max_curve_hausdorff,
+            per_curve: f
+                .curves
+                .iter()
+                .map(|c| CurveReport {
+                    curve: c.curve,
+                    feature_edges: c.edges,
+                    hausdorff: c.hausdorff,
+                })
+                .collect(),
+        })
+    }
 }
 
 #[derive(Serialize)]
@@ -358,6 +436,7 @@ impl Report {
         input_points: &[DVec3],
         input_triangles: &[[u32; 3]],
         oracle: &PolyhedralOracle,
+        domain: &dyn Oracle,
         criteria: &MeshCriteria,
         outcome: &MeshOutcome,
     ) -> Report {
@@ -428,6 +507,7 @@ impl Report {
                 input_components: input_topology.components,
                 unrestricted_facets: c.facet_patch.iter().filter(|&&p| p == 0).count(),
             },
+            features: FeaturesReport::new(domain, criteria, c),
         }
     }
 }

@@ -78,6 +78,7 @@ impl Oracle for Ball {
 fn sphere(c: &mut Criterion) {
     let options = MeshOptions {
         criteria: MeshCriteria {
+            edge_size: Sizing::Constant(0.1),
             facet: FacetCriteria {
                 angle_deg: 25.0,
                 size: Sizing::Constant(0.1),

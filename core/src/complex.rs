@@ -3,15 +3,19 @@
 
 use crate::kernel::Point3;
 use crate::mesh::{self, CellField, TetMesh};
-use crate::oracle::{OUTSIDE, PatchId, SubdomainId};
+use crate::oracle::{CurveId, OUTSIDE, PatchId, SubdomainId};
 use crate::quality;
 use crate::refine::cells::CellLevel;
 use crate::refine::facets::SurfaceLevel;
+use crate::refine::guard::CurveLevel;
 use crate::triangulation::{Triangulation, VertexId};
 
-/// Where a vertex lies: on the boundary surfaces or inside a subdomain.
+/// Where a vertex lies: on a corner, a feature curve, the boundary surfaces or inside a subdomain
+/// (the dimension of the feature, as CGAL's `in_dimension`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum VertexDimension {
+    Corner = 0,
+    Curve = 1,
     Surface = 2,
     Volume = 3,
 }
@@ -32,6 +36,14 @@ pub struct MeshComplex {
     pub facet_patch: Vec<PatchId>,
     /// The subdomains on the two sides of each facet: `[behind the normal, in front]`.
     pub facet_subdomains: Vec<[SubdomainId; 2]>,
+    /// Restricted curve edges: consecutive protecting balls along a curve whose vertices are
+    /// joined by an edge of the mesh.
+    pub feature_edges: Vec<[u32; 2]>,
+    /// Curve of each feature edge.
+    pub feature_edge_curve: Vec<CurveId>,
+    /// The corners of the domain (input positions) and the vertex placed on each, if it is in
+    /// the mesh.
+    pub corners: Vec<(Point3, Option<u32>)>,
 }
 
 impl MeshComplex {
@@ -40,6 +52,7 @@ impl MeshComplex {
         tr: &T,
         surface: &SurfaceLevel<'_>,
         cells: &CellLevel<'_>,
+        curves: Option<&CurveLevel>,
     ) -> Self {
         let mut complex = MeshComplex::default();
         // Number vertices in `VertexId` order so the output does not depend on cell order.
@@ -60,6 +73,17 @@ impl MeshComplex {
             } else {
                 VertexDimension::Volume
             });
+        }
+        if let Some(curves) = curves {
+            for b in 0..curves.protection().balls.len() {
+                if let Some(i) = curves.ball_vertex(b).and_then(|v| compact(&new_index, v)) {
+                    complex.vertex_dimension[i as usize] = match curves.ball_feature(b).0 {
+                        0 => VertexDimension::Corner,
+                        _ => VertexDimension::Curve,
+                    };
+                }
+            }
+            complex.add_features(tr, curves, &new_index);
         }
         let index_of = |v: VertexId| new_index[v.0 as usize];
         for c in tr.finite_cells() {
@@ -100,6 +124,38 @@ impl MeshComplex {
         complex
     }
 
+    /// Feature edges (links of consecutive balls that are mesh edges) and corner vertices.
+    fn add_features<T: Triangulation<Point = Point3>>(
+        &mut self,
+        tr: &T,
+        curves: &CurveLevel,
+        new_index: &[u32],
+    ) {
+        let protection = curves.protection();
+        let mut incident = Vec::new();
+        for chain in &protection.chains {
+            for (a, b) in chain.links() {
+                let (Some(va), Some(vb)) = (curves.ball_vertex(a), curves.ball_vertex(b)) else {
+                    continue;
+                };
+                let (Some(ia), Some(ib)) = (compact(new_index, va), compact(new_index, vb)) else {
+                    continue;
+                };
+                tr.incident_cells(va, &mut incident);
+                if incident.iter().any(|&c| tr.cell(c).as_ref().contains(&vb)) {
+                    self.feature_edges.push([ia, ib]);
+                    self.feature_edge_curve.push(chain.curve);
+                }
+            }
+        }
+        self.corners = protection
+            .corners
+            .iter()
+            .enumerate()
+            .map(|(k, &p)| (p, curves.ball_vertex(k).and_then(|v| compact(new_index, v))))
+            .collect();
+    }
+
     pub fn num_vertices(&self) -> usize {
         self.points.len()
     }
@@ -126,8 +182,12 @@ impl MeshComplex {
                 .collect(),
             boundary: self.facets.clone(),
             boundary_patches: self.facet_patch.iter().map(|&p| mesh::PatchId(p)).collect(),
-            feature_edges: Vec::new(),
-            feature_curves: Vec::new(),
+            feature_edges: self.feature_edges.clone(),
+            feature_curves: self
+                .feature_edge_curve
+                .iter()
+                .map(|&c| mesh::CurveId(c))
+                .collect(),
             cell_fields: vec![
                 CellField {
                     name: "min_dihedral_deg".into(),
@@ -150,6 +210,14 @@ impl MeshComplex {
     pub fn facet_points(&self, f: usize) -> [Point3; 3] {
         self.facets[f].map(|v| self.points[v as usize])
     }
+}
+
+/// The compact index of triangulation vertex `v`, if it is a vertex of the complex.
+fn compact(new_index: &[u32], v: VertexId) -> Option<u32> {
+    new_index
+        .get(v.0 as usize)
+        .copied()
+        .filter(|&i| i != u32::MAX)
 }
 
 /// Six times the signed volume of a tetrahedron, positive when `p[0] p[1] p[2]` turn

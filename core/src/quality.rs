@@ -1,7 +1,10 @@
 //! Quality measures of tetrahedral meshes and of their boundaries: dihedral angles, radius-edge
-//! ratio, volumes, histograms, sampled Hausdorff distance, and surface topology.
+//! ratio, volumes, histograms, sampled Hausdorff distance, surface topology, and how well sharp
+//! features are kept.
 
 use crate::kernel::Point3;
+use crate::oracle::{CurveId, FeatureCurve};
+use crate::refine::curves::{Polyline, point_segment_distance};
 use std::collections::BTreeMap;
 
 /// The six dihedral angles of a tetrahedron, in degrees (edge order 01, 02, 03, 12, 13, 23).
@@ -309,9 +312,132 @@ pub fn one_sided_distance(samples: &[Point3], distance_to_set: impl Fn(Point3) -
         .fold(0.0, f64::max)
 }
 
+/// How one input feature curve is followed by the mesh's feature edges.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CurveFidelity {
+    pub curve: CurveId,
+    /// Feature edges of the mesh on this curve.
+    pub edges: usize,
+    /// Sampled Hausdorff distance between the input polyline and the feature edges; `None` when
+    /// the curve has no feature edge (it was lost).
+    pub hausdorff: Option<f64>,
+}
+
+/// How the sharp features of the input survive in a mesh.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FeatureFidelity {
+    pub curves: Vec<CurveFidelity>,
+    pub corners: usize,
+    /// Corners without a mesh vertex.
+    pub missing_corners: usize,
+    /// Largest distance between an input corner and its mesh vertex (0 when corners are kept
+    /// exactly).
+    pub max_corner_displacement: f64,
+}
+
+/// Measure `curves` against the feature edges `edges` (vertex pairs into `points`, curve
+/// `edge_curve[i]` for edge `i`) and corners `(input position, mesh vertex)`. Distances are
+/// sampled about `spacing` apart along both sides (plus every polyline vertex).
+pub fn feature_fidelity(
+    curves: &[FeatureCurve],
+    points: &[Point3],
+    edges: &[[u32; 2]],
+    edge_curve: &[CurveId],
+    corners: &[(Point3, Option<u32>)],
+    spacing: f64,
+) -> FeatureFidelity {
+    let segment_samples = |a: Point3, b: Point3, out: &mut Vec<Point3>| {
+        let n = ((a.distance(b) / spacing).ceil() as usize).clamp(1, 1024);
+        out.extend((0..=n).map(|k| a + (k as f64 / n as f64) * (b - a)));
+    };
+    let curves = curves
+        .iter()
+        .map(|c| {
+            let segments: Vec<(Point3, Point3)> = edges
+                .iter()
+                .zip(edge_curve)
+                .filter(|(_, id)| **id == c.id)
+                .map(|(e, _)| (points[e[0] as usize], points[e[1] as usize]))
+                .collect();
+            let line = Polyline::new(&c.points, c.closed);
+            let hausdorff = match (&line, segments.is_empty()) {
+                (Some(line), false) => {
+                    let mut on_input = Vec::new();
+                    let pts = line.points();
+                    let count = if c.closed { pts.len() } else { pts.len() - 1 };
+                    for i in 0..count {
+                        segment_samples(pts[i], pts[(i + 1) % pts.len()], &mut on_input);
+                    }
+                    let mut on_mesh = Vec::new();
+                    for &(a, b) in &segments {
+                        segment_samples(a, b, &mut on_mesh);
+                    }
+                    let to_mesh = one_sided_distance(&on_input, |p| {
+                        segments
+                            .iter()
+                            .map(|&(a, b)| point_segment_distance(p, a, b))
+                            .fold(f64::INFINITY, f64::min)
+                    });
+                    let to_input = one_sided_distance(&on_mesh, |p| line.project(p).distance);
+                    Some(to_mesh.max(to_input))
+                }
+                _ => None,
+            };
+            CurveFidelity {
+                curve: c.id,
+                edges: segments.len(),
+                hausdorff,
+            }
+        })
+        .collect();
+    FeatureFidelity {
+        curves,
+        corners: corners.len(),
+        missing_corners: corners.iter().filter(|(_, v)| v.is_none()).count(),
+        max_corner_displacement: corners
+            .iter()
+            .filter_map(|&(p, v)| v.map(|v| p.distance(points[v as usize])))
+            .fold(0.0, f64::max),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn feature_fidelity_measures_chords_and_lost_curves() {
+        let curves = [
+            FeatureCurve {
+                id: 1,
+                points: vec![
+                    Point3::ZERO,
+                    Point3::new(1.0, 1.0, 0.0),
+                    Point3::new(2.0, 0.0, 0.0),
+                ],
+                closed: false,
+            },
+            FeatureCurve {
+                id: 2,
+                points: vec![Point3::ZERO, Point3::Z],
+                closed: false,
+            },
+        ];
+        let points = [Point3::ZERO, Point3::new(2.0, 0.0, 0.0)];
+        let f = feature_fidelity(
+            &curves,
+            &points,
+            &[[0, 1]],
+            &[1],
+            &[(Point3::ZERO, Some(0))],
+            0.01,
+        );
+        // The chord misses the polyline's apex by 1.
+        assert!((f.curves[0].hausdorff.expect("kept") - 1.0).abs() < 1e-12);
+        assert_eq!(f.curves[1].hausdorff, None);
+        assert_eq!(f.max_corner_displacement, 0.0);
+        assert_eq!(f.missing_corners, 0);
+    }
 
     fn regular() -> [Point3; 4] {
         [

@@ -147,6 +147,7 @@ use delamesh::polyhedral::PolyhedralOracle;
 /// CGAL-style criteria with constant sizes.
 pub fn criteria(angle: f64, size: f64, distance: f64, ratio: f64, cell_size: f64) -> MeshCriteria {
     MeshCriteria {
+        edge_size: Sizing::Constant(size),
         facet: FacetCriteria {
             angle_deg: angle,
             size: Sizing::Constant(size),

@@ -4,10 +4,12 @@
 
 use super::criteria::CellCriteria;
 use super::engine::{Candidate, Check, MesherLevel};
-use super::geometry::{cell_vertices, crowds_a_vertex, is_same_cell, shortest_edge};
+use super::geometry::{
+    cell_vertices, crowds_a_vertex, is_same_cell, power_distance, shortest_edge,
+};
 use super::queue::RefineQueue;
 use crate::kernel::Point3;
-use crate::oracle::{OUTSIDE, Oracle, SubdomainId, SurfaceHit};
+use crate::oracle::{Aabb, OUTSIDE, Oracle, SubdomainId, SurfaceHit};
 use crate::triangulation::{CellId, InsertReport, Triangulation, VertexId};
 
 /// A queued cell and its vertices when queued (to detect that it was destroyed).
@@ -26,6 +28,9 @@ pub struct CellLevel<'o> {
     /// Squared circumradius of the cell whose circumcentre was last proposed.
     proposed_radius2: f64,
     hits: Vec<SurfaceHit>,
+    /// When set, a circumcentre outside this box is outside the domain without asking the
+    /// oracle (see [`CellLevel::outside_box`]).
+    domain_box: Option<Aabb>,
 }
 
 impl<'o> CellLevel<'o> {
@@ -37,7 +42,21 @@ impl<'o> CellLevel<'o> {
             queue: RefineQueue::default(),
             proposed_radius2: 0.0,
             hits: Vec::new(),
+            domain_box: None,
         }
+    }
+
+    /// Label circumcentres outside the domain's bounding box (enlarged) as outside directly. A
+    /// regular triangulation has nearly flat cells with orthocentres ~1e13 away, where a
+    /// segment query to a neighbour's centre has no digit left and could label them inside.
+    pub fn outside_box(mut self) -> Self {
+        let b = self.oracle.bounding_box();
+        let margin = Point3::splat(0.1 * b.diagonal());
+        self.domain_box = Some(Aabb {
+            min: b.min - margin,
+            max: b.max + margin,
+        });
+        self
     }
 
     /// The subdomain a cell belongs to: the one containing its circumcentre.
@@ -64,7 +83,7 @@ impl<'o> CellLevel<'o> {
         }
         let center = tr.circumcenter(c);
         // A flat cell has no circumcentre; it lies on a planar patch and is left outside.
-        let sub = if !center.is_finite() {
+        let sub = if !center.is_finite() || self.domain_box.is_some_and(|b| !b.contains(center)) {
             OUTSIDE
         } else if let Some(sub) =
             apex.and_then(|v| self.subdomain_from_old_neighbour(tr, c, center, v))
@@ -116,7 +135,7 @@ impl<'o> CellLevel<'o> {
         sub: SubdomainId,
     ) -> Option<f64> {
         let p = vertices.map(|v| tr.point(v));
-        let radius = center.distance(p[0]);
+        let radius = power_distance(tr, vertices[0], center).max(0.0).sqrt();
         let size_excess = radius / self.criteria.size.at(center, sub);
         let shape_excess = if self.criteria.radius_edge_ratio > 0.0 {
             radius / shortest_edge(&p) / self.criteria.radius_edge_ratio
@@ -159,7 +178,7 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for CellLevel<'o> {
 
     fn refinement_point(&mut self, tr: &T, q: &QueuedCell) -> Option<Candidate<Point3>> {
         let center = tr.circumcenter(q.cell);
-        self.proposed_radius2 = center.distance_squared(tr.point(q.vertices[0]));
+        self.proposed_radius2 = power_distance(tr, q.vertices[0], center);
         Some(Candidate {
             point: center,
             hint: Some(q.cell),

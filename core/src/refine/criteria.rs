@@ -71,6 +71,10 @@ pub struct CellCriteria {
 
 #[derive(Clone, Debug)]
 pub struct MeshCriteria {
+    /// Upper bound on the radius of the protecting balls along feature curves (CGAL's
+    /// `edge_size`), so on the length of the mesh edges that follow them; the label is the curve.
+    /// Unused by smooth domains.
+    pub edge_size: Sizing,
     pub facet: FacetCriteria,
     pub cell: CellCriteria,
 }
@@ -81,6 +85,7 @@ impl MeshCriteria {
     pub fn default_for(bbox: &Aabb) -> Self {
         let d = bbox.diagonal();
         MeshCriteria {
+            edge_size: Sizing::Constant(d / 20.0),
             facet: FacetCriteria {
                 angle_deg: 25.0,
                 size: Sizing::Constant(d / 20.0),

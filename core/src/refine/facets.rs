@@ -12,6 +12,7 @@ use super::engine::{Candidate, Check, MesherLevel};
 use super::geometry::{
     cell_vertices, clipped_dual_edge, crowds_a_vertex, dual_parameter, facet_normal_away_from_apex,
     facet_vertices, is_same_cell, triangle_circumcenter, triangle_min_angle_deg,
+    weighted_triangle_circumcenter,
 };
 use super::queue::RefineQueue;
 use crate::kernel::Point3;
@@ -50,6 +51,13 @@ pub struct SurfaceLevel<'o> {
     balls: Vec<[Option<SurfaceBall>; 4]>,
     /// Vertices lying on the boundary (P0 and surface-ball centres), indexed by `VertexId`.
     on_surface: Vec<bool>,
+    /// When set, dual Voronoi edges are clipped to this box (the domain's, enlarged) before the
+    /// oracle is asked: a regular triangulation of protecting balls has nearly flat cells whose
+    /// orthocentres lie ~1e16 away, and a segment from there loses every digit of the crossing.
+    clip: Option<Aabb>,
+    /// Patch of each surface vertex when patches are checked (rule R3 of chapter 4), indexed by
+    /// `VertexId`; 0 for vertices on curves and corners, which lie on several patches.
+    vertex_patch: Option<Vec<PatchId>>,
     queue: RefineQueue<QueuedFacet>,
     /// Marks the cells created by the insertion being processed: `created_mark[c] == stamp`.
     created_mark: Vec<u64>,
@@ -58,6 +66,8 @@ pub struct SurfaceLevel<'o> {
     zone: ConflictZone,
     /// Squared radius of the ball whose centre was last proposed.
     proposed_radius2: f64,
+    /// Patch of the ball whose centre was last proposed.
+    proposed_patch: PatchId,
 }
 
 impl<'o> SurfaceLevel<'o> {
@@ -68,13 +78,53 @@ impl<'o> SurfaceLevel<'o> {
             criteria,
             balls: Vec::new(),
             on_surface: Vec::new(),
+            vertex_patch: None,
+            clip: None,
             queue: RefineQueue::default(),
             created_mark: Vec::new(),
             stamp: 0,
             hits: Vec::new(),
             zone: ConflictZone::default(),
             proposed_radius2: 0.0,
+            proposed_patch: 0,
         }
+    }
+
+    /// Also refine every restricted facet with a vertex on another patch than the facet's
+    /// (rule R3 of chapter 4), so that each patch is meshed on its own: for piecewise-smooth
+    /// domains, whose patches meet along sharp curves.
+    pub fn check_patches(mut self) -> Self {
+        self.vertex_patch = Some(Vec::new());
+        let b = self.oracle.bounding_box();
+        let margin = Point3::splat(0.1 * b.diagonal());
+        self.clip = Some(Aabb {
+            min: b.min - margin,
+            max: b.max + margin,
+        });
+        self
+    }
+
+    /// Record that `v` lies on surface patch `patch` (0: on a curve or a corner, several patches).
+    pub fn mark_on_patch(&mut self, v: VertexId, patch: PatchId) {
+        self.mark_on_surface(v);
+        if let Some(patches) = &mut self.vertex_patch {
+            let i = v.0 as usize;
+            if patches.len() <= i {
+                patches.resize(i + 1, 0);
+            }
+            patches[i] = patch;
+        }
+    }
+
+    /// Does a vertex of the facet lie on another patch than `patch`? Only when patches are
+    /// checked; vertices on curves and corners are on every patch they bound.
+    fn off_patch(&self, fv: &[VertexId; 3], patch: PatchId) -> bool {
+        self.vertex_patch.as_ref().is_some_and(|patches| {
+            fv.iter().any(|v| {
+                let p = patches.get(v.0 as usize).copied().unwrap_or(0);
+                p != 0 && p != patch
+            })
+        })
     }
 
     /// Record that `v` lies on the boundary (the initial points are inserted by the caller).
@@ -111,18 +161,67 @@ impl<'o> SurfaceLevel<'o> {
         c: CellId,
         i: usize,
     ) -> Option<SurfaceBall> {
-        let (from, to) = self.dual_edge(tr, c, i)?;
-        let a = tr.point(cell_vertices(tr, c)[(i + 1) % 4]);
-        self.hits.clear();
-        self.oracle.segment_hits(from, to, &mut self.hits);
+        let (a, w) = if let Some(clip) = self.clip {
+            self.weighted_dual_hits(tr, c, i, &clip)?
+        } else {
+            let (from, to) = self.dual_edge(tr, c, i)?;
+            self.hits.clear();
+            self.oracle.segment_hits(from, to, &mut self.hits);
+            let a = cell_vertices(tr, c)[(i + 1) % 4];
+            (tr.point(a), tr.weight(a))
+        };
         self.hits
             .iter()
             .map(|h| SurfaceBall {
                 center: h.point,
-                radius2: h.point.distance_squared(a),
+                radius2: h.point.distance_squared(a) - w,
                 patch: h.patch,
             })
             .max_by(|x, y| x.radius2.total_cmp(&y.radius2))
+    }
+
+    /// With protecting balls, fills `hits` with the crossings of the dual edge of facet
+    /// `(c, i)` and returns a facet vertex with its weight (the ball radius is a power distance
+    /// to it). The dual edge lies on the line through the facet's weighted circumcentre along its
+    /// normal; the orthocentres only bound it. Querying that line from near the domain keeps the
+    /// crossing exact when an orthocentre is far away.
+    fn weighted_dual_hits<T: Triangulation<Point = Point3>>(
+        &mut self,
+        tr: &T,
+        c: CellId,
+        i: usize,
+        clip: &Aabb,
+    ) -> Option<(Point3, f64)> {
+        let n = tr.neighbor(c, i);
+        let here = tr.circumcenter(c);
+        let there = (!tr.is_infinite_cell(n))
+            .then(|| tr.circumcenter(n))
+            .filter(|p| p.is_finite());
+        let (c, i, here, there) = match (here.is_finite(), there) {
+            (true, _) => (c, i, here, there),
+            (false, Some(p)) => (n, tr.mirror_index(c, i), p, None),
+            (false, None) => return None,
+        };
+        let cell = cell_vertices(tr, c);
+        let fv = facet_vertices(&cell, i);
+        let [a, b, d] = fv.map(|v| tr.point(v));
+        let mut normal = (b - a).cross(d - a);
+        if normal.dot(tr.point(cell[i]) - a) > 0.0 {
+            normal = -normal;
+        }
+        let len = normal.length();
+        if len == 0.0 {
+            return None;
+        }
+        let normal = normal / len;
+        let (center, _) = weighted_triangle_circumcenter([a, b, d], fv.map(|v| tr.weight(v)));
+        let t0 = (here - center).dot(normal);
+        let t1 = there.map_or(f64::INFINITY, |p| (p - center).dot(normal));
+        self.hits.clear();
+        if let Some((p, q)) = clip_line(center, normal, t0.min(t1), t0.max(t1), clip) {
+            self.oracle.segment_hits(p, q, &mut self.hits);
+        }
+        Some((a, tr.weight(fv[0])))
     }
 
     /// The dual Voronoi edge of facet `(c, i)`, clipped to the neighbourhood of the domain.
@@ -173,10 +272,14 @@ impl<'o> SurfaceLevel<'o> {
         ball: &SurfaceBall,
     ) -> Option<f64> {
         let fv = facet_vertices(cell, i);
-        if fv.iter().any(|&v| !self.is_on_surface(v)) {
+        if fv.iter().any(|&v| !self.is_on_surface(v)) || self.off_patch(&fv, ball.patch) {
             return Some(URGENT);
         }
         let [a, b, c] = fv.map(|v| tr.point(v));
+        let weights = fv.map(|v| tr.weight(v));
+        // With weights (protecting balls), shape is measured against the smallest orthogonal
+        // sphere, as CGAL does: a facet fanning around a heavy vertex is not a sliver.
+        let weighted = weights != [0.0; 3];
         let r = ball.radius2.sqrt();
         let size = self.criteria.size.at(ball.center, ball.patch);
         let mut worst: Option<f64> = None;
@@ -184,15 +287,31 @@ impl<'o> SurfaceLevel<'o> {
         if r > size {
             note(r / size);
         }
+        let (center, radius2) = if weighted {
+            weighted_triangle_circumcenter([a, b, c], weights)
+        } else {
+            (triangle_circumcenter(a, b, c), 0.0)
+        };
         if self.criteria.angle_deg > 0.0 {
-            let angle = triangle_min_angle_deg(a, b, c);
+            let angle = if weighted {
+                let shortest2 = a
+                    .distance_squared(b)
+                    .min(b.distance_squared(c))
+                    .min(c.distance_squared(a));
+                (0.5 * (shortest2 / radius2.max(f64::MIN_POSITIVE)).sqrt())
+                    .min(1.0)
+                    .asin()
+                    .to_degrees()
+            } else {
+                triangle_min_angle_deg(a, b, c)
+            };
             if angle < self.criteria.angle_deg {
                 note(self.criteria.angle_deg / angle.max(1e-9));
             }
         }
         let distance = self.criteria.distance.at(ball.center, ball.patch);
         if distance.is_finite() {
-            let d = triangle_circumcenter(a, b, c).distance(ball.center);
+            let d = center.distance(ball.center);
             if d > distance {
                 note(d / distance);
             }
@@ -240,6 +359,23 @@ impl<'o> SurfaceLevel<'o> {
     }
 }
 
+/// The part of the line `o + t d`, `t ∈ [t0, t1]`, inside `clip` (slab method), as a segment.
+fn clip_line(o: Point3, d: Point3, t0: f64, t1: f64, clip: &Aabb) -> Option<(Point3, Point3)> {
+    let (mut t0, mut t1) = (t0, t1);
+    for k in 0..3 {
+        if d[k] == 0.0 {
+            if o[k] < clip.min[k] || o[k] > clip.max[k] {
+                return None;
+            }
+            continue;
+        }
+        let (a, b) = ((clip.min[k] - o[k]) / d[k], (clip.max[k] - o[k]) / d[k]);
+        t0 = t0.max(a.min(b));
+        t1 = t1.min(a.max(b));
+    }
+    (t0 <= t1 && t0.is_finite() && t1.is_finite()).then(|| (o + t0 * d, o + t1 * d))
+}
+
 impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for SurfaceLevel<'o> {
     type Element = QueuedFacet;
 
@@ -283,6 +419,7 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for SurfaceLevel<'o> {
     fn refinement_point(&mut self, _tr: &T, f: &QueuedFacet) -> Option<Candidate<Point3>> {
         let ball = self.balls[f.cell.0 as usize][f.index as usize]?;
         self.proposed_radius2 = ball.radius2;
+        self.proposed_patch = ball.patch;
         Some(Candidate {
             point: ball.center,
             hint: Some(f.cell),
@@ -330,7 +467,7 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for SurfaceLevel<'o> {
 
     fn after_insertion(&mut self, tr: &T, v: VertexId, report: &InsertReport, own: bool) {
         if own {
-            self.mark_on_surface(v);
+            self.mark_on_patch(v, self.proposed_patch);
         }
         self.grow(tr.cell_capacity());
         self.stamp += 1;

@@ -34,7 +34,17 @@ pub(crate) fn crowds_a_vertex<T: Triangulation<Point = Point3>>(
         .as_ref()
         .iter()
         .filter(|&&v| !tr.is_infinite_vertex(v))
-        .any(|&v| tr.point(v).distance_squared(c.point) < 0.25 * radius2)
+        .any(|&v| power_distance(tr, v, c.point) < 0.25 * radius2)
+}
+
+/// Power distance from `p` to vertex `v`: `|p − p_v|² − w_v`, the squared distance when `v` has
+/// no weight (Delaunay), negative inside a protecting ball.
+pub(crate) fn power_distance<T: Triangulation<Point = Point3>>(
+    tr: &T,
+    v: VertexId,
+    p: Point3,
+) -> f64 {
+    tr.point(v).distance_squared(p) - tr.weight(v)
 }
 
 /// The three vertices of the facet of a cell opposite its vertex `i`.
@@ -91,6 +101,24 @@ pub(crate) fn triangle_circumcenter(a: Point3, b: Point3, c: Point3) -> Point3 {
         return (a + b + c) / 3.0;
     }
     a + (ac.length_squared() * n.cross(ab) + ab.length_squared() * ac.cross(n)) / (2.0 * n2)
+}
+
+/// Centre and squared radius of the smallest sphere orthogonal to three weighted points (the
+/// weighted circumcircle of a facet of a regular triangulation): the point of the triangle's
+/// plane with the same power distance to the three, and that power distance.
+pub(crate) fn weighted_triangle_circumcenter(p: [Point3; 3], w: [f64; 3]) -> (Point3, f64) {
+    let (u, v) = (p[1] - p[0], p[2] - p[0]);
+    let (uu, uv, vv) = (u.dot(u), u.dot(v), v.dot(v));
+    let (ru, rv) = (0.5 * (uu + w[0] - w[1]), 0.5 * (vv + w[0] - w[2]));
+    let det = uu * vv - uv * uv;
+    if det == 0.0 {
+        let c = (p[0] + p[1] + p[2]) / 3.0;
+        return (c, c.distance_squared(p[0]) - w[0]);
+    }
+    let alpha = (ru * vv - rv * uv) / det;
+    let beta = (rv * uu - ru * uv) / det;
+    let x = alpha * u + beta * v;
+    (p[0] + x, x.length_squared() - w[0])
 }
 
 /// Smallest angle of a triangle, in degrees.
@@ -209,6 +237,24 @@ mod tests {
         let (p, q) = clipped_dual_edge(center, Point3::Z, f64::NAN, f64::NAN, &bbox).unwrap();
         assert!(p.z < -1.0 && q.z > 1.0);
         assert!(clipped_dual_edge(center, Point3::Z, 1e9, f64::INFINITY, &bbox).is_none());
+    }
+
+    #[test]
+    fn weighted_circumcenter_has_equal_powers() {
+        let p = [
+            Point3::new(1.0, 0.2, 0.0),
+            Point3::new(-0.3, 2.0, 1.0),
+            Point3::new(0.5, -1.0, 2.0),
+        ];
+        let w = [0.3, 0.0, 1.1];
+        let (c, r2) = weighted_triangle_circumcenter(p, w);
+        for i in 0..3 {
+            assert!((c.distance_squared(p[i]) - w[i] - r2).abs() < 1e-12);
+        }
+        assert!((c - p[0]).dot((p[1] - p[0]).cross(p[2] - p[0])).abs() < 1e-12);
+        let (o, r2) = weighted_triangle_circumcenter(p, [0.0; 3]);
+        assert!(o.distance(triangle_circumcenter(p[0], p[1], p[2])) < 1e-12);
+        assert!((r2 - o.distance_squared(p[0])).abs() < 1e-12);
     }
 
     #[test]

@@ -1,13 +1,19 @@
-//! The 3D mesher of the thesis (ch. 3): initial surface points, then the level stack
-//! [surface facets, cells] over a Delaunay triangulation, then the complex.
+//! The 3D mesher of the thesis: initial surface points, then the level stack [surface facets,
+//! cells] over a Delaunay triangulation (ch. 3), preceded by protecting balls on the sharp
+//! features over a regular triangulation for piecewise-smooth domains (ch. 4), then the complex.
 
 use super::cells::CellLevel;
 use super::criteria::MeshCriteria;
 use super::engine::{Engine, Limits, Progress, RefineError, RefineStats};
 use super::facets::SurfaceLevel;
+use super::guard::CurveLevel;
+use super::protect::{ProtectError, protect};
 use crate::complex::MeshComplex;
-use crate::oracle::Oracle;
-use crate::triangulation::{Delaunay3, Triangulation, TriangulationError};
+use crate::kernel::Point3;
+use crate::oracle::{FeatureCurve, Oracle};
+use crate::triangulation::{
+    Delaunay3, InsertOutcome, InsertReport, Regular3, Triangulation, TriangulationError, VertexId,
+};
 use std::time::{Duration, Instant};
 
 #[derive(Clone, Debug)]
@@ -33,8 +39,14 @@ pub struct MeshOutcome {
     pub times: PhaseTimes,
 }
 
+/// Smallest protecting ball radius, as a fraction of the bounding-box diagonal: features closer
+/// than this are taken as touching (the termination guard of the protection).
+const MIN_BALL_FRACTION: f64 = 1e-6;
+
 #[derive(Debug, thiserror::Error)]
 pub enum MeshError {
+    #[error("cannot protect the sharp features: {0}")]
+    Protection(#[from] ProtectError),
     #[error("the domain gave no initial surface points (is the boundary empty?)")]
     NoInitialPoints,
     #[error("an initial surface point was refused by the triangulation: {0}")]
@@ -47,8 +59,37 @@ pub enum MeshError {
     },
 }
 
-/// Mesh the domain described by `oracle`.
+/// Mesh the domain described by `oracle`: over a Delaunay triangulation for a smooth domain, over
+/// a regular triangulation with protecting balls when the oracle has corners or feature curves.
 pub fn mesh_domain(
+    oracle: &dyn Oracle,
+    options: &MeshOptions,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<MeshOutcome, MeshError> {
+    let curves = oracle.feature_curves();
+    let corners = oracle.corners();
+    if curves.is_empty() && corners.is_empty() {
+        return mesh_smooth(oracle, options, progress);
+    }
+    mesh_with_features(
+        oracle,
+        options,
+        &curves,
+        &corners,
+        Regular3::new(),
+        &mut |tr, p, w| {
+            let mut report = InsertReport::default();
+            Ok(match tr.insert_weighted(p, w, None, &mut report)? {
+                InsertOutcome::Inserted(v) | InsertOutcome::Duplicate(v) => Some(v),
+                InsertOutcome::Hidden(_) => None,
+            })
+        },
+        progress,
+    )
+}
+
+/// The mesher of chapter 3: initial surface points, then [surface facets, cells].
+fn mesh_smooth(
     oracle: &dyn Oracle,
     options: &MeshOptions,
     progress: &mut dyn FnMut(&Progress),
@@ -56,7 +97,7 @@ pub fn mesh_domain(
     let start = Instant::now();
     let mut tr = Delaunay3::new();
     let mut surface = SurfaceLevel::new(oracle, options.criteria.facet.clone());
-    let mut cells = CellLevel::new(oracle, options.criteria.cell.clone());
+    let cells = CellLevel::new(oracle, options.criteria.cell.clone());
     let initial = oracle.initial_points();
     if initial.is_empty() {
         return Err(MeshError::NoInitialPoints);
@@ -68,23 +109,91 @@ pub fn mesh_domain(
             .vertex();
         surface.mark_on_surface(v);
     }
+    let initial_points = start.elapsed();
+    refine_and_collect(tr, surface, cells, None, options, initial_points, progress)
+}
+
+/// Inserts a protecting ball as a weighted vertex; `None` when the triangulation hides it.
+pub type InsertBall<'a, T> =
+    dyn FnMut(&mut T, Point3, f64) -> Result<Option<VertexId>, TriangulationError> + 'a;
+
+/// The mesher of chapter 4 with CGAL's protection: protecting balls on corners and curves
+/// (weighted vertices of `tr`, inserted by `insert_ball`), the initial surface points outside
+/// them, then [curve balls, surface facets with patch checks, cells].
+pub fn mesh_with_features<T: Triangulation<Point = Point3>>(
+    oracle: &dyn Oracle,
+    options: &MeshOptions,
+    curves: &[FeatureCurve],
+    corners: &[Point3],
+    mut tr: T,
+    insert_ball: &mut InsertBall<'_, T>,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<MeshOutcome, MeshError> {
+    let start = Instant::now();
+    let min_radius = MIN_BALL_FRACTION * oracle.bounding_box().diagonal();
+    let protection = protect(curves, corners, &options.criteria.edge_size, min_radius)?;
+    let mut surface = SurfaceLevel::new(oracle, options.criteria.facet.clone()).check_patches();
+    let cells = CellLevel::new(oracle, options.criteria.cell.clone()).outside_box();
+    let mut vertices = Vec::with_capacity(protection.balls.len());
+    for b in &protection.balls {
+        let v =
+            insert_ball(&mut tr, b.center, b.radius * b.radius).map_err(MeshError::InitialPoint)?;
+        if let Some(v) = v {
+            surface.mark_on_patch(v, 0);
+        }
+        vertices.push(v);
+    }
+    let curve_level = CurveLevel::new(protection, vertices);
+    for p in oracle.initial_points() {
+        if curve_level.in_a_ball(p.point) {
+            continue;
+        }
+        if let InsertOutcome::Inserted(v) = tr.insert(p.point).map_err(MeshError::InitialPoint)? {
+            surface.mark_on_patch(v, p.patch);
+        }
+    }
+    let initial_points = start.elapsed();
+    refine_and_collect(
+        tr,
+        surface,
+        cells,
+        Some(curve_level),
+        options,
+        initial_points,
+        progress,
+    )
+}
+
+/// Run the level stack (curve balls first when given) and collect the complex.
+fn refine_and_collect<T: Triangulation<Point = Point3>>(
+    mut tr: T,
+    mut surface: SurfaceLevel<'_>,
+    mut cells: CellLevel<'_>,
+    mut curves: Option<CurveLevel>,
+    options: &MeshOptions,
+    initial_points: Duration,
+    progress: &mut dyn FnMut(&Progress),
+) -> Result<MeshOutcome, MeshError> {
     let mut times = PhaseTimes {
-        initial_points: start.elapsed(),
+        initial_points,
         ..PhaseTimes::default()
     };
-
     let start = Instant::now();
     let result = {
         let mut engine = Engine::new(options.limits);
+        if let Some(curves) = curves.as_mut() {
+            engine.push_level(curves);
+        }
         engine.push_level(&mut surface).push_level(&mut cells);
         engine.refine(&mut tr, progress)
     };
     times.refinement = start.elapsed();
 
     let start = Instant::now();
+    let collect = || MeshComplex::from_refinement(&tr, &surface, &cells, curves.as_ref());
     match result {
         Ok(stats) => {
-            let complex = MeshComplex::from_refinement(&tr, &surface, &cells);
+            let complex = collect();
             times.complex = start.elapsed();
             Ok(MeshOutcome {
                 complex,
@@ -93,9 +202,7 @@ pub fn mesh_domain(
             })
         }
         Err(source) => {
-            let partial = options
-                .keep_partial
-                .then(|| Box::new(MeshComplex::from_refinement(&tr, &surface, &cells)));
+            let partial = options.keep_partial.then(|| Box::new(collect()));
             Err(MeshError::Refinement { source, partial })
         }
     }

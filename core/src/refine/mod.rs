@@ -9,14 +9,19 @@
 
 pub mod cells;
 pub mod criteria;
+pub mod curves;
 mod engine;
 pub mod facets;
 mod geometry;
+pub mod guard;
 mod mesh3;
+pub mod protect;
 mod queue;
 
 pub use engine::{
     Candidate, Check, Engine, Limits, MesherLevel, Progress, RefineError, RefineStats,
 };
 pub(crate) use geometry::{cell_vertices, facet_vertices};
-pub use mesh3::{MeshError, MeshOptions, MeshOutcome, PhaseTimes, mesh_domain};
+pub use mesh3::{
+    InsertBall, MeshError, MeshOptions, MeshOutcome, PhaseTimes, mesh_domain, mesh_with_features,
+};

@@ -93,6 +93,8 @@ fn sphere_off(c: &mut Criterion) {
                 radius_edge_ratio: 3.0,
                 size: Sizing::Constant(0.05),
             },
+            // No sharp features on a sphere: nothing to protect.
+            edge_size: Sizing::Unbounded,
         },
         limits: Limits::default(),
         keep_partial: false,

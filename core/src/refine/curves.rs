@@ -1,0 +1,348 @@
+//! Polyline feature curves with their arc-length parametrisation: the geometry protecting balls
+//! are placed with (a ball centre is a point of the curve at some arc length `s`).
+
+use crate::kernel::Point3;
+
+/// A polyline curve parametrised by arc length `s ∈ [0, length]`. A closed curve wraps around:
+/// its last point joins its first, and parameters are taken modulo the length.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Polyline {
+    points: Vec<Point3>,
+    /// Arc length at each point; one more entry than `points` for a closed curve (the return to
+    /// the first point).
+    arc: Vec<f64>,
+    closed: bool,
+}
+
+/// The point of a curve nearest to a query point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Projection {
+    /// Arc length of the nearest point.
+    pub s: f64,
+    pub point: Point3,
+    pub distance: f64,
+}
+
+impl Polyline {
+    /// The curve through `points` (consecutive duplicates dropped); `None` when fewer than two
+    /// distinct points are left or a coordinate is not finite.
+    pub fn new(points: &[Point3], closed: bool) -> Option<Self> {
+        if points.iter().any(|p| !p.is_finite()) {
+            return None;
+        }
+        let mut pts: Vec<Point3> = Vec::with_capacity(points.len());
+        for &p in points {
+            if pts.last() != Some(&p) {
+                pts.push(p);
+            }
+        }
+        if closed && pts.len() > 1 && pts.first() == pts.last() {
+            pts.pop();
+        }
+        if pts.len() < 2 {
+            return None;
+        }
+        let mut arc = Vec::with_capacity(pts.len() + 1);
+        arc.push(0.0);
+        let mut total = 0.0;
+        for w in pts.windows(2) {
+            total += w[0].distance(w[1]);
+            arc.push(total);
+        }
+        if closed {
+            total += pts[pts.len() - 1].distance(pts[0]);
+            arc.push(total);
+        }
+        Some(Polyline {
+            points: pts,
+            arc,
+            closed,
+        })
+    }
+
+    pub fn is_closed(&self) -> bool {
+        self.closed
+    }
+
+    pub fn length(&self) -> f64 {
+        self.arc[self.arc.len() - 1]
+    }
+
+    /// The curve's vertices (without the repeated first point of a closed curve).
+    pub fn points(&self) -> &[Point3] {
+        &self.points
+    }
+
+    pub fn start(&self) -> Point3 {
+        self.points[0]
+    }
+
+    /// The last vertex of an open curve (the first one of a closed curve).
+    pub fn end(&self) -> Point3 {
+        if self.closed {
+            self.points[0]
+        } else {
+            self.points[self.points.len() - 1]
+        }
+    }
+
+    fn segment_count(&self) -> usize {
+        self.arc.len() - 1
+    }
+
+    fn segment(&self, i: usize) -> (Point3, Point3) {
+        (self.points[i], self.points[(i + 1) % self.points.len()])
+    }
+
+    /// `s` brought into `[0, length]`: wrapped on a closed curve, clamped on an open one.
+    pub fn normalize(&self, s: f64) -> f64 {
+        let l = self.length();
+        if self.closed {
+            s.rem_euclid(l)
+        } else {
+            s.clamp(0.0, l)
+        }
+    }
+
+    /// The point at arc length `s` (see [`Polyline::normalize`]).
+    pub fn point_at(&self, s: f64) -> Point3 {
+        let s = self.normalize(s);
+        // The last segment whose start is at or before `s`.
+        let i = self
+            .arc
+            .partition_point(|&a| a <= s)
+            .saturating_sub(1)
+            .min(self.segment_count() - 1);
+        let (a, b) = self.segment(i);
+        let len = self.arc[i + 1] - self.arc[i];
+        if len <= 0.0 {
+            return a;
+        }
+        let t = ((s - self.arc[i]) / len).clamp(0.0, 1.0);
+        if t == 1.0 { b } else { a + t * (b - a) }
+    }
+
+    /// The parameter at signed geodesic distance `d` from parameter `s`, or `None` when an open
+    /// curve ends before.
+    pub fn advance(&self, s: f64, d: f64) -> Option<f64> {
+        let t = s + d;
+        if self.closed {
+            Some(self.normalize(t))
+        } else {
+            (0.0..=self.length()).contains(&t).then_some(t)
+        }
+    }
+
+    /// Geodesic distance along the curve between parameters `s0` and `s1` (the shorter way round
+    /// on a closed curve).
+    pub fn geodesic_distance(&self, s0: f64, s1: f64) -> f64 {
+        let d = (self.normalize(s1) - self.normalize(s0)).abs();
+        if self.closed {
+            d.min(self.length() - d)
+        } else {
+            d
+        }
+    }
+
+    /// The nearest point of the curve to `p` (ties: the smallest parameter).
+    pub fn project(&self, p: Point3) -> Projection {
+        let mut best = Projection {
+            s: 0.0,
+            point: self.points[0],
+            distance: f64::INFINITY,
+        };
+        for i in 0..self.segment_count() {
+            let (a, b) = self.segment(i);
+            let ab = b - a;
+            let len2 = ab.length_squared();
+            let t = if len2 > 0.0 {
+                ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let q = a + t * ab;
+            let d = q.distance(p);
+            if d < best.distance {
+                best = Projection {
+                    s: self.arc[i] + t * (self.arc[i + 1] - self.arc[i]),
+                    point: q,
+                    distance: d,
+                };
+            }
+        }
+        best
+    }
+
+    /// Distance from `p` to the part of the curve farther than `radius` from `center`: how close
+    /// the curve comes to `p` once it has left a ball around `center` (a protecting ball that
+    /// the curve crosses). Infinite when no such part exists.
+    pub fn distance_outside_ball(&self, p: Point3, center: Point3, radius: f64) -> f64 {
+        let mut best = f64::INFINITY;
+        for i in 0..self.segment_count() {
+            let (a, b) = self.segment(i);
+            // The part of [a, b] outside the ball: up to two sub-segments.
+            for (x, y) in segment_outside_ball(a, b, center, radius) {
+                best = best.min(point_segment_distance(p, x, y));
+            }
+        }
+        best
+    }
+
+    /// The curve vertices strictly between parameters `s0 < s1` (no wrapping), then the two
+    /// end points: what must be covered between two consecutive ball centres.
+    pub fn arc_points(&self, s0: f64, s1: f64) -> Vec<Point3> {
+        let mut out = vec![self.point_at(s0)];
+        let (lo, hi) = if self.closed && s1 > self.length() {
+            (s0, s1)
+        } else {
+            (s0, s1.min(self.length()))
+        };
+        for shift in [0.0, self.length()] {
+            if shift > 0.0 && !self.closed {
+                break;
+            }
+            for (i, &a) in self.arc[..self.points.len()].iter().enumerate() {
+                let s = a + shift;
+                if s > lo && s < hi {
+                    out.push(self.points[i]);
+                }
+            }
+        }
+        out.push(self.point_at(s1));
+        out
+    }
+}
+
+/// Distance from `p` to the segment `[a, b]`.
+pub fn point_segment_distance(p: Point3, a: Point3, b: Point3) -> f64 {
+    let ab = b - a;
+    let len2 = ab.length_squared();
+    let t = if len2 > 0.0 {
+        ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (a + t * ab).distance(p)
+}
+
+/// The parts of segment `[a, b]` outside the open ball `(center, radius)`.
+fn segment_outside_ball(
+    a: Point3,
+    b: Point3,
+    center: Point3,
+    radius: f64,
+) -> Vec<(Point3, Point3)> {
+    let d = b - a;
+    let len2 = d.length_squared();
+    let f = a - center;
+    if len2 == 0.0 {
+        return if f.length() >= radius {
+            vec![(a, a)]
+        } else {
+            Vec::new()
+        };
+    }
+    // |f + t d|² = r²: t² len2 + 2 t f·d + |f|² − r² = 0.
+    let half_b = f.dot(d);
+    let c = f.length_squared() - radius * radius;
+    let disc = half_b * half_b - len2 * c;
+    if disc <= 0.0 {
+        return vec![(a, b)];
+    }
+    let root = disc.sqrt();
+    let (t0, t1) = ((-half_b - root) / len2, (-half_b + root) / len2);
+    let mut out = Vec::with_capacity(2);
+    if t0 > 0.0 {
+        out.push((a, a + t0.min(1.0) * d));
+    }
+    if t1 < 1.0 {
+        out.push((a + t1.max(0.0) * d, b));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn square() -> Polyline {
+        let pts = [
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(1.0, 0.0, 0.0),
+            Point3::new(1.0, 1.0, 0.0),
+            Point3::new(0.0, 1.0, 0.0),
+        ];
+        Polyline::new(&pts, true).expect("valid")
+    }
+
+    #[test]
+    fn arc_length_of_open_and_closed_curves() {
+        let sq = square();
+        assert_eq!(sq.length(), 4.0);
+        let open = Polyline::new(&sq.points()[..3], false).expect("valid");
+        assert_eq!(open.length(), 2.0);
+        assert_eq!(open.end(), Point3::new(1.0, 1.0, 0.0));
+        assert!(Polyline::new(&[Point3::ZERO, Point3::ZERO], false).is_none());
+        assert!(Polyline::new(&[Point3::ZERO, Point3::NAN], false).is_none());
+    }
+
+    #[test]
+    fn point_at_walks_the_curve_and_wraps() {
+        let sq = square();
+        assert_eq!(sq.point_at(0.5), Point3::new(0.5, 0.0, 0.0));
+        assert_eq!(sq.point_at(1.0), Point3::new(1.0, 0.0, 0.0));
+        assert_eq!(sq.point_at(3.5), Point3::new(0.0, 0.5, 0.0));
+        assert_eq!(sq.point_at(4.5), sq.point_at(0.5));
+        assert_eq!(sq.point_at(-0.5), sq.point_at(3.5));
+    }
+
+    #[test]
+    fn geodesic_distance_takes_the_short_way_on_closed_curves() {
+        let sq = square();
+        assert_eq!(sq.geodesic_distance(0.5, 3.5), 1.0);
+        assert_eq!(sq.geodesic_distance(0.5, 2.0), 1.5);
+        let open = Polyline::new(sq.points(), false).expect("valid");
+        assert_eq!(open.geodesic_distance(0.5, 2.5), 2.0);
+        assert_eq!(open.advance(2.5, 1.0), None);
+        assert_eq!(sq.advance(3.5, 1.0), Some(0.5));
+        assert_eq!(open.advance(2.5, -1.0), Some(1.5));
+    }
+
+    #[test]
+    fn projection_is_the_nearest_point_and_inverts_point_at() {
+        let sq = square();
+        let p = sq.project(Point3::new(1.5, 0.25, 0.3));
+        assert_eq!(p.point, Point3::new(1.0, 0.25, 0.0));
+        assert!((p.s - 1.25).abs() < 1e-15);
+        for k in 0..40 {
+            let s = k as f64 * 0.1;
+            let q = sq.project(sq.point_at(s));
+            assert!(q.distance < 1e-12);
+            assert!(sq.geodesic_distance(q.s, s) < 1e-12);
+        }
+    }
+
+    #[test]
+    fn distance_outside_a_ball_ignores_the_covered_part() {
+        let line = Polyline::new(&[Point3::ZERO, Point3::new(4.0, 0.0, 0.0)], false).expect("ok");
+        let p = Point3::new(1.0, 1.0, 0.0);
+        let d = line.distance_outside_ball(p, Point3::new(1.0, 0.0, 0.0), 2.0);
+        assert!((d - 5.0f64.sqrt()).abs() < 1e-12, "{d}");
+        let far = line.distance_outside_ball(p, Point3::new(2.0, 0.0, 0.0), 10.0);
+        assert!(far.is_infinite());
+    }
+
+    #[test]
+    fn arc_points_list_the_vertices_between_two_parameters() {
+        let sq = square();
+        let pts = sq.arc_points(0.5, 2.5);
+        assert_eq!(pts.len(), 4);
+        assert_eq!(pts[1], Point3::new(1.0, 0.0, 0.0));
+        assert_eq!(pts[2], Point3::new(1.0, 1.0, 0.0));
+        let wrapped = sq.arc_points(3.5, 4.5);
+        assert_eq!(
+            wrapped,
+            vec![sq.point_at(3.5), Point3::ZERO, sq.point_at(0.5)]
+        );
+    }
+}

@@ -1,0 +1,696 @@
+//! Protecting balls on the sharp features of a piecewise-smooth domain (CGAL Mesh_3's
+//! protection, after Cheng–Dey–Ramos): every corner is the centre of a ball, every curve is
+//! covered by a chain of balls centred on it, consecutive balls overlap and all other pairs are
+//! disjoint. Inserted as weighted points (weight = r²) in a regular triangulation, the balls make
+//! each curve the union of the edges joining consecutive centres, whatever the angles at which
+//! curves and patches meet: refinement points are never inside a ball (every point of the power
+//! diagram off the balls has a non-negative power distance to its owners), so small angles cannot
+//! make refinement cascade.
+//!
+//! The balls are placed with a sizing function along each curve: at most `edge_size`, a fraction
+//! of the distance to other features, and growing slowly away from corners; then pairs that
+//! violate the rules shrink and the curves are repopulated until every rule holds (CGAL's
+//! `refine_balls`).
+
+use super::criteria::Sizing;
+use super::curves::Polyline;
+use crate::kernel::Point3;
+use crate::oracle::{CurveId, FeatureCurve};
+
+/// Largest growth of ball radii per unit of arc length: keeps neighbouring radii comparable, so
+/// that a spacing between 1/(1−β) and 2/(1+β) radii makes consecutive balls overlap and the next
+/// ones disjoint.
+const GROWTH: f64 = 0.25;
+/// Spacing of consecutive centres along a curve, in radii (inside the interval above).
+const SPACING: f64 = 1.45;
+/// Ball radius as a fraction of the distance to the nearest other feature.
+const FEATURE_FRACTION: f64 = 0.25;
+/// Rounds of shrink-and-repopulate before giving up.
+const MAX_ROUNDS: usize = 200;
+
+/// What a protecting ball's centre lies on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Feature {
+    /// A corner, by its index in the corner list.
+    Corner(u32),
+    Curve(CurveId),
+}
+
+/// A ball centred on a feature; its centre becomes a vertex of weight `radius²`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProtectingBall {
+    pub center: Point3,
+    pub radius: f64,
+    pub feature: Feature,
+}
+
+/// The balls covering one piece of a curve (between two corners, or a whole closed curve), in
+/// order along the curve. Consecutive balls overlap; a closed chain's last ball overlaps its first.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Chain {
+    pub curve: CurveId,
+    /// Indices into [`Protection::balls`]; corner balls at the ends of an open chain.
+    pub balls: Vec<usize>,
+    pub closed: bool,
+}
+
+impl Chain {
+    /// Consecutive ball pairs: the restricted edges the curve becomes.
+    pub fn links(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        let n = self.balls.len();
+        let count = if self.closed { n } else { n.saturating_sub(1) };
+        (0..count).map(move |i| (self.balls[i], self.balls[(i + 1) % n]))
+    }
+}
+
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Protection {
+    /// Corner balls first (ball `k` is corner `k`), then the curve balls chain by chain.
+    pub balls: Vec<ProtectingBall>,
+    pub chains: Vec<Chain>,
+    /// The corners, with the end points of open curves that were not given as corners.
+    pub corners: Vec<Point3>,
+    /// Arc length of each chain ball along its piece of curve.
+    chain_params: Vec<Vec<f64>>,
+}
+
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ProtectError {
+    #[error("feature curve {curve} has fewer than two distinct points or a non-finite coordinate")]
+    BadCurve { curve: CurveId },
+    #[error("corner {index} has a non-finite coordinate")]
+    BadCorner { index: usize },
+    #[error(
+        "features too close to protect near ({x}, {y}, {z}): a ball would be smaller than {min_radius:e}"
+    )]
+    TooClose {
+        x: f64,
+        y: f64,
+        z: f64,
+        min_radius: f64,
+    },
+    #[error("protecting balls did not settle in {rounds} rounds")]
+    NotSettled { rounds: usize },
+}
+
+/// A curve between two corners, or a closed curve without corner.
+struct Piece {
+    curve: CurveId,
+    line: Polyline,
+    ends: Option<[usize; 2]>,
+    /// `(s, r)`: the radius at `s` is at most `r + GROWTH · |s' − s|` (shrunk balls).
+    limits: Vec<(f64, f64)>,
+    /// Bounding box of the polyline, to skip far pieces in distance queries.
+    bounds: (Point3, Point3),
+}
+
+impl Piece {
+    fn new(curve: CurveId, line: Polyline, ends: Option<[usize; 2]>) -> Self {
+        let pts = line.points();
+        let bounds = pts
+            .iter()
+            .fold((pts[0], pts[0]), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+        Piece {
+            curve,
+            line,
+            ends,
+            limits: Vec::new(),
+            bounds,
+        }
+    }
+
+    /// A lower bound on the distance from `p` to the piece.
+    fn distance_bound(&self, p: Point3) -> f64 {
+        let (lo, hi) = self.bounds;
+        (lo - p).max(p - hi).max(Point3::ZERO).length()
+    }
+}
+
+/// Place protecting balls on `curves` and `corners`. `edge_size` bounds the radii (evaluated at
+/// the centre with the curve id as label; corners use label 0); `min_radius` is the guard under
+/// which features count as touching.
+pub fn protect(
+    curves: &[FeatureCurve],
+    corners: &[Point3],
+    edge_size: &Sizing,
+    min_radius: f64,
+) -> Result<Protection, ProtectError> {
+    let mut corners: Vec<Point3> = corners.to_vec();
+    if let Some(index) = corners.iter().position(|p| !p.is_finite()) {
+        return Err(ProtectError::BadCorner { index });
+    }
+    let mut lines = Vec::with_capacity(curves.len());
+    for c in curves {
+        let line =
+            Polyline::new(&c.points, c.closed).ok_or(ProtectError::BadCurve { curve: c.id })?;
+        lines.push((c.id, line));
+    }
+    // Tolerance for a corner to lie on a curve: relative to the features' extent.
+    let scale = lines
+        .iter()
+        .flat_map(|(_, l)| l.points().iter())
+        .chain(corners.iter())
+        .fold(0.0f64, |m, p| m.max(p.abs().max_element()));
+    let tol = 1e-12 * scale.max(f64::MIN_POSITIVE);
+    // Open curve ends are corners too.
+    for (_, line) in &lines {
+        if !line.is_closed() {
+            for p in [line.start(), line.end()] {
+                if !corners.iter().any(|q| q.distance(p) <= tol) {
+                    corners.push(p);
+                }
+            }
+        }
+    }
+    let mut pieces = Vec::new();
+    for (id, line) in &lines {
+        split_at_corners(*id, line, &corners, tol, &mut pieces);
+    }
+    let mut corner_limit = vec![f64::INFINITY; corners.len()];
+    for _ in 0..MAX_ROUNDS {
+        let protection = populate(&pieces, &corners, &corner_limit, edge_size);
+        let violations = violations(&protection, &pieces);
+        if violations.is_empty() {
+            return Ok(protection);
+        }
+        for (ball, radius) in violations {
+            if radius < min_radius {
+                let c = protection.balls[ball].center;
+                return Err(ProtectError::TooClose {
+                    x: c.x,
+                    y: c.y,
+                    z: c.z,
+                    min_radius,
+                });
+            }
+            match owner(&protection, ball) {
+                Owner::Corner(k) => corner_limit[k] = corner_limit[k].min(radius),
+                Owner::Piece(i, s) => pieces[i].limits.push((s, radius)),
+            }
+        }
+    }
+    Err(ProtectError::NotSettled { rounds: MAX_ROUNDS })
+}
+
+enum Owner {
+    Corner(usize),
+    /// Piece index and arc length of the centre.
+    Piece(usize, f64),
+}
+
+/// Which corner or piece placed ball `b`.
+fn owner(p: &Protection, b: usize) -> Owner {
+    if b < p.corners.len() {
+        return Owner::Corner(b);
+    }
+    for (i, chain) in p.chains.iter().enumerate() {
+        if let Some(k) = chain.balls.iter().position(|&x| x == b) {
+            return Owner::Piece(i, p.chain_params[i][k]);
+        }
+    }
+    Owner::Corner(0)
+}
+
+/// Cut a curve at the corners lying on it (other than its ends).
+fn split_at_corners(
+    id: CurveId,
+    line: &Polyline,
+    corners: &[Point3],
+    tol: f64,
+    out: &mut Vec<Piece>,
+) {
+    let mut cuts: Vec<(f64, usize)> = corners
+        .iter()
+        .enumerate()
+        .filter_map(|(k, &c)| {
+            let p = line.project(c);
+            (p.distance <= tol).then_some((p.s, k))
+        })
+        .collect();
+    cuts.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    cuts.dedup_by(|a, b| (a.0 - b.0).abs() <= tol);
+    let l = line.length();
+    if line.is_closed() {
+        if cuts.is_empty() {
+            out.push(Piece::new(id, line.clone(), None));
+            return;
+        }
+        for i in 0..cuts.len() {
+            let (s0, k0) = cuts[i];
+            let (mut s1, k1) = cuts[(i + 1) % cuts.len()];
+            if s1 <= s0 {
+                s1 += l;
+            }
+            push_piece(id, line, s0, s1, [k0, k1], out);
+        }
+    } else {
+        // The ends are corners (added by the caller); interior corners cut the curve.
+        let nearest = |p: Point3| {
+            (0..corners.len())
+                .min_by(|&a, &b| corners[a].distance(p).total_cmp(&corners[b].distance(p)))
+                .unwrap_or(0)
+        };
+        cuts.retain(|&(s, _)| s > tol && s < l - tol);
+        cuts.insert(0, (0.0, nearest(line.start())));
+        cuts.push((l, nearest(line.end())));
+        for w in cuts.windows(2) {
+            if w[1].0 > w[0].0 {
+                push_piece(id, line, w[0].0, w[1].0, [w[0].1, w[1].1], out);
+            }
+        }
+    }
+}
+
+fn push_piece(
+    id: CurveId,
+    line: &Polyline,
+    s0: f64,
+    s1: f64,
+    ends: [usize; 2],
+    out: &mut Vec<Piece>,
+) {
+    if let Some(sub) = Polyline::new(&line.arc_points(s0, s1), false) {
+        out.push(Piece::new(id, sub, Some(ends)));
+    }
+}
+
+/// Distance from `p` to the features other than piece `i`: other corners and pieces, ignoring
+/// the parts of neighbouring pieces inside the ball of a shared corner. Distances of `cap` or
+/// more are not looked for (`cap` is returned).
+fn distance_to_other_features(
+    pieces: &[Piece],
+    i: usize,
+    p: Point3,
+    corners: &[Point3],
+    corner_radius: &[f64],
+    cap: f64,
+) -> f64 {
+    let own = pieces[i].ends;
+    let mut d = cap;
+    for (k, &c) in corners.iter().enumerate() {
+        if own.is_none_or(|e| !e.contains(&k)) {
+            d = d.min(c.distance(p));
+        }
+    }
+    for (j, piece) in pieces.iter().enumerate() {
+        if j == i || piece.distance_bound(p) >= d {
+            continue;
+        }
+        let shared = match (own, piece.ends) {
+            (Some(a), Some(b)) => a.iter().copied().find(|k| b.contains(k)),
+            _ => None,
+        };
+        let dj = match shared {
+            Some(k) => piece
+                .line
+                .distance_outside_ball(p, corners[k], corner_radius[k]),
+            None => piece.line.project(p).distance,
+        };
+        d = d.min(dj);
+    }
+    d
+}
+
+/// The radius of the ball centred at arc length `s` of piece `i`.
+fn piece_radius(
+    pieces: &[Piece],
+    i: usize,
+    s: f64,
+    corners: &[Point3],
+    corner_radius: &[f64],
+    edge_size: &Sizing,
+) -> f64 {
+    let piece = &pieces[i];
+    let p = piece.line.point_at(s);
+    let mut r = edge_size.at(p, piece.curve);
+    if let Some([a, b]) = piece.ends {
+        r = r.min(corner_radius[a] + GROWTH * s);
+        r = r.min(corner_radius[b] + GROWTH * (piece.line.length() - s));
+    }
+    for &(s0, r0) in &piece.limits {
+        r = r.min(r0 + GROWTH * piece.line.geodesic_distance(s, s0));
+    }
+    let cap = r / FEATURE_FRACTION;
+    r.min(FEATURE_FRACTION * distance_to_other_features(pieces, i, p, corners, corner_radius, cap))
+}
+
+/// Balls for the current limits: corners first, then each piece's chain.
+fn populate(
+    pieces: &[Piece],
+    corners: &[Point3],
+    corner_limit: &[f64],
+    edge_size: &Sizing,
+) -> Protection {
+    let corner_radius: Vec<f64> = corners
+        .iter()
+        .enumerate()
+        .map(|(k, &c)| {
+            let mut d = f64::INFINITY;
+            for (j, &q) in corners.iter().enumerate() {
+                if j != k {
+                    d = d.min(q.distance(c));
+                }
+            }
+            for piece in pieces {
+                if piece.distance_bound(c) < d && piece.ends.is_none_or(|e| !e.contains(&k)) {
+                    d = d.min(piece.line.project(c).distance);
+                }
+            }
+            edge_size
+                .at(c, 0)
+                .min(FEATURE_FRACTION * d)
+                .min(corner_limit[k])
+        })
+        .collect();
+    let mut protection = Protection {
+        balls: corners
+            .iter()
+            .zip(&corner_radius)
+            .enumerate()
+            .map(|(k, (&center, &radius))| ProtectingBall {
+                center,
+                radius,
+                feature: Feature::Corner(k as u32),
+            })
+            .collect(),
+        chains: Vec::with_capacity(pieces.len()),
+        corners: corners.to_vec(),
+        chain_params: Vec::new(),
+    };
+    let mut params = Vec::with_capacity(pieces.len());
+    for (i, piece) in pieces.iter().enumerate() {
+        let radius = |s: f64| piece_radius(pieces, i, s, corners, &corner_radius, edge_size);
+        let l = piece.line.length();
+        let (from, to) = match piece.ends {
+            Some([a, b]) => (
+                corner_radius[a].min(0.5 * l),
+                (l - corner_radius[b]).max(0.5 * l),
+            ),
+            None => (0.0, l),
+        };
+        let positions = spread(&piece.line, piece.ends.is_none(), from, to, &radius);
+        let mut chain = Vec::with_capacity(positions.len() + 2);
+        let mut chain_s = Vec::with_capacity(positions.len() + 2);
+        if let Some([a, _]) = piece.ends {
+            chain.push(a);
+            chain_s.push(0.0);
+        }
+        for &s in &positions {
+            chain.push(protection.balls.len());
+            chain_s.push(s);
+            protection.balls.push(ProtectingBall {
+                center: piece.line.point_at(s),
+                radius: radius(s),
+                feature: Feature::Curve(piece.curve),
+            });
+        }
+        if let Some([_, b]) = piece.ends {
+            chain.push(b);
+            chain_s.push(piece.line.length());
+        }
+        protection.chains.push(Chain {
+            curve: piece.curve,
+            balls: chain,
+            closed: piece.ends.is_none(),
+        });
+        params.push(chain_s);
+    }
+    protection.chain_params = params;
+    protection
+}
+
+/// Arc lengths of the interior balls of a curve piece, spread over `[from, to]`: equally spaced
+/// in the measure `ds / (SPACING r)`, so that centres are about `SPACING` radii apart. An open
+/// piece's first and last balls sit on the boundaries of its corner balls (`from`, `to`), so
+/// they overlap them while the next ones do not.
+fn spread(
+    line: &Polyline,
+    closed: bool,
+    from: f64,
+    to: f64,
+    radius: &dyn Fn(f64) -> f64,
+) -> Vec<f64> {
+    let floor = line.length() * 1e-9;
+    // (s, u) samples of the cumulative measure.
+    let mut samples = vec![(from, 0.0)];
+    let (mut s, mut u) = (from, 0.0);
+    while s < to {
+        let r = radius(s).max(floor);
+        let ds = (0.2 * r).min(to - s);
+        let r_mid = radius(s + 0.5 * ds).max(floor);
+        u += ds / (SPACING * r_mid);
+        s += ds;
+        samples.push((s, u));
+    }
+    let n = (u.ceil() as usize).max(if closed { 3 } else { 1 });
+    let count = if closed { n } else { n + 1 };
+    let mut out = Vec::with_capacity(count);
+    let mut j = 0;
+    for k in 0..count {
+        let target = u * k as f64 / n as f64;
+        while j + 1 < samples.len() && samples[j + 1].1 < target {
+            j += 1;
+        }
+        let (s0, u0) = samples[j];
+        let (s1, u1) = samples[(j + 1).min(samples.len() - 1)];
+        let t = if u1 > u0 {
+            (target - u0) / (u1 - u0)
+        } else {
+            0.0
+        };
+        out.push(s0 + t.clamp(0.0, 1.0) * (s1 - s0));
+    }
+    out
+}
+
+/// Balls breaking a rule, with the radius each must shrink to: consecutive balls that do not
+/// cover the curve between their centres, and other pairs that intersect.
+fn violations(p: &Protection, pieces: &[Piece]) -> Vec<(usize, f64)> {
+    let mut out = Vec::new();
+    let mut links: Vec<(usize, usize)> = Vec::new();
+    for (i, chain) in p.chains.iter().enumerate() {
+        let params = p.chain_params[i].clone();
+        let n = chain.balls.len();
+        let count = if chain.closed { n } else { n - 1 };
+        for k in 0..count {
+            let (a, b) = (chain.balls[k], chain.balls[(k + 1) % n]);
+            links.push((a.min(b), a.max(b)));
+            let (s0, mut s1) = (params[k], params[(k + 1) % n]);
+            if s1 <= s0 {
+                s1 += pieces[i].line.length();
+            }
+            if !covers(&p.balls[a], &p.balls[b], &pieces[i].line.arc_points(s0, s1)) {
+                out.push((a, 0.7 * p.balls[a].radius));
+                out.push((b, 0.7 * p.balls[b].radius));
+            }
+        }
+    }
+    links.sort_unstable();
+    links.dedup();
+    // Sweep along x for intersecting pairs.
+    let mut order: Vec<usize> = (0..p.balls.len()).collect();
+    let lo = |b: usize| p.balls[b].center.x - p.balls[b].radius;
+    order.sort_by(|&a, &b| lo(a).total_cmp(&lo(b)).then(a.cmp(&b)));
+    for (k, &a) in order.iter().enumerate() {
+        let ba = p.balls[a];
+        for &b in &order[k + 1..] {
+            let bb = p.balls[b];
+            if lo(b) > ba.center.x + ba.radius {
+                break;
+            }
+            let d = ba.center.distance(bb.center);
+            if d >= ba.radius + bb.radius || links.binary_search(&(a.min(b), a.max(b))).is_ok() {
+                continue;
+            }
+            let f = (0.9 * d / (ba.radius + bb.radius)).clamp(0.05, 0.9);
+            out.push((a, f * ba.radius));
+            out.push((b, f * bb.radius));
+        }
+    }
+    out
+}
+
+/// Do two balls overlap and cover the polyline `arc` joining their centres? Each straight piece
+/// of the arc is checked at a few points (the uncovered part of a segment is an interval).
+fn covers(a: &ProtectingBall, b: &ProtectingBall, arc: &[Point3]) -> bool {
+    if a.center.distance(b.center) >= a.radius + b.radius {
+        return false;
+    }
+    let inside = |q: Point3| a.center.distance(q) < a.radius || b.center.distance(q) < b.radius;
+    arc.windows(2)
+        .all(|w| (0..=8).all(|k| inside(w[0] + (k as f64 / 8.0) * (w[1] - w[0]))))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn curve(id: CurveId, points: &[[f64; 3]], closed: bool) -> FeatureCurve {
+        FeatureCurve {
+            id,
+            points: points.iter().map(|&p| Point3::from_array(p)).collect(),
+            closed,
+        }
+    }
+
+    /// The 12 edges of the unit cube as curves, and its 8 corners.
+    fn cube() -> (Vec<FeatureCurve>, Vec<Point3>) {
+        let corner = |i: usize| Point3::new((i & 1) as f64, ((i >> 1) & 1) as f64, (i >> 2) as f64);
+        let mut curves = Vec::new();
+        for a in 0..8 {
+            for bit in [1, 2, 4] {
+                if a & bit == 0 {
+                    let id = curves.len() as CurveId + 1;
+                    curves.push(curve(
+                        id,
+                        &[corner(a).to_array(), corner(a | bit).to_array()],
+                        false,
+                    ));
+                }
+            }
+        }
+        (curves, (0..8).map(corner).collect())
+    }
+
+    /// Every rule of a protection, checked by brute force.
+    fn assert_protects(p: &Protection, curves: &[FeatureCurve], max_radius: f64) {
+        let mut linked = std::collections::BTreeSet::new();
+        for chain in &p.chains {
+            let line = curves
+                .iter()
+                .find(|c| c.id == chain.curve)
+                .map(|c| Polyline::new(&c.points, c.closed).expect("valid"))
+                .expect("chain of a known curve");
+            for &b in &chain.balls {
+                assert!(
+                    line.project(p.balls[b].center).distance < 1e-12,
+                    "centre off its curve"
+                );
+            }
+            for (a, b) in chain.links() {
+                let (ba, bb) = (p.balls[a], p.balls[b]);
+                assert!(
+                    ba.center.distance(bb.center) < ba.radius + bb.radius,
+                    "link apart"
+                );
+                linked.insert((a.min(b), a.max(b)));
+            }
+        }
+        for (i, a) in p.balls.iter().enumerate() {
+            assert!(a.radius > 0.0 && a.radius <= max_radius);
+            for (j, b) in p.balls.iter().enumerate().skip(i + 1) {
+                if !linked.contains(&(i, j)) {
+                    assert!(
+                        a.center.distance(b.center) >= a.radius + b.radius,
+                        "balls {i} and {j} are not consecutive but intersect"
+                    );
+                }
+            }
+        }
+        // Every point of every curve is inside a ball.
+        for c in curves {
+            let line = Polyline::new(&c.points, c.closed).expect("valid");
+            for k in 0..=400 {
+                let q = line.point_at(line.length() * k as f64 / 400.0);
+                assert!(
+                    p.balls.iter().any(|b| b.center.distance(q) < b.radius),
+                    "{q} uncovered"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn cube_edges_are_chains_between_exact_corners() {
+        let (curves, corners) = cube();
+        let p = protect(&curves, &corners, &Sizing::Constant(0.2), 1e-6).expect("protects");
+        assert_eq!(p.corners, corners);
+        for (k, &c) in corners.iter().enumerate() {
+            assert_eq!(p.balls[k].center, c);
+            assert_eq!(p.balls[k].feature, Feature::Corner(k as u32));
+        }
+        assert_eq!(p.chains.len(), 12);
+        for chain in &p.chains {
+            assert!(!chain.closed && chain.balls.len() >= 3);
+            assert!(chain.balls[0] < 8 && chain.balls[chain.balls.len() - 1] < 8);
+        }
+        assert_protects(&p, &curves, 0.2);
+    }
+
+    #[test]
+    fn closed_circle_gets_a_closed_chain() {
+        let pts: Vec<[f64; 3]> = (0..256)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / 256.0;
+                [t.cos(), t.sin(), 0.0]
+            })
+            .collect();
+        let curves = [
+            curve(1, &pts, true),
+            curve(
+                2,
+                &pts.iter().map(|p| [p[0], p[1], 1.0]).collect::<Vec<_>>(),
+                true,
+            ),
+        ];
+        let p = protect(&curves, &[], &Sizing::Constant(0.1), 1e-6).expect("protects");
+        assert!(p.corners.is_empty());
+        assert_eq!(p.chains.len(), 2);
+        assert!(p.chains.iter().all(|c| c.closed && c.balls.len() >= 3));
+        assert_protects(&p, &curves, 0.1);
+    }
+
+    #[test]
+    fn sharp_angles_get_small_balls() {
+        for degrees in [20.0f64, 5.0] {
+            let t = degrees.to_radians();
+            let tip = [0.0, 0.0, 0.0];
+            let a = [1.0, 0.0, 0.0];
+            let b = [t.cos(), t.sin(), 0.0];
+            let curves = [
+                curve(1, &[tip, a], false),
+                curve(2, &[tip, b], false),
+                curve(3, &[a, b], false),
+            ];
+            let p = protect(&curves, &[], &Sizing::Constant(0.1), 1e-9).expect("protects");
+            assert_eq!(p.corners.len(), 3);
+            assert_protects(&p, &curves, 0.1);
+        }
+    }
+
+    #[test]
+    fn a_curve_through_a_corner_is_cut_there() {
+        let curves = [curve(
+            1,
+            &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]],
+            false,
+        )];
+        let p = protect(
+            &curves,
+            &[Point3::new(1.0, 0.0, 0.0)],
+            &Sizing::Constant(0.1),
+            1e-6,
+        )
+        .expect("protects");
+        assert_eq!(p.corners.len(), 3);
+        assert_eq!(p.chains.len(), 2);
+        assert_protects(&p, &curves, 0.1);
+    }
+
+    #[test]
+    fn touching_curves_are_refused() {
+        let curves = [
+            curve(1, &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]], false),
+            curve(2, &[[0.5, -1.0, 0.0], [0.5, 1.0, 0.0]], false),
+        ];
+        assert!(matches!(
+            protect(&curves, &[], &Sizing::Constant(0.1), 1e-4),
+            Err(ProtectError::TooClose { .. })
+        ));
+        let bad = [curve(3, &[[0.0, 0.0, 0.0]], false)];
+        assert_eq!(
+            protect(&bad, &[], &Sizing::Constant(0.1), 1e-4),
+            Err(ProtectError::BadCurve { curve: 3 })
+        );
+    }
+}
