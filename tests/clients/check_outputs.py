@@ -29,6 +29,9 @@ DATA = ROOT / "tests" / "data"
 
 SURFACE_INPUTS = ["box.off", "icosahedron.obj", "tetrahedron.stl", "torus.ply", "pyramid.glb", "pyramid.gltf"]
 VOLUME_INPUTS = ["box.mesh"]
+# Meshed by `delamesh mesh` first: their sharp edges become line cells with a `curve` id, which
+# every volume format must carry to the clients.
+FEATURE_INPUTS = ["features/cube.off", "features/two_boxes.off"]
 
 # (file name suffix, extra convert flags)
 VOLUME_OUTPUTS = [
@@ -75,6 +78,9 @@ class Expected:
         self.bbox = np.array([info["bounding_box"]["min"], info["bounding_box"]["max"]])
         self.subdomains = {s["id"]: s["tetrahedra"] for s in vm.get("subdomains", [])}
         self.patches = {p["id"]: p["triangles"] for p in info["patches"]}
+        # Vertices on the boundary triangles (V = χ + E − F): all an STL file can keep.
+        topo = info["topology"]
+        self.surface_vertices = topo["euler_characteristic"] + topo["edges"] - self.triangles
 
 
 class Checker:
@@ -174,6 +180,9 @@ def check_output(c, path, exp):
         check_meshio(c, path, exp)
     else:
         f32 = suffix == ".stl"
+        if f32:
+            exp = surface_view(exp)
+            exp.vertices = exp.surface_vertices
         check_meshlab(c, path, exp, f32)
         # meshio 5.3 cannot read binary PLY faces with an extra scalar property (our `patch`):
         # it fails inside its own Mesh constructor; VTK's PLY reader checks those files instead.
@@ -208,8 +217,15 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         written = {}
-        for name in SURFACE_INPUTS + VOLUME_INPUTS:
-            src = DATA / name
+        sources = [DATA / name for name in SURFACE_INPUTS + VOLUME_INPUTS]
+        for name in FEATURE_INPUTS:
+            meshed = tmp / f"{Path(name).stem}-meshed.mesh"
+            run(binary, "mesh", DATA / name, "-o", meshed, "--quiet")
+            c.check(Expected(json.loads(run(binary, "info", meshed, "--json"))).edges > 0,
+                    f"{name}: meshed without feature edges")
+            sources.append(meshed)
+        for src in sources:
+            name = src.name
             exp = Expected(json.loads(run(binary, "info", src, "--json")))
             outputs = VOLUME_OUTPUTS + SURFACE_OUTPUTS
             for suffix, flags in outputs:
