@@ -30,11 +30,20 @@ fn dylib_name(lib: &str) -> String {
     )
 }
 
-/// Runs `cargo build -p package [--features ...]` once per process, in the profile and target
-/// directory of the running executable; returns that profile directory.
+/// Runs `cargo build -p package [--features ...]` once per process, in the profile of the running
+/// executable but in the target subdirectory `plugins/`; returns that build's profile directory.
+///
+/// A separate target directory because the plugin crates are `rlib` + `cdylib`: a feature build
+/// in the test's own directory would overwrite the rlib that later test and doctest builds link.
 fn cargo_build(package: &str, features: &[&str]) -> PathBuf {
     static BUILT: Mutex<Vec<String>> = Mutex::new(Vec::new());
-    let dir = profile_dir();
+    let own = profile_dir();
+    let profile = own.file_name().map(|name| name.to_os_string());
+    let target = own.parent().map(|t| t.join("plugins"));
+    let dir = match (&target, &profile) {
+        (Some(t), Some(p)) => t.join(p),
+        _ => own.clone(),
+    };
     let key = format!("{package} {features:?}");
     let mut built = BUILT
         .lock()
@@ -47,11 +56,10 @@ fn cargo_build(package: &str, features: &[&str]) -> PathBuf {
         if !features.is_empty() {
             cargo.arg("--features").arg(features.join(","));
         }
-        if dir.file_name().is_some_and(|name| name == "release") {
+        if own.file_name().is_some_and(|name| name == "release") {
             cargo.arg("--release");
         }
-        // The target directory is the parent of the profile directory, whatever CARGO_TARGET_DIR said.
-        if let Some(target) = dir.parent() {
+        if let Some(target) = &target {
             cargo.env("CARGO_TARGET_DIR", target);
         }
         let status = cargo.status().expect("cargo runs");
