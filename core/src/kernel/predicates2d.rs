@@ -262,6 +262,22 @@ impl<const N: usize> Expansion<N> {
         self.as_slice().last().copied().unwrap_or(0.0)
     }
 
+    /// Adds `b` exactly (Shewchuk's grow-expansion with zero elimination); needs `len < N`.
+    fn grow(&mut self, b: f64) {
+        let mut q = b;
+        let mut kept = 0;
+        for i in 0..self.len {
+            let (sum, lo) = two_sum(q, self.terms[i]);
+            if lo != 0.0 {
+                self.terms[kept] = lo;
+                kept += 1;
+            }
+            q = sum;
+        }
+        self.len = kept;
+        self.push(q);
+    }
+
     /// `(a1 + a0) - (b1 + b0)` for two exact products.
     fn set_two_two_diff(&mut self, a: (f64, f64), b: (f64, f64)) {
         self.len = 0;
@@ -332,24 +348,6 @@ impl<const N: usize> Expansion<N> {
     }
 }
 
-/// Adds `b` to the non-overlapping expansion `e` (increasing magnitude), exactly.
-fn grow_expansion(e: &mut Vec<f64>, mut b: f64) {
-    let mut out = Vec::with_capacity(e.len() + 1);
-    for &x in e.iter() {
-        let s = b + x;
-        let bv = s - b;
-        let err = (b - (s - bv)) + (x - bv);
-        if err != 0.0 {
-            out.push(err);
-        }
-        b = s;
-    }
-    if b != 0.0 || out.is_empty() {
-        out.push(b);
-    }
-    *e = out;
-}
-
 /// Exact sign of `(a - p) · (b - p)`: `Less` when the angle `a p b` is obtuse (p strictly inside
 /// the circle with diameter `ab`), `Equal` when right (p on that circle), `Greater` when acute.
 pub fn dot_sign(p: DVec2, a: DVec2, b: DVec2) -> Ordering {
@@ -359,7 +357,7 @@ pub fn dot_sign(p: DVec2, a: DVec2, b: DVec2) -> Ordering {
         return sign(fast);
     }
     // (a - p)·(b - p) = a·b - a·p - p·b + p·p, each product split exactly.
-    let mut e = Vec::with_capacity(16);
+    let mut e = Expansion::<16>::default();
     for (x, y, s) in [
         (a.x, b.x, 1.0),
         (a.y, b.y, 1.0),
@@ -371,13 +369,10 @@ pub fn dot_sign(p: DVec2, a: DVec2, b: DVec2) -> Ordering {
         (p.y, p.y, 1.0),
     ] {
         let (hi, lo) = two_product(s * x, y);
-        grow_expansion(&mut e, hi);
-        grow_expansion(&mut e, lo);
+        e.grow(hi);
+        e.grow(lo);
     }
-    e.iter()
-        .rev()
-        .find(|&&x| x != 0.0)
-        .map_or(Ordering::Equal, |&x| sign(x))
+    sign(e.top())
 }
 
 #[cfg(test)]

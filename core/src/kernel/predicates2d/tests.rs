@@ -3,7 +3,7 @@
 //! and nearly cocircular far from the origin (inexact differences, first-order correction and
 //! the complete fallback).
 
-use super::incircle;
+use super::{dot_sign, incircle};
 use crate::kernel::power::{dyadic, scaled};
 use glam::DVec2;
 use num_bigint::BigInt;
@@ -120,4 +120,54 @@ fn nearly_cocircular_points_agree_with_oracle() {
         inside > 0 && outside > 0,
         "{inside} inside, {outside} outside"
     );
+}
+
+/// `(a - p) · (b - p)` in exact integer arithmetic.
+fn dot_oracle(p: DVec2, a: DVec2, b: DVec2) -> Ordering {
+    let unit = [p, a, b]
+        .iter()
+        .flat_map(|q| [q.x, q.y])
+        .filter(|&x| x != 0.0)
+        .map(|x| dyadic(x).1)
+        .min()
+        .unwrap_or(0);
+    let s = |x: f64| scaled(x, unit);
+    let dot = (s(a.x) - s(p.x)) * (s(b.x) - s(p.x)) + (s(a.y) - s(p.y)) * (s(b.y) - s(p.y));
+    dot.sign().cmp(&num_bigint::Sign::NoSign)
+}
+
+#[test]
+fn dot_sign_agrees_with_oracle_on_random_and_right_angles() {
+    let mut rng = StdRng::seed_from_u64(17);
+    let mut right = 0;
+    for _ in 0..2000 {
+        let centre = DVec2::new(rng.random_range(-2.0..2.0), rng.random_range(-2.0..2.0));
+        let t: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+        let u = DVec2::new(t.cos(), t.sin());
+        // p on the circle with diameter ab (up to rounding), or exactly at a right angle on the
+        // integer grid: a = (0, 0), b = (2k, 0), p = (k, k).
+        let (p, a, b) = if rng.random_bool(0.5) {
+            let s: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+            (
+                centre + DVec2::new(s.cos(), s.sin()),
+                centre + u,
+                centre - u,
+            )
+        } else {
+            let k = f64::from(rng.random_range(1..1000));
+            let shift = DVec2::new(f64::from(rng.random_range(-50..50)), 3.0);
+            (
+                DVec2::splat(k) + shift,
+                shift,
+                DVec2::new(2.0 * k, 0.0) + shift,
+            )
+        };
+        right += usize::from(dot_sign(p, a, b) == Ordering::Equal);
+        assert_eq!(
+            dot_sign(p, a, b),
+            dot_oracle(p, a, b),
+            "dot_sign({p}, {a}, {b})"
+        );
+    }
+    assert!(right > 0);
 }
