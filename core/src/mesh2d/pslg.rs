@@ -64,7 +64,7 @@ impl Pslg {
             return Err(PslgError::NonFinite(i));
         }
         let mut order: Vec<usize> = (0..n).collect();
-        order.sort_by(|&i, &j| lex_cmp(self.points[i], self.points[j]).then(i.cmp(&j)));
+        order.sort_unstable_by(|&i, &j| lex_cmp(self.points[i], self.points[j]).then(i.cmp(&j)));
         for w in order.windows(2) {
             if self.points[w[0]] == self.points[w[1]] {
                 return Err(PslgError::DuplicatePoint(w[0], w[1]));
@@ -98,6 +98,12 @@ impl Pslg {
     fn segment(&self, s: usize) -> (DVec2, DVec2) {
         let [a, b] = self.segments[s];
         (self.points[a as usize], self.points[b as usize])
+    }
+
+    /// Bounding box of segment `s`, as (min corner, max corner).
+    fn segment_box(&self, s: usize) -> (DVec2, DVec2) {
+        let (a, b) = self.segment(s);
+        (a.min(b), a.max(b))
     }
 
     fn check_points_off_segments(&self, lo: DVec2, hi: DVec2) -> Result<(), PslgError> {
@@ -146,9 +152,20 @@ impl Pslg {
                 }
             }
         }
-        for bucket in &buckets {
+        for (b, bucket) in buckets.iter().enumerate() {
             for (x, &s) in bucket.iter().enumerate() {
+                let (ls, hs) = self.segment_box(s);
                 for &t in &bucket[x + 1..] {
+                    // Test each pair once: in the bucket of the corner of their boxes' overlap.
+                    let (lt, ht) = self.segment_box(t);
+                    let (lo, hi) = (ls.max(lt), hs.min(ht));
+                    if lo.cmpgt(hi).any() {
+                        continue;
+                    }
+                    let (i, j) = cell(lo);
+                    if j * k + i != b {
+                        continue;
+                    }
                     if self.cross(s, t) {
                         return Err(PslgError::Crossing(s.min(t), s.max(t)));
                     }
@@ -168,10 +185,10 @@ impl Pslg {
         }
         let (pa, pb) = self.segment(s);
         let (pc, pd) = self.segment(t);
-        let o1 = orient2d(pa, pb, pc);
-        let o2 = orient2d(pa, pb, pd);
-        let o3 = orient2d(pc, pd, pa);
-        let o4 = orient2d(pc, pd, pb);
-        o1 != Ordering::Equal && o1 == o2.reverse() && o3 != Ordering::Equal && o3 == o4.reverse()
+        let straddles = |a, b, c, d| {
+            let o = orient2d(a, b, c);
+            o != Ordering::Equal && o == orient2d(a, b, d).reverse()
+        };
+        straddles(pa, pb, pc, pd) && straddles(pc, pd, pa, pb)
     }
 }

@@ -123,7 +123,7 @@ impl Constraints {
     /// All sub-segments, in a deterministic order.
     pub(crate) fn sorted(&self) -> Vec<SubSegment> {
         let mut all = self.subs.clone();
-        all.sort_by_key(|s| key(s.a, s.b));
+        all.sort_unstable_by_key(|s| key(s.a, s.b));
         all
     }
 
