@@ -64,7 +64,15 @@ impl Pslg {
             return Err(PslgError::NonFinite(i));
         }
         let mut order: Vec<usize> = (0..n).collect();
-        order.sort_unstable_by(|&i, &j| lex_cmp(self.points[i], self.points[j]).then(i.cmp(&j)));
+        // The integer image of `f64::total_cmp`, so that the sort compares plain integers.
+        let total_key = |x: f64| {
+            let bits = x.to_bits() as i64;
+            bits ^ (((bits >> 63) as u64) >> 1) as i64
+        };
+        order.sort_unstable_by_key(|&i| {
+            let p = self.points[i];
+            (total_key(p.x), total_key(p.y), i)
+        });
         for w in order.windows(2) {
             if self.points[w[0]] == self.points[w[1]] {
                 return Err(PslgError::DuplicatePoint(w[0], w[1]));
@@ -115,8 +123,13 @@ impl Pslg {
         for s in 0..self.segments.len() {
             let (a, b) = self.segment(s);
             grid.candidates(a.min(b), a.max(b), &mut cand);
+            let (lo, hi) = (a.min(b), a.max(b));
             for &i in &cand {
                 let p = self.points[i as usize];
+                // Only points inside the segment's box can lie on it: skip the rest cheaply.
+                if p.cmplt(lo).any() || p.cmpgt(hi).any() {
+                    continue;
+                }
                 if orient2d(a, b, p) == Ordering::Equal
                     && lex_cmp(a, p) == lex_cmp(p, b)
                     && lex_cmp(a, p) != Ordering::Equal
