@@ -511,3 +511,18 @@ fn crossing_check_agrees_with_all_pairs() {
     }
     assert!(found > 0);
 }
+
+#[test]
+fn duplicate_points_are_reported_in_index_order() {
+    let points = [
+        v(1.0, 2.0),
+        v(0.0, 0.0),
+        v(3.0, -1.0),
+        v(-0.0, 0.0),
+        v(1.0, 2.0),
+    ];
+    let err = pslg(&points, &[[0, 2]]).validate();
+    // -0.0 and 0.0 are the same point, and the origin sorts before (1, 2): that pair is reported,
+    // the negative zero (first in the total order) first.
+    assert_eq!(err, Err(PslgError::DuplicatePoint(3, 1)));
+}
