@@ -122,20 +122,24 @@ impl Pslg {
         let mut cand = Vec::new();
         for s in 0..self.segments.len() {
             let (a, b) = self.segment(s);
-            grid.candidates(a.min(b), a.max(b), &mut cand);
             let (lo, hi) = (a.min(b), a.max(b));
-            for &i in &cand {
-                let p = self.points[i as usize];
-                // Only points inside the segment's box can lie on it: skip the rest cheaply.
-                if p.cmplt(lo).any() || p.cmpgt(hi).any() {
-                    continue;
-                }
-                if orient2d(a, b, p) == Ordering::Equal
-                    && lex_cmp(a, p) == lex_cmp(p, b)
-                    && lex_cmp(a, p) != Ordering::Equal
-                {
-                    return Err(PslgError::PointOnSegment(s, i as usize));
-                }
+            grid.candidates_unordered(lo, hi, &mut cand);
+            // The smallest index on the segment, as a sorted scan would report first.
+            let on_segment = cand
+                .iter()
+                .copied()
+                .filter(|&i| {
+                    let p = self.points[i as usize];
+                    // Only points inside the segment's box can lie on it: skip the rest cheaply.
+                    p.cmpge(lo).all()
+                        && p.cmple(hi).all()
+                        && orient2d(a, b, p) == Ordering::Equal
+                        && lex_cmp(a, p) == lex_cmp(p, b)
+                        && lex_cmp(a, p) != Ordering::Equal
+                })
+                .min();
+            if let Some(i) = on_segment {
+                return Err(PslgError::PointOnSegment(s, i as usize));
             }
         }
         Ok(())
