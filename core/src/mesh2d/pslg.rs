@@ -63,19 +63,19 @@ impl Pslg {
         if let Some(i) = self.points.iter().position(|p| !p.is_finite()) {
             return Err(PslgError::NonFinite(i));
         }
-        let mut order: Vec<usize> = (0..n).collect();
         // The integer image of `f64::total_cmp`, so that the sort compares plain integers.
         let total_key = |x: f64| {
             let bits = x.to_bits() as i64;
             bits ^ (((bits >> 63) as u64) >> 1) as i64
         };
-        order.sort_unstable_by_key(|&i| {
-            let p = self.points[i];
-            (total_key(p.x), total_key(p.y), i)
-        });
+        let mut order: Vec<(i64, i64, usize)> = (self.points.iter().enumerate())
+            .map(|(i, p)| (total_key(p.x), total_key(p.y), i))
+            .collect();
+        order.sort_unstable();
         for w in order.windows(2) {
-            if self.points[w[0]] == self.points[w[1]] {
-                return Err(PslgError::DuplicatePoint(w[0], w[1]));
+            let (i, j) = (w[0].2, w[1].2);
+            if self.points[i] == self.points[j] {
+                return Err(PslgError::DuplicatePoint(i, j));
             }
         }
         let mut keys = Vec::with_capacity(self.segments.len());
