@@ -124,7 +124,7 @@ pub(crate) fn off_plane_point(tri: [Point3; 3]) -> (Point3, Sign) {
 }
 
 /// `x = mantissa · 2^exponent` exactly (zero has mantissa 0).
-fn dyadic(x: f64) -> (i64, i32) {
+pub(super) fn dyadic(x: f64) -> (i64, i32) {
     let bits = x.to_bits();
     let sign = if bits >> 63 == 1 { -1 } else { 1 };
     let biased = ((bits >> 52) & 0x7ff) as i32;
@@ -138,7 +138,7 @@ fn dyadic(x: f64) -> (i64, i32) {
 }
 
 /// `x · 2^-unit` as an exact integer; `unit` must not exceed the exponent of `x`.
-fn scaled(x: f64, unit: i32) -> BigInt {
+pub(super) fn scaled(x: f64, unit: i32) -> BigInt {
     let (m, e) = dyadic(x);
     BigInt::from(m) << ((e - unit) as usize)
 }

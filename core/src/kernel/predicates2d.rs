@@ -18,8 +18,133 @@ pub fn orient2d(a: DVec2, b: DVec2, c: DVec2) -> Ordering {
 
 /// Exact in-circle sign: `Greater` when `d` is strictly inside the circle through the
 /// counter-clockwise triangle `(a, b, c)`, `Less` outside, `Equal` on it.
+///
+/// Three stages: the floating-point determinant with Shewchuk's first error bound; when that
+/// cannot decide and the differences to `d` are exact, the exact determinant of those differences
+/// by expansion arithmetic in small stack buffers; otherwise `robust`'s full adaptive evaluation.
+/// The middle stage exists because near-cocircular split points (symmetric spikes) reach the
+/// fallback often, and `robust` pays for zeroing kilobytes of scratch arrays on every such call.
+#[inline]
 pub fn incircle(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Ordering {
+    let (ad, bd, cd) = (a - d, b - d, c - d);
+    let bc = bd.perp_dot(cd);
+    let ca = cd.perp_dot(ad);
+    let ab = ad.perp_dot(bd);
+    let (la, lb, lc) = (
+        ad.length_squared(),
+        bd.length_squared(),
+        cd.length_squared(),
+    );
+    let det = la * bc + lb * ca + lc * ab;
+    let permanent = la * ((bd.x * cd.y).abs() + (cd.x * bd.y).abs())
+        + lb * ((cd.x * ad.y).abs() + (ad.x * cd.y).abs())
+        + lc * ((ad.x * bd.y).abs() + (bd.x * ad.y).abs());
+    if det.abs() > INCIRCLE_ERROR * permanent {
+        return sign(det);
+    }
+    incircle_exact(a, b, c, d, permanent)
+}
+
+/// Shewchuk's in-circle error bounds (with ε = 2⁻⁵³): the floating-point determinant, relative to
+/// the permanent (`A`); the exactly summed determinant of the rounded differences (`B`); the
+/// latter corrected to first order in the differences' rounding errors (`C`, plus `RESULT` of it).
+const EPS: f64 = f64::EPSILON / 2.0;
+const INCIRCLE_ERROR: f64 = (10.0 + 96.0 * EPS) * EPS;
+const INCIRCLE_ERROR_B: f64 = (4.0 + 48.0 * EPS) * EPS;
+const INCIRCLE_ERROR_C: f64 = (44.0 + 576.0 * EPS) * EPS * EPS;
+const RESULT_ERROR: f64 = (3.0 + 8.0 * EPS) * EPS;
+
+/// Differences whose magnitude lies outside this range are left to `robust`: inside it, no
+/// product of the expansion stage can overflow or lose its rounding error to underflow.
+const EXPANSION_RANGE: (f64, f64) = (1e-50, 1e50);
+
+/// The in-circle sign when the first filter failed: Shewchuk's second and third adaptive stages
+/// in stack buffers sized for them, then `robust`'s complete evaluation when those cannot decide.
+#[cold]
+#[inline(never)]
+fn incircle_exact(a: DVec2, b: DVec2, c: DVec2, d: DVec2, permanent: f64) -> Ordering {
+    let diffs = [
+        two_diff(a.x, d.x),
+        two_diff(a.y, d.y),
+        two_diff(b.x, d.x),
+        two_diff(b.y, d.y),
+        two_diff(c.x, d.x),
+        two_diff(c.y, d.y),
+    ];
+    let in_range = |x: f64| x == 0.0 || (EXPANSION_RANGE.0..=EXPANSION_RANGE.1).contains(&x.abs());
+    if diffs.iter().all(|&(hi, _)| in_range(hi)) {
+        let [adx, ady, bdx, bdy, cdx, cdy] = diffs.map(|(hi, _)| hi);
+        // Exact determinant of the rounded differences: the exact answer when they are exact,
+        // since the determinant is translation invariant.
+        let mut exact = Expansion::<96>::default();
+        let row_a = lifted_row(adx, ady, (bdx, bdy), (cdx, cdy));
+        let row_b = lifted_row(bdx, bdy, (cdx, cdy), (adx, ady));
+        let row_c = lifted_row(cdx, cdy, (adx, ady), (bdx, bdy));
+        let mut ab = Expansion::<64>::default();
+        ab.set_sum(&row_a, &row_b);
+        exact.set_sum(&ab, &row_c);
+        let mut det: f64 = exact.as_slice().iter().sum();
+        if det.abs() >= INCIRCLE_ERROR_B * permanent {
+            return sign(det);
+        }
+        let [adxt, adyt, bdxt, bdyt, cdxt, cdyt] = diffs.map(|(_, lo)| lo);
+        if [adxt, adyt, bdxt, bdyt, cdxt, cdyt] == [0.0; 6] {
+            return sign(exact.top());
+        }
+        // First-order correction: the derivative of the determinant along the rounding errors.
+        let bound = INCIRCLE_ERROR_C * permanent + RESULT_ERROR * det.abs();
+        let row =
+            |x: f64, y: f64, xt: f64, yt: f64, u: (f64, f64, f64, f64), v: (f64, f64, f64, f64)| {
+                let (ux, uy, uxt, uyt) = u;
+                let (vx, vy, vxt, vyt) = v;
+                (x * x + y * y) * ((ux * vyt + vy * uxt) - (uy * vxt + vx * uyt))
+                    + 2.0 * (x * xt + y * yt) * (ux * vy - uy * vx)
+            };
+        det += row(
+            adx,
+            ady,
+            adxt,
+            adyt,
+            (bdx, bdy, bdxt, bdyt),
+            (cdx, cdy, cdxt, cdyt),
+        ) + row(
+            bdx,
+            bdy,
+            bdxt,
+            bdyt,
+            (cdx, cdy, cdxt, cdyt),
+            (adx, ady, adxt, adyt),
+        ) + row(
+            cdx,
+            cdy,
+            cdxt,
+            cdyt,
+            (adx, ady, adxt, adyt),
+            (bdx, bdy, bdxt, bdyt),
+        );
+        if det.abs() >= bound {
+            return sign(det);
+        }
+    }
     sign(robust::incircle(coord(a), coord(b), coord(c), coord(d)))
+}
+
+/// `(x² + y²) · (u × v)` exactly, for the in-circle row of a point at `(x, y)` relative to `d`.
+fn lifted_row(x: f64, y: f64, u: (f64, f64), v: (f64, f64)) -> Expansion<32> {
+    let (p1, p0) = two_product(u.0, v.1);
+    let (q1, q0) = two_product(v.0, u.1);
+    let mut minor = Expansion::<4>::default();
+    minor.set_two_two_diff((p1, p0), (q1, q0));
+    let mut t8 = Expansion::<8>::default();
+    let mut xx = Expansion::<16>::default();
+    let mut yy = Expansion::<16>::default();
+    t8.set_scaled(&minor, x);
+    xx.set_scaled(&t8, x);
+    t8.set_scaled(&minor, y);
+    yy.set_scaled(&t8, y);
+    let mut row = Expansion::<32>::default();
+    row.set_sum(&xx, &yy);
+    row
 }
 
 fn sign(v: f64) -> Ordering {
@@ -78,22 +203,149 @@ fn two_product(a: f64, b: f64) -> (f64, f64) {
     (hi, a.mul_add(b, -hi))
 }
 
-/// Adds `b` to the non-overlapping expansion `e` (increasing magnitude), exactly.
-fn grow_expansion(e: &mut Vec<f64>, mut b: f64) {
-    let mut out = Vec::with_capacity(e.len() + 1);
-    for &x in e.iter() {
-        let s = b + x;
-        let bv = s - b;
-        let err = (b - (s - bv)) + (x - bv);
-        if err != 0.0 {
-            out.push(err);
+/// `a - b` as an exact unevaluated sum `hi + lo` (Knuth's two-difference).
+#[inline(always)]
+fn two_diff(a: f64, b: f64) -> (f64, f64) {
+    let x = a - b;
+    let bv = a - x;
+    let av = x + bv;
+    (x, (a - av) + (bv - b))
+}
+
+/// `a + b` as an exact unevaluated sum `hi + lo` (Knuth's two-sum).
+#[inline(always)]
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let x = a + b;
+    let bv = x - a;
+    let av = x - bv;
+    (x, (a - av) + (b - bv))
+}
+
+/// `a + b` exactly when `|a| ≥ |b|` or `a` is zero (Dekker's fast two-sum).
+#[inline(always)]
+fn fast_two_sum(a: f64, b: f64) -> (f64, f64) {
+    let x = a + b;
+    (x, b - (x - a))
+}
+
+/// A non-overlapping floating-point expansion of at most `N` components, in increasing
+/// magnitude, without zeros: its exact value is the sum of its components and its sign that of
+/// the largest one. A fixed-size stack buffer sized for the one formula that fills it.
+struct Expansion<const N: usize> {
+    terms: [f64; N],
+    len: usize,
+}
+
+impl<const N: usize> Default for Expansion<N> {
+    fn default() -> Self {
+        Expansion {
+            terms: [0.0; N],
+            len: 0,
         }
-        b = s;
     }
-    if b != 0.0 || out.is_empty() {
-        out.push(b);
+}
+
+impl<const N: usize> Expansion<N> {
+    fn as_slice(&self) -> &[f64] {
+        &self.terms[..self.len]
     }
-    *e = out;
+
+    fn push(&mut self, x: f64) {
+        if x != 0.0 {
+            self.terms[self.len] = x;
+            self.len += 1;
+        }
+    }
+
+    /// The component of largest magnitude (zero for an empty expansion): it has the sign of the sum.
+    fn top(&self) -> f64 {
+        self.as_slice().last().copied().unwrap_or(0.0)
+    }
+
+    /// Adds `b` exactly (Shewchuk's grow-expansion with zero elimination); needs `len < N`.
+    fn grow(&mut self, b: f64) {
+        let mut q = b;
+        let mut kept = 0;
+        for i in 0..self.len {
+            let (sum, lo) = two_sum(q, self.terms[i]);
+            if lo != 0.0 {
+                self.terms[kept] = lo;
+                kept += 1;
+            }
+            q = sum;
+        }
+        self.len = kept;
+        self.push(q);
+    }
+
+    /// `(a1 + a0) - (b1 + b0)` for two exact products.
+    fn set_two_two_diff(&mut self, a: (f64, f64), b: (f64, f64)) {
+        self.len = 0;
+        let mut e = Expansion::<2>::default();
+        e.push(a.1);
+        e.push(a.0);
+        let mut f = Expansion::<2>::default();
+        f.push(-b.1);
+        f.push(-b.0);
+        self.set_sum(&e, &f);
+    }
+
+    /// `e · b` exactly (Shewchuk's scale-expansion with zero elimination); needs `N ≥ 2 M`.
+    fn set_scaled<const M: usize>(&mut self, e: &Expansion<M>, b: f64) {
+        self.len = 0;
+        let e = e.as_slice();
+        let Some((&first, rest)) = e.split_first() else {
+            return;
+        };
+        let (mut q, lo) = two_product(first, b);
+        self.push(lo);
+        for &x in rest {
+            let (p1, p0) = two_product(x, b);
+            let (sum, lo) = two_sum(q, p0);
+            self.push(lo);
+            let (nq, lo) = fast_two_sum(p1, sum);
+            self.push(lo);
+            q = nq;
+        }
+        self.push(q);
+    }
+
+    /// `e + f` exactly (Shewchuk's fast expansion sum with zero elimination: merge by magnitude,
+    /// then accumulate); needs `N ≥ M + K`.
+    fn set_sum<const M: usize, const K: usize>(&mut self, e: &Expansion<M>, f: &Expansion<K>) {
+        self.len = 0;
+        let (e, f) = (e.as_slice(), f.as_slice());
+        let (mut i, mut j) = (0, 0);
+        let mut next = || {
+            let take_e = match (e.get(i), f.get(j)) {
+                (Some(x), Some(y)) => x.abs() < y.abs(),
+                (Some(_), None) => true,
+                (None, Some(_)) => false,
+                (None, None) => return None,
+            };
+            if take_e {
+                i += 1;
+                Some(e[i - 1])
+            } else {
+                j += 1;
+                Some(f[j - 1])
+            }
+        };
+        let Some(mut q) = next() else {
+            return;
+        };
+        if let Some(g) = next() {
+            let (nq, lo) = fast_two_sum(g, q);
+            self.push(lo);
+            q = nq;
+            while let Some(g) = next() {
+                let (nq, lo) = two_sum(q, g);
+                self.push(lo);
+                q = nq;
+            }
+        }
+        self.push(q);
+    }
 }
 
 /// Exact sign of `(a - p) · (b - p)`: `Less` when the angle `a p b` is obtuse (p strictly inside
@@ -105,7 +357,7 @@ pub fn dot_sign(p: DVec2, a: DVec2, b: DVec2) -> Ordering {
         return sign(fast);
     }
     // (a - p)·(b - p) = a·b - a·p - p·b + p·p, each product split exactly.
-    let mut e = Vec::with_capacity(16);
+    let mut e = Expansion::<16>::default();
     for (x, y, s) in [
         (a.x, b.x, 1.0),
         (a.y, b.y, 1.0),
@@ -117,11 +369,11 @@ pub fn dot_sign(p: DVec2, a: DVec2, b: DVec2) -> Ordering {
         (p.y, p.y, 1.0),
     ] {
         let (hi, lo) = two_product(s * x, y);
-        grow_expansion(&mut e, hi);
-        grow_expansion(&mut e, lo);
+        e.grow(hi);
+        e.grow(lo);
     }
-    e.iter()
-        .rev()
-        .find(|&&x| x != 0.0)
-        .map_or(Ordering::Equal, |&x| sign(x))
+    sign(e.top())
 }
+
+#[cfg(test)]
+mod tests;

@@ -47,8 +47,15 @@ impl PointGrid {
         self.buckets[j * self.dims.0 + i].push(id);
     }
 
-    /// Every stored id whose bucket meets the box `[lo, hi]` (a superset of the points inside it).
+    /// Every stored id whose bucket meets the box `[lo, hi]` (a superset of the points inside it),
+    /// in increasing order.
     pub(crate) fn candidates(&self, lo: DVec2, hi: DVec2, out: &mut Vec<u32>) {
+        self.candidates_unordered(lo, hi, out);
+        out.sort_unstable();
+    }
+
+    /// [`Self::candidates`] in bucket order, for callers that do not need the sort.
+    pub(crate) fn candidates_unordered(&self, lo: DVec2, hi: DVec2, out: &mut Vec<u32>) {
         out.clear();
         let (i0, j0) = self.cell_of(lo);
         let (i1, j1) = self.cell_of(hi);
@@ -57,6 +64,5 @@ impl PointGrid {
                 out.extend_from_slice(&self.buckets[j * self.dims.0 + i]);
             }
         }
-        out.sort_unstable();
     }
 }

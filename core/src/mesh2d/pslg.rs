@@ -63,11 +63,19 @@ impl Pslg {
         if let Some(i) = self.points.iter().position(|p| !p.is_finite()) {
             return Err(PslgError::NonFinite(i));
         }
-        let mut order: Vec<usize> = (0..n).collect();
-        order.sort_by(|&i, &j| lex_cmp(self.points[i], self.points[j]).then(i.cmp(&j)));
+        // The integer image of `f64::total_cmp`, so that the sort compares plain integers.
+        let total_key = |x: f64| {
+            let bits = x.to_bits() as i64;
+            bits ^ (((bits >> 63) as u64) >> 1) as i64
+        };
+        let mut order: Vec<(i64, i64, usize)> = (self.points.iter().enumerate())
+            .map(|(i, p)| (total_key(p.x), total_key(p.y), i))
+            .collect();
+        order.sort_unstable();
         for w in order.windows(2) {
-            if self.points[w[0]] == self.points[w[1]] {
-                return Err(PslgError::DuplicatePoint(w[0], w[1]));
+            let (i, j) = (w[0].2, w[1].2);
+            if self.points[i] == self.points[j] {
+                return Err(PslgError::DuplicatePoint(i, j));
             }
         }
         let mut keys = Vec::with_capacity(self.segments.len());
@@ -100,6 +108,12 @@ impl Pslg {
         (self.points[a as usize], self.points[b as usize])
     }
 
+    /// Bounding box of segment `s`, as (min corner, max corner).
+    fn segment_box(&self, s: usize) -> (DVec2, DVec2) {
+        let (a, b) = self.segment(s);
+        (a.min(b), a.max(b))
+    }
+
     fn check_points_off_segments(&self, lo: DVec2, hi: DVec2) -> Result<(), PslgError> {
         let mut grid = PointGrid::new(lo, hi, self.points.len());
         for (i, &p) in self.points.iter().enumerate() {
@@ -108,15 +122,24 @@ impl Pslg {
         let mut cand = Vec::new();
         for s in 0..self.segments.len() {
             let (a, b) = self.segment(s);
-            grid.candidates(a.min(b), a.max(b), &mut cand);
-            for &i in &cand {
-                let p = self.points[i as usize];
-                if orient2d(a, b, p) == Ordering::Equal
-                    && lex_cmp(a, p) == lex_cmp(p, b)
-                    && lex_cmp(a, p) != Ordering::Equal
-                {
-                    return Err(PslgError::PointOnSegment(s, i as usize));
-                }
+            let (lo, hi) = (a.min(b), a.max(b));
+            grid.candidates_unordered(lo, hi, &mut cand);
+            // The smallest index on the segment, as a sorted scan would report first.
+            let on_segment = cand
+                .iter()
+                .copied()
+                .filter(|&i| {
+                    let p = self.points[i as usize];
+                    // Only points inside the segment's box can lie on it: skip the rest cheaply.
+                    p.cmpge(lo).all()
+                        && p.cmple(hi).all()
+                        && orient2d(a, b, p) == Ordering::Equal
+                        && lex_cmp(a, p) == lex_cmp(p, b)
+                        && lex_cmp(a, p) != Ordering::Equal
+                })
+                .min();
+            if let Some(i) = on_segment {
+                return Err(PslgError::PointOnSegment(s, i as usize));
             }
         }
         Ok(())
@@ -146,9 +169,20 @@ impl Pslg {
                 }
             }
         }
-        for bucket in &buckets {
+        for (b, bucket) in buckets.iter().enumerate() {
             for (x, &s) in bucket.iter().enumerate() {
+                let (ls, hs) = self.segment_box(s);
                 for &t in &bucket[x + 1..] {
+                    // Test each pair once: in the bucket of the corner of their boxes' overlap.
+                    let (lt, ht) = self.segment_box(t);
+                    let (lo, hi) = (ls.max(lt), hs.min(ht));
+                    if lo.cmpgt(hi).any() {
+                        continue;
+                    }
+                    let (i, j) = cell(lo);
+                    if j * k + i != b {
+                        continue;
+                    }
                     if self.cross(s, t) {
                         return Err(PslgError::Crossing(s.min(t), s.max(t)));
                     }
@@ -168,10 +202,10 @@ impl Pslg {
         }
         let (pa, pb) = self.segment(s);
         let (pc, pd) = self.segment(t);
-        let o1 = orient2d(pa, pb, pc);
-        let o2 = orient2d(pa, pb, pd);
-        let o3 = orient2d(pc, pd, pa);
-        let o4 = orient2d(pc, pd, pb);
-        o1 != Ordering::Equal && o1 == o2.reverse() && o3 != Ordering::Equal && o3 == o4.reverse()
+        let straddles = |a, b, c, d| {
+            let o = orient2d(a, b, c);
+            o != Ordering::Equal && o == orient2d(a, b, d).reverse()
+        };
+        straddles(pa, pb, pc, pd) && straddles(pc, pd, pa, pb)
     }
 }

@@ -451,3 +451,78 @@ fn shape_measure_is_one_for_equilateral() {
     assert!((eq - 1.0).abs() < 1e-12);
     assert!(shape_measure(v(0.0, 0.0), v(1.0, 0.0), v(0.5, 0.01)) > 10.0);
 }
+
+/// Whether segments `ab` and `cd` cross at a point interior to both (brute-force reference).
+fn crosses(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> bool {
+    let o = [
+        orient2d(a, b, c),
+        orient2d(a, b, d),
+        orient2d(c, d, a),
+        orient2d(c, d, b),
+    ];
+    o.iter().all(|&s| s != Ordering::Equal) && o[0] != o[1] && o[2] != o[3]
+}
+
+#[test]
+fn crossing_check_agrees_with_all_pairs() {
+    let mut seed = 99;
+    let mut found = 0;
+    for _ in 0..300 {
+        let mut points: Vec<DVec2> = (0..30)
+            .map(|_| v(lcg(&mut seed, 1000) as f64, lcg(&mut seed, 1000) as f64))
+            .collect();
+        points.sort_by(|p, q| p.x.total_cmp(&q.x).then(p.y.total_cmp(&q.y)));
+        points.dedup();
+        let n = points.len() as u64;
+        let mut segments: Vec<[u32; 2]> = (0..1 + lcg(&mut seed, 12))
+            .map(|_| [lcg(&mut seed, n) as u32, lcg(&mut seed, n) as u32])
+            .filter(|[a, b]| a != b)
+            .collect();
+        segments.sort_by_key(|&[a, b]| (a.min(b), a.max(b)));
+        segments.dedup_by_key(|&mut [a, b]| (a.min(b), a.max(b)));
+        let ends = |s: &[u32; 2]| (points[s[0] as usize], points[s[1] as usize]);
+        let on_segment = segments.iter().any(|s| {
+            let (a, b) = ends(s);
+            points.iter().any(|&p| {
+                p != a && p != b && orient2d(a, b, p) == Ordering::Equal && {
+                    let (lo, hi) = (a.min(b), a.max(b));
+                    p.cmpge(lo).all() && p.cmple(hi).all()
+                }
+            })
+        });
+        if on_segment {
+            continue;
+        }
+        let any_crossing = segments.iter().enumerate().any(|(i, s)| {
+            segments[i + 1..].iter().any(|t| {
+                let ((a, b), (c, d)) = (ends(s), ends(t));
+                crosses(a, b, c, d)
+            })
+        });
+        match pslg(&points, &segments).validate() {
+            Err(PslgError::Crossing(s, t)) => {
+                let ((a, b), (c, d)) = (ends(&segments[s]), ends(&segments[t]));
+                assert!(crosses(a, b, c, d));
+                found += 1;
+            }
+            Ok(()) => assert!(!any_crossing),
+            Err(e) => panic!("unexpected {e:?}"),
+        }
+    }
+    assert!(found > 0);
+}
+
+#[test]
+fn duplicate_points_are_reported_in_index_order() {
+    let points = [
+        v(1.0, 2.0),
+        v(0.0, 0.0),
+        v(3.0, -1.0),
+        v(-0.0, 0.0),
+        v(1.0, 2.0),
+    ];
+    let err = pslg(&points, &[[0, 2]]).validate();
+    // -0.0 and 0.0 are the same point, and the origin sorts before (1, 2): that pair is reported,
+    // the negative zero (first in the total order) first.
+    assert_eq!(err, Err(PslgError::DuplicatePoint(3, 1)));
+}

@@ -6,7 +6,6 @@ use crate::triangulation::delaunay2::predicates::dot_sign;
 use crate::triangulation::delaunay2::{CellId, Delaunay2, VertexId};
 use glam::DVec2;
 use std::cmp::Ordering;
-use std::collections::HashMap;
 
 /// Where a triangle lies.
 #[derive(Copy, Clone, Debug, PartialEq, Eq)]
@@ -40,7 +39,10 @@ pub(crate) struct Constraints {
     pub is_input: Vec<bool>,
     /// Per vertex: the other ends of the sub-segments at it.
     around: Vec<Vec<VertexId>>,
-    subs: HashMap<(VertexId, VertexId), SubSegment>,
+    /// Per vertex, parallel to `around`: where each of those sub-segments is in `subs`. Vertices
+    /// carry few sub-segments, so scanning these short lists beats hashing the edge.
+    slots: Vec<Vec<u32>>,
+    subs: Vec<SubSegment>,
 }
 
 fn key(a: VertexId, b: VertexId) -> (VertexId, VertexId) {
@@ -53,18 +55,22 @@ impl Constraints {
             is_input: vec![true; num_vertices],
             on_segments: vec![Vec::new(); num_vertices],
             around: vec![Vec::new(); num_vertices],
+            slots: vec![Vec::new(); num_vertices],
             ..Default::default()
         };
         for (s, &[a, b]) in segments.iter().enumerate() {
             c.on_segments[a.0 as usize].push(s as u32);
             c.on_segments[b.0 as usize].push(s as u32);
-            c.add(SubSegment {
-                a,
-                b,
-                origin: s as u32,
-                left: Label::Unknown,
-                right: Label::Unknown,
-            });
+            c.add(
+                SubSegment {
+                    a,
+                    b,
+                    origin: s as u32,
+                    left: Label::Unknown,
+                    right: Label::Unknown,
+                },
+                None,
+            );
         }
         c.segments = segments;
         c
@@ -76,26 +82,37 @@ impl Constraints {
             self.is_input.resize(n, false);
             self.on_segments.resize(n, Vec::new());
             self.around.resize(n, Vec::new());
+            self.slots.resize(n, Vec::new());
         }
     }
 
-    fn add(&mut self, s: SubSegment) {
+    /// Stores `s` in `slot` (a new one when `None`) and records it at both ends.
+    fn add(&mut self, s: SubSegment, slot: Option<u32>) {
         self.ensure(s.a.max(s.b));
-        self.around[s.a.0 as usize].push(s.b);
-        self.around[s.b.0 as usize].push(s.a);
-        self.subs.insert(key(s.a, s.b), s);
+        let slot = slot.unwrap_or_else(|| {
+            self.subs.push(s);
+            (self.subs.len() - 1) as u32
+        });
+        self.subs[slot as usize] = s;
+        for (x, y) in [(s.a, s.b), (s.b, s.a)] {
+            self.around[x.0 as usize].push(y);
+            self.slots[x.0 as usize].push(slot);
+        }
+    }
+
+    /// Where sub-segment `(a, b)` is in `subs`, and its position in `a`'s lists.
+    fn find(&self, a: VertexId, b: VertexId) -> Option<(u32, usize)> {
+        let i = self.around(a).iter().position(|&y| y == b)?;
+        Some((self.slots[a.0 as usize][i], i))
     }
 
     pub(crate) fn get(&self, a: VertexId, b: VertexId) -> Option<&SubSegment> {
-        // Most edges touch no constraint: answer those from the short per-vertex lists.
-        if !self.around(a).contains(&b) {
-            return None;
-        }
-        self.subs.get(&key(a, b))
+        self.find(a, b).map(|(slot, _)| &self.subs[slot as usize])
     }
 
     pub(crate) fn get_mut(&mut self, a: VertexId, b: VertexId) -> Option<&mut SubSegment> {
-        self.subs.get_mut(&key(a, b))
+        self.find(a, b)
+            .map(|(slot, _)| &mut self.subs[slot as usize])
     }
 
     /// Other ends of the sub-segments at `v`.
@@ -105,24 +122,28 @@ impl Constraints {
 
     /// All sub-segments, in a deterministic order.
     pub(crate) fn sorted(&self) -> Vec<SubSegment> {
-        let mut all: Vec<SubSegment> = self.subs.values().copied().collect();
-        all.sort_by_key(|s| key(s.a, s.b));
+        let mut all = self.subs.clone();
+        all.sort_unstable_by_key(|s| key(s.a, s.b));
         all
     }
 
     /// Replaces sub-segment `(a, b)` by its two halves at the new vertex `m`.
     pub(crate) fn split(&mut self, a: VertexId, b: VertexId, m: VertexId) {
-        let Some(s) = self.subs.remove(&key(a, b)) else {
+        let Some((slot, _)) = self.find(a, b) else {
             return;
         };
+        let s = self.subs[slot as usize];
         for (x, y) in [(s.a, s.b), (s.b, s.a)] {
-            self.around[x.0 as usize].retain(|&z| z != y);
+            if let Some((_, i)) = self.find(x, y) {
+                self.around[x.0 as usize].remove(i);
+                self.slots[x.0 as usize].remove(i);
+            }
         }
         self.ensure(m);
         self.is_input[m.0 as usize] = false;
         self.on_segments[m.0 as usize] = vec![s.origin];
-        self.add(SubSegment { b: m, ..s });
-        self.add(SubSegment { a: m, ..s });
+        self.add(SubSegment { b: m, ..s }, Some(slot));
+        self.add(SubSegment { a: m, ..s }, None);
     }
 
     /// Whether `v` is an input vertex where two input segments meet at less than `max_deg`.
