@@ -68,6 +68,11 @@ impl Polyline {
         self.arc[self.arc.len() - 1]
     }
 
+    /// Arc length of vertex `i`.
+    pub fn arc_at(&self, i: usize) -> f64 {
+        self.arc[i]
+    }
+
     /// The curve's vertices (without the repeated first point of a closed curve).
     pub fn points(&self) -> &[Point3] {
         &self.points
