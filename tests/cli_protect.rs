@@ -79,6 +79,33 @@ fn cylinder_rims_are_closed_feature_curves() {
         }
     }
     assert!(degree.values().all(|&d| d == 2), "a rim is not closed");
+    // The rims are polygons: every bend is a mesh vertex, so the feature edges follow them
+    // exactly (up to rounding), however coarse the edge size.
+    let diagonal = bbox_diagonal(&m);
+    for edge_size in ["0.3", "0.05"] {
+        let (r, _) = mesh("cylinder.off", &["--edge-size", edge_size]);
+        let h = r["features"]["max_curve_hausdorff"]
+            .as_f64()
+            .expect("every curve kept");
+        assert!(
+            h <= 1e-9 * diagonal,
+            "edge size {edge_size}: rim Hausdorff {h}"
+        );
+    }
+}
+
+fn bbox_diagonal(m: &delamesh::core::mesh::TetMesh) -> f64 {
+    let (lo, hi) = m.positions.iter().fold(
+        ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+        |(mut lo, mut hi), p| {
+            for (k, x) in p.to_array().into_iter().enumerate() {
+                lo[k] = lo[k].min(x);
+                hi[k] = hi[k].max(x);
+            }
+            (lo, hi)
+        },
+    );
+    (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt()
 }
 
 #[test]

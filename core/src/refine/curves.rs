@@ -68,6 +68,11 @@ impl Polyline {
         self.arc[self.arc.len() - 1]
     }
 
+    /// Arc length of vertex `i`.
+    pub fn arc_at(&self, i: usize) -> f64 {
+        self.arc[i]
+    }
+
     /// The curve's vertices (without the repeated first point of a closed curve).
     pub fn points(&self) -> &[Point3] {
         &self.points
@@ -180,8 +185,15 @@ impl Polyline {
         let mut best = f64::INFINITY;
         for i in 0..self.segment_count() {
             let (a, b) = self.segment(i);
+            // The parts of [a, b] are no nearer than the whole segment.
+            if point_segment_distance(p, a, b) >= best {
+                continue;
+            }
             // The part of [a, b] outside the ball: up to two sub-segments.
-            for (x, y) in segment_outside_ball(a, b, center, radius) {
+            for (x, y) in segment_outside_ball(a, b, center, radius)
+                .into_iter()
+                .flatten()
+            {
                 best = best.min(point_segment_distance(p, x, y));
             }
         }
@@ -225,40 +237,32 @@ pub fn point_segment_distance(p: Point3, a: Point3, b: Point3) -> f64 {
     (a + t * ab).distance(p)
 }
 
-/// The parts of segment `[a, b]` outside the open ball `(center, radius)`.
+/// The parts of segment `[a, b]` outside the open ball `(center, radius)`: at most two.
 fn segment_outside_ball(
     a: Point3,
     b: Point3,
     center: Point3,
     radius: f64,
-) -> Vec<(Point3, Point3)> {
+) -> [Option<(Point3, Point3)>; 2] {
     let d = b - a;
     let len2 = d.length_squared();
     let f = a - center;
     if len2 == 0.0 {
-        return if f.length() >= radius {
-            vec![(a, a)]
-        } else {
-            Vec::new()
-        };
+        return [(f.length() >= radius).then_some((a, a)), None];
     }
     // |f + t d|² = r²: t² len2 + 2 t f·d + |f|² − r² = 0.
     let half_b = f.dot(d);
     let c = f.length_squared() - radius * radius;
     let disc = half_b * half_b - len2 * c;
     if disc <= 0.0 {
-        return vec![(a, b)];
+        return [Some((a, b)), None];
     }
     let root = disc.sqrt();
     let (t0, t1) = ((-half_b - root) / len2, (-half_b + root) / len2);
-    let mut out = Vec::with_capacity(2);
-    if t0 > 0.0 {
-        out.push((a, a + t0.min(1.0) * d));
-    }
-    if t1 < 1.0 {
-        out.push((a + t1.max(0.0) * d, b));
-    }
-    out
+    [
+        (t0 > 0.0).then(|| (a, a + t0.min(1.0) * d)),
+        (t1 < 1.0).then(|| (a + t1.max(0.0) * d, b)),
+    ]
 }
 
 #[cfg(test)]

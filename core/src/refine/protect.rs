@@ -13,7 +13,7 @@
 //! `refine_balls`).
 
 use super::criteria::Sizing;
-use super::curves::Polyline;
+use super::curves::{Polyline, point_segment_distance};
 use crate::kernel::Point3;
 use crate::oracle::{CurveId, FeatureCurve};
 
@@ -25,6 +25,15 @@ const GROWTH: f64 = 0.25;
 const SPACING: f64 = 1.45;
 /// Ball radius as a fraction of the distance to the nearest other feature.
 const FEATURE_FRACTION: f64 = 0.25;
+/// Distance, relative to a curve's extent, under which a polyline vertex counts as on the chord
+/// of its neighbours (no bend): rounding noise, far below any fidelity that matters.
+const COLLINEAR: f64 = 1e-11;
+/// Radius of a ball on a bend, as a fraction of the longer straight run next to it (above 1/2 so
+/// that consecutive bends' balls overlap).
+const BEND_FRACTION: f64 = 0.6;
+/// How much of a spacing a straight run may exceed before it gets one more ball: the runs
+/// between fixed centres are not cut for a small excess (the two end balls still overlap).
+const RUN_SLACK: f64 = 0.25;
 /// Rounds of shrink-and-repopulate before giving up.
 const MAX_ROUNDS: usize = 200;
 
@@ -102,6 +111,8 @@ struct Piece {
     limits: Vec<(f64, f64)>,
     /// Bounding box of the polyline, to skip far pieces in distance queries.
     bounds: (Point3, Point3),
+    /// Arc lengths of the vertices where the piece bends (see [`bends`]), increasing.
+    bends: Vec<f64>,
 }
 
 impl Piece {
@@ -112,11 +123,40 @@ impl Piece {
             .fold((pts[0], pts[0]), |(lo, hi), &p| (lo.min(p), hi.max(p)));
         Piece {
             curve,
+            bends: bends(&line),
             line,
             ends,
             limits: Vec::new(),
             bounds,
         }
+    }
+
+    /// The largest radius of a ball centred at `s` when `s` is a bend: a fraction of the longer
+    /// straight run next to it, so that the balls on consecutive bends overlap while those two
+    /// bends apart stay disjoint (unless the curve turns back sharply). Infinite elsewhere.
+    fn bend_cap(&self, s: f64) -> f64 {
+        let l = self.line.length();
+        let eps = 1e-12 * l;
+        let k = self.bends.partition_point(|&b| b < s - eps);
+        if self.bends.get(k).is_none_or(|&b| b > s + eps) {
+            return f64::INFINITY;
+        }
+        let n = self.bends.len();
+        let (prev, next) = if self.ends.is_none() {
+            let prev = self.bends[(k + n - 1) % n];
+            let next = self.bends[(k + 1) % n];
+            ((s - prev).rem_euclid(l), (next - s).rem_euclid(l))
+        } else {
+            let prev = if k > 0 { self.bends[k - 1] } else { 0.0 };
+            let next = self.bends.get(k + 1).copied().unwrap_or(l);
+            (s - prev, next - s)
+        };
+        let longest = if n == 1 && self.ends.is_none() {
+            l
+        } else {
+            prev.max(next)
+        };
+        BEND_FRACTION * longest
     }
 
     /// A lower bound on the distance from `p` to the piece.
@@ -330,6 +370,7 @@ fn piece_radius(
     for &(s0, r0) in &piece.limits {
         r = r.min(r0 + GROWTH * piece.line.geodesic_distance(s, s0));
     }
+    r = r.min(piece.bend_cap(s));
     let cap = r / FEATURE_FRACTION;
     r.min(FEATURE_FRACTION * distance_to_other_features(pieces, i, p, corners, corner_radius, cap))
 }
@@ -388,7 +429,7 @@ fn populate(
             ),
             None => (0.0, l),
         };
-        let positions = spread(&piece.line, piece.ends.is_none(), from, to, &radius);
+        let positions = place_on_piece(piece, from, to, &radius);
         let mut chain = Vec::with_capacity(positions.len() + 2);
         let mut chain_s = Vec::with_capacity(positions.len() + 2);
         if let Some([a, _]) = piece.ends {
@@ -419,6 +460,75 @@ fn populate(
     protection
 }
 
+/// Arc lengths of the interior balls of a curve piece. Every bend of the polyline is a centre,
+/// so that the chords joining consecutive centres follow the input exactly; the straight runs
+/// between bends (and the boundaries `from`, `to` of an open piece's corner balls) are filled by
+/// [`spread`]. The parameters of a closed piece are in `[0, length)`, in chain order.
+fn place_on_piece(piece: &Piece, from: f64, to: f64, radius: &dyn Fn(f64) -> f64) -> Vec<f64> {
+    let (line, bends) = (&piece.line, piece.bends.clone());
+    if piece.ends.is_none() {
+        let Some(&first) = bends.first() else {
+            return spread(line, true, 0.0, line.length(), radius, 3);
+        };
+        // A closed curve needs three balls at least: split each run into enough intervals.
+        let min_intervals = 3usize.div_ceil(bends.len());
+        let mut out = Vec::new();
+        for (k, &s0) in bends.iter().enumerate() {
+            let s1 = bends.get(k + 1).copied().unwrap_or(first + line.length());
+            let run = spread(line, false, s0, s1, radius, min_intervals);
+            out.extend(run[..run.len() - 1].iter().map(|&s| line.normalize(s)));
+        }
+        return out;
+    }
+    let mut anchors: Vec<f64> = bends;
+    anchors.push(from);
+    anchors.push(to);
+    anchors.sort_by(f64::total_cmp);
+    anchors.dedup();
+    let mut out = vec![anchors[0]];
+    for w in anchors.windows(2) {
+        out.extend_from_slice(&spread(line, false, w[0], w[1], radius, 1)[1..]);
+    }
+    out
+}
+
+/// Arc lengths of the polyline vertices where the curve bends: greedily, the vertices that end
+/// the longest runs whose intermediate vertices all lie on the chord of the run (within a
+/// rounding tolerance relative to the curve's extent). The ends of an open curve are not
+/// listed; a closed curve's first vertex is listed only when the curve bends there.
+fn bends(line: &Polyline) -> Vec<f64> {
+    let pts = line.points();
+    let n = pts.len();
+    let (lo, hi) = pts
+        .iter()
+        .fold((pts[0], pts[0]), |(lo, hi), &p| (lo.min(p), hi.max(p)));
+    let tol = COLLINEAR * lo.distance(hi);
+    let count = if line.is_closed() { n + 1 } else { n };
+    let at = |i: usize| pts[i % n];
+    let straight =
+        |a: usize, b: usize| (a + 1..b).all(|k| point_segment_distance(at(k), at(a), at(b)) <= tol);
+    let mut ends = Vec::new();
+    let mut start = 0;
+    let mut end = 1;
+    while end + 1 < count {
+        if straight(start, end + 1) {
+            end += 1;
+        } else {
+            ends.push(end);
+            start = end;
+            end += 1;
+        }
+    }
+    // A closed curve bends at its first vertex unless the run ending there goes straight on.
+    if let Some(&first) = ends.first()
+        && line.is_closed()
+        && !straight(start, n + first)
+    {
+        ends.insert(0, 0);
+    }
+    ends.into_iter().map(|i| line.arc_at(i)).collect()
+}
+
 /// Arc lengths of the interior balls of a curve piece, spread over `[from, to]`: equally spaced
 /// in the measure `ds / (SPACING r)`, so that centres are about `SPACING` radii apart. An open
 /// piece's first and last balls sit on the boundaries of its corner balls (`from`, `to`), so
@@ -429,6 +539,7 @@ fn spread(
     from: f64,
     to: f64,
     radius: &dyn Fn(f64) -> f64,
+    min_intervals: usize,
 ) -> Vec<f64> {
     let floor = line.length() * 1e-9;
     // (s, u) samples of the cumulative measure.
@@ -442,7 +553,7 @@ fn spread(
         s += ds;
         samples.push((s, u));
     }
-    let n = (u.ceil() as usize).max(if closed { 3 } else { 1 });
+    let n = ((u - RUN_SLACK).ceil().max(0.0) as usize).max(min_intervals);
     let count = if closed { n } else { n + 1 };
     let mut out = Vec::with_capacity(count);
     let mut j = 0;
@@ -638,6 +749,57 @@ mod tests {
         assert_eq!(p.chains.len(), 2);
         assert!(p.chains.iter().all(|c| c.closed && c.balls.len() >= 3));
         assert_protects(&p, &curves, 0.1);
+    }
+
+    #[test]
+    fn every_bend_of_a_polyline_is_a_ball_centre() {
+        // A coarse closed polygon, an open zigzag with a collinear vertex (not a bend), and
+        // ball sizes both above and below the segment lengths.
+        let hexagon: Vec<[f64; 3]> = (0..6)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / 6.0;
+                [3.0 + t.cos(), t.sin(), 0.0]
+            })
+            .collect();
+        let zigzag = [
+            [0.0, 0.0, 0.0],
+            [0.5, 0.4, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.25, 0.0, 0.0],
+            [1.5, 0.0, 0.0],
+            [2.0, 0.5, 0.1],
+        ];
+        let curves = [curve(1, &hexagon, true), curve(2, &zigzag, false)];
+        for size in [0.5, 0.05] {
+            let p = protect(&curves, &[], &Sizing::Constant(size), 1e-9).expect("protects");
+            assert_protects(&p, &curves, size);
+            let is_centre = |q: [f64; 3]| {
+                let q = Point3::from_array(q);
+                p.balls.iter().any(|b| b.center.distance(q) < 1e-12)
+            };
+            for q in hexagon.iter().chain(&zigzag) {
+                if q != &[1.25, 0.0, 0.0] {
+                    assert!(is_centre(*q), "bend {q:?} is not a centre (size {size})");
+                }
+            }
+            // Consecutive centres follow the input: each chord lies on the polyline.
+            for chain in &p.chains {
+                let c = curves.iter().find(|c| c.id == chain.curve).expect("known");
+                let line = Polyline::new(&c.points, c.closed).expect("valid");
+                for (a, b) in chain.links() {
+                    let mid = p.balls[a].center.lerp(p.balls[b].center, 0.5);
+                    assert!(line.project(mid).distance < 1e-12, "chord leaves the curve");
+                }
+            }
+        }
+        assert!(
+            !protect(&curves, &[], &Sizing::Constant(0.5), 1e-9)
+                .expect("protects")
+                .balls
+                .iter()
+                .any(|b| b.center == Point3::new(1.25, 0.0, 0.0)),
+            "a collinear vertex is not a bend"
+        );
     }
 
     #[test]

@@ -4,7 +4,6 @@
 use crate::predicates::{Crossing, segment_crossing};
 use crate::tree::TriangleTree;
 use glam::DVec3;
-use std::collections::BTreeMap;
 
 /// What prevents a triangle surface from bounding a volume. All counts zero: it does.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -30,8 +29,9 @@ impl SurfaceDefects {
 /// Directed-edge bookkeeping and self-intersection search (AABB tree + exact predicates).
 pub fn surface_defects(points: &[DVec3], triangles: &[[u32; 3]]) -> SurfaceDefects {
     let mut d = SurfaceDefects::default();
-    // (min, max) → (count, count of min→max traversals)
-    let mut edges: BTreeMap<(u32, u32), (u32, u32)> = BTreeMap::new();
+    // Every directed edge as (min, max, traversed min→max), sorted: the uses of an edge are
+    // consecutive.
+    let mut edges: Vec<(u32, u32, bool)> = Vec::with_capacity(3 * triangles.len());
     for t in triangles {
         if t[0] == t[1] || t[1] == t[2] || t[2] == t[0] {
             d.degenerate_triangles += 1;
@@ -39,15 +39,13 @@ pub fn surface_defects(points: &[DVec3], triangles: &[[u32; 3]]) -> SurfaceDefec
         }
         for k in 0..3 {
             let (a, b) = (t[k], t[(k + 1) % 3]);
-            let e = edges.entry((a.min(b), a.max(b))).or_default();
-            e.0 += 1;
-            if a < b {
-                e.1 += 1;
-            }
+            edges.push((a.min(b), a.max(b), a < b));
         }
     }
-    for &(count, forward) in edges.values() {
-        match count {
+    edges.sort_unstable();
+    for uses in edges.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
+        let forward = uses.iter().filter(|e| e.2).count();
+        match uses.len() {
             1 => d.border_edges += 1,
             2 if forward != 1 => d.inconsistent_edges += 1,
             2 => {}
@@ -94,12 +92,19 @@ fn triangles_cross(ti: &[u32; 3], gi: &[DVec3; 3], tj: &[u32; 3], gj: &[DVec3; 3
     let shared = (0..3)
         .filter(|&a| (0..3).any(|b| ti[a] == tj[b] || gi[a] == gj[b]))
         .count();
-    let hits = |edge: (DVec3, DVec3), g: &[DVec3; 3], strict: bool| match segment_crossing(
-        edge.0, edge.1, g,
-    ) {
-        Crossing::Proper { .. } => true,
-        Crossing::Degenerate => !strict,
-        Crossing::None | Crossing::Coplanar => false,
+    let hits = |edge: (DVec3, DVec3), g: &[DVec3; 3], strict: bool| {
+        // A common point lies in both bounding boxes (exact comparisons): most neighbours fail
+        // this before any orientation test, among them the coplanar ones of flat regions whose
+        // exact orientations are the dearest.
+        let (lo, hi) = (g[0].min(g[1]).min(g[2]), g[0].max(g[1]).max(g[2]));
+        if edge.0.min(edge.1).cmpgt(hi).any() || edge.0.max(edge.1).cmplt(lo).any() {
+            return false;
+        }
+        match segment_crossing(edge.0, edge.1, g) {
+            Crossing::Proper { .. } => true,
+            Crossing::Degenerate => !strict,
+            Crossing::None | Crossing::Coplanar => false,
+        }
     };
     match shared {
         0 => (0..3).any(|k| {
