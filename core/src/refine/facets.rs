@@ -51,10 +51,6 @@ pub struct SurfaceLevel<'o> {
     balls: Vec<[Option<SurfaceBall>; 4]>,
     /// Vertices lying on the boundary (P0 and surface-ball centres), indexed by `VertexId`.
     on_surface: Vec<bool>,
-    /// When set, dual Voronoi edges are clipped to this box (the domain's, enlarged) before the
-    /// oracle is asked: a regular triangulation of protecting balls has nearly flat cells whose
-    /// orthocentres lie ~1e16 away, and a segment from there loses every digit of the crossing.
-    clip: Option<Aabb>,
     /// Patch of each surface vertex when patches are checked (rule R3 of chapter 4), indexed by
     /// `VertexId`; 0 for vertices on curves and corners, which lie on several patches.
     vertex_patch: Option<Vec<PatchId>>,
@@ -79,7 +75,6 @@ impl<'o> SurfaceLevel<'o> {
             balls: Vec::new(),
             on_surface: Vec::new(),
             vertex_patch: None,
-            clip: None,
             queue: RefineQueue::default(),
             created_mark: Vec::new(),
             stamp: 0,
@@ -95,12 +90,6 @@ impl<'o> SurfaceLevel<'o> {
     /// domains, whose patches meet along sharp curves.
     pub fn check_patches(mut self) -> Self {
         self.vertex_patch = Some(Vec::new());
-        let b = self.oracle.bounding_box();
-        let margin = Point3::splat(0.1 * b.diagonal());
-        self.clip = Some(Aabb {
-            min: b.min - margin,
-            max: b.max + margin,
-        });
         self
     }
 
@@ -161,15 +150,12 @@ impl<'o> SurfaceLevel<'o> {
         c: CellId,
         i: usize,
     ) -> Option<SurfaceBall> {
-        let (a, w) = if let Some(clip) = self.clip {
-            self.weighted_dual_hits(tr, c, i, &clip)?
-        } else {
-            let (from, to) = self.dual_edge(tr, c, i)?;
-            self.hits.clear();
-            self.oracle.segment_hits(from, to, &mut self.hits);
-            let a = cell_vertices(tr, c)[(i + 1) % 4];
-            (tr.point(a), tr.weight(a))
-        };
+        let (from, to) = self.dual_edge(tr, c, i)?;
+        self.hits.clear();
+        self.oracle.segment_hits(from, to, &mut self.hits);
+        // The ball is orthogonal to the vertices' balls: its squared radius is a power distance.
+        let v = cell_vertices(tr, c)[(i + 1) % 4];
+        let (a, w) = (tr.point(v), tr.weight(v));
         self.hits
             .iter()
             .map(|h| SurfaceBall {
@@ -180,57 +166,14 @@ impl<'o> SurfaceLevel<'o> {
             .max_by(|x, y| x.radius2.total_cmp(&y.radius2))
     }
 
-    /// With protecting balls, fills `hits` with the crossings of the dual edge of facet
-    /// `(c, i)` and returns a facet vertex with its weight (the ball radius is a power distance
-    /// to it). The dual edge lies on the line through the facet's weighted circumcentre along its
-    /// normal; the orthocentres only bound it. Querying that line from near the domain keeps the
-    /// crossing exact when an orthocentre is far away.
-    fn weighted_dual_hits<T: Triangulation<Point = Point3>>(
-        &mut self,
-        tr: &T,
-        c: CellId,
-        i: usize,
-        clip: &Aabb,
-    ) -> Option<(Point3, f64)> {
-        let n = tr.neighbor(c, i);
-        let here = tr.circumcenter(c);
-        let there = (!tr.is_infinite_cell(n))
-            .then(|| tr.circumcenter(n))
-            .filter(|p| p.is_finite());
-        let (c, i, here, there) = match (here.is_finite(), there) {
-            (true, _) => (c, i, here, there),
-            (false, Some(p)) => (n, tr.mirror_index(c, i), p, None),
-            (false, None) => return None,
-        };
-        let cell = cell_vertices(tr, c);
-        let fv = facet_vertices(&cell, i);
-        let [a, b, d] = fv.map(|v| tr.point(v));
-        let mut normal = (b - a).cross(d - a);
-        if normal.dot(tr.point(cell[i]) - a) > 0.0 {
-            normal = -normal;
-        }
-        let len = normal.length();
-        if len == 0.0 {
-            return None;
-        }
-        let normal = normal / len;
-        let (center, _) = weighted_triangle_circumcenter([a, b, d], fv.map(|v| tr.weight(v)));
-        let t0 = (here - center).dot(normal);
-        let t1 = there.map_or(f64::INFINITY, |p| (p - center).dot(normal));
-        self.hits.clear();
-        if let Some((p, q)) = clip_line(center, normal, t0.min(t1), t0.max(t1), clip) {
-            self.oracle.segment_hits(p, q, &mut self.hits);
-        }
-        Some((a, tr.weight(fv[0])))
-    }
-
     /// The dual Voronoi edge of facet `(c, i)`, clipped to the neighbourhood of the domain.
     ///
     /// Its ends, the circumcentres of `c` and of its neighbour, are found as parameters along
     /// the facet's normal line from each cell's apex rather than from the cells'
     /// circumcentres: the circumcentre of a nearly flat cell is 10¹⁴ away and may even come
     /// out on the wrong side, which would turn an edge far outside into a line through the
-    /// whole domain.
+    /// whole domain. With weights (protecting balls) the line passes through the facet's
+    /// weighted circumcentre and the ends are the cells' orthocentres.
     fn dual_edge<T: Triangulation<Point = Point3>>(
         &self,
         tr: &T,
@@ -238,27 +181,36 @@ impl<'o> SurfaceLevel<'o> {
         i: usize,
     ) -> Option<(Point3, Point3)> {
         let cell = cell_vertices(tr, c);
-        let [a, b, d] = facet_vertices(&cell, i).map(|v| tr.point(v));
+        let fv = facet_vertices(&cell, i);
+        let [a, b, d] = fv.map(|v| tr.point(v));
+        let weights = fv.map(|v| tr.weight(v));
         let n = tr.neighbor(c, i);
         let axis = facet_normal_away_from_apex([a, b, d], i).normalize_or_zero();
-        let center = triangle_circumcenter(a, b, d);
+        let (center, radius2) = if weights == [0.0; 3] {
+            let center = triangle_circumcenter(a, b, d);
+            (center, center.distance_squared(a))
+        } else {
+            weighted_triangle_circumcenter([a, b, d], weights)
+        };
         if axis == Point3::ZERO || !center.is_finite() {
             // Collinear facet vertices: no circumcircle, only the cells' circumcentres.
             let there = (!tr.is_infinite_cell(n)).then(|| tr.circumcenter(n));
             return Some((tr.circumcenter(c), there?))
                 .filter(|(p, q)| p.is_finite() && q.is_finite());
         }
-        let radius2 = center.distance_squared(a);
+        // An apex of weight w is at power distance |x - apex|² - w: the same parameter as an
+        // unweighted apex against a ball of squared radius `radius2 + w`.
         let t_here = if tr.is_infinite_cell(c) {
             f64::NEG_INFINITY
         } else {
-            -dual_parameter(center, radius2, -axis, tr.point(cell[i]))
+            let apex = cell[i];
+            -dual_parameter(center, radius2 + tr.weight(apex), -axis, tr.point(apex))
         };
         let t_there = if tr.is_infinite_cell(n) {
             f64::INFINITY
         } else {
-            let apex = tr.mirror_index(c, i);
-            dual_parameter(center, radius2, axis, tr.point(tr.cell(n).as_ref()[apex]))
+            let apex = tr.cell(n).as_ref()[tr.mirror_index(c, i)];
+            dual_parameter(center, radius2 + tr.weight(apex), axis, tr.point(apex))
         };
         clipped_dual_edge(center, axis, t_here, t_there, &self.bbox)
     }
@@ -357,23 +309,6 @@ impl<'o> SurfaceLevel<'o> {
             })
         })
     }
-}
-
-/// The part of the line `o + t d`, `t ∈ [t0, t1]`, inside `clip` (slab method), as a segment.
-fn clip_line(o: Point3, d: Point3, t0: f64, t1: f64, clip: &Aabb) -> Option<(Point3, Point3)> {
-    let (mut t0, mut t1) = (t0, t1);
-    for k in 0..3 {
-        if d[k] == 0.0 {
-            if o[k] < clip.min[k] || o[k] > clip.max[k] {
-                return None;
-            }
-            continue;
-        }
-        let (a, b) = ((clip.min[k] - o[k]) / d[k], (clip.max[k] - o[k]) / d[k]);
-        t0 = t0.max(a.min(b));
-        t1 = t1.min(a.max(b));
-    }
-    (t0 <= t1 && t0.is_finite() && t1.is_finite()).then(|| (o + t0 * d, o + t1 * d))
 }
 
 impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for SurfaceLevel<'o> {
