@@ -249,6 +249,77 @@ fn check_len(what: &str, got: usize, expected: usize, per: &'static str) -> Resu
 }
 
 impl SurfaceMesh {
+    /// An icosphere: `subdivisions` splits of an icosahedron (each triangle into four), projected
+    /// on the sphere, in one patch: the smooth closed test domain that tests and benches share.
+    pub fn icosphere(center: DVec3, radius: f64, subdivisions: usize) -> SurfaceMesh {
+        let t = (1.0 + 5f64.sqrt()) / 2.0;
+        let mut points: Vec<DVec3> = [
+            (-1.0, t, 0.0),
+            (1.0, t, 0.0),
+            (-1.0, -t, 0.0),
+            (1.0, -t, 0.0),
+            (0.0, -1.0, t),
+            (0.0, 1.0, t),
+            (0.0, -1.0, -t),
+            (0.0, 1.0, -t),
+            (t, 0.0, -1.0),
+            (t, 0.0, 1.0),
+            (-t, 0.0, -1.0),
+            (-t, 0.0, 1.0),
+        ]
+        .iter()
+        .map(|&(x, y, z)| DVec3::new(x, y, z).normalize())
+        .collect();
+        let mut triangles: Vec<[u32; 3]> = vec![
+            [0, 11, 5],
+            [0, 5, 1],
+            [0, 1, 7],
+            [0, 7, 10],
+            [0, 10, 11],
+            [1, 5, 9],
+            [5, 11, 4],
+            [11, 10, 2],
+            [10, 7, 6],
+            [7, 1, 8],
+            [3, 9, 4],
+            [3, 4, 2],
+            [3, 2, 6],
+            [3, 6, 8],
+            [3, 8, 9],
+            [4, 9, 5],
+            [2, 4, 11],
+            [6, 2, 10],
+            [8, 6, 7],
+            [9, 8, 1],
+        ];
+        for _ in 0..subdivisions {
+            let mut mid = std::collections::BTreeMap::new();
+            let mut midpoint = |a: u32, b: u32, points: &mut Vec<DVec3>| {
+                *mid.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                    points.push(((points[a as usize] + points[b as usize]) / 2.0).normalize());
+                    points.len() as u32 - 1
+                })
+            };
+            let mut next = Vec::new();
+            for [a, b, c] in triangles {
+                let (ab, bc, ca) = (
+                    midpoint(a, b, &mut points),
+                    midpoint(b, c, &mut points),
+                    midpoint(c, a, &mut points),
+                );
+                next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+            }
+            triangles = next;
+        }
+        let patches = vec![PatchId(0); triangles.len()];
+        SurfaceMesh {
+            positions: points.into_iter().map(|p| center + radius * p).collect(),
+            triangles,
+            patches,
+            patch_names: vec!["sphere".to_string()],
+        }
+    }
+
     /// The axis-aligned box from `min` to `max` as 12 outward-oriented triangles in one patch: the
     /// smallest closed test domain, and the one tests across the workspace share.
     pub fn cuboid(min: DVec3, max: DVec3) -> SurfaceMesh {
