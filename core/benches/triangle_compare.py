@@ -1,19 +1,23 @@
 #!/usr/bin/env python3
-"""Side-by-side comparison of `delamesh mesh2d` with Shewchuk's Triangle (`pip install triangle`).
+"""Side-by-side comparison of `delamesh mesh2d`'s mesher with Shewchuk's Triangle (`pip install triangle`).
 
-Usage: triangle_compare.py PATH/TO/delamesh [WORKDIR]
+Usage: triangle_compare.py PATH/TO/mesh2d_poly [WORKDIR]
+(`cargo build --release --example mesh2d_poly` builds it in `target/release/examples/`.)
 
 Writes the benchmark PSLGs as .poly files (a square with a square hole, a star with 10-degree
 spikes, random star-shaped polygons), meshes each with Triangle (`-pq30`, plus an area bound where
-given) and with `delamesh mesh2d --min-angle 30` (same area bound), and prints one line per case:
-mesh times (best of 3, meshing only: Triangle in-process, delamesh as reported by the CLI), the
-time ratio, triangle counts and their ratio, and the smallest angle of each mesh.
+given) and with delamesh's mesher at `--min-angle 30` (same area bound), and prints one line per
+case: mesh times, the time ratio, triangle counts and their ratio, and the smallest angle of each
+mesh.
 
-The times compare like with like: process start, file reading and output writing are excluded on
-both sides. Triangle's time includes its conversion from and to numpy arrays; delamesh's covers
-the PSLG check, the Delaunay triangulation of the input points and the refinement. The machine's
-load skews small cases most: compare runs made at the same load.
+The times compare like with like: both sides run in-process, the best of repeated runs on the
+same input (at least 5, more until half a second has passed, as `timeit` does: warm code and
+allocator on both sides), with file reading and writing excluded. Triangle's time
+includes its conversion from and to numpy arrays; delamesh's covers the PSLG check, the Delaunay
+triangulation of the input points and the refinement. The machine's load skews small cases most:
+compare runs made at the same load.
 """
+
 
 import math
 import os
@@ -24,6 +28,9 @@ import time
 
 import numpy as np
 import triangle
+
+# Repetitions: at least MIN_RUNS, more until BUDGET_S has passed (as `examples/mesh2d_poly.rs`).
+MIN_RUNS, MAX_RUNS, BUDGET_S = 5, 2000, 0.5
 
 
 def square_with_hole():
@@ -85,23 +92,22 @@ def run_triangle(pts, segs, holes, area):
         data["holes"] = np.array(holes, float)
     opts = "pq30" + (f"a{area}" if area else "") + "Q"
     best = math.inf
-    for _ in range(3):
+    start = time.perf_counter()
+    runs = 0
+    while runs < MAX_RUNS and (runs < MIN_RUNS or time.perf_counter() - start <= BUDGET_S):
+        runs += 1
         t0 = time.perf_counter()
         out = triangle.triangulate(data, opts)
         best = min(best, time.perf_counter() - t0)
     return best, len(out["triangles"]), min_angle(out["vertices"], out["triangles"])
 
 
-def run_delamesh(exe, poly, area, workdir):
-    cmd = [exe, "mesh2d", poly, "-o", os.path.join(workdir, "out.vtu"), "--min-angle", "30"]
-    if area:
-        cmd += ["--max-area", str(area)]
-    best, line = math.inf, ""
-    for _ in range(3):
-        line = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
-        best = min(best, float(re.search(r"([0-9.]+) s ->", line).group(1)))
-    tris = int(re.search(r"(\d+) triangles", line).group(1))
-    angle = float(re.search(r"smallest angle ([0-9.]+)", line).group(1))
+def run_delamesh(exe, poly, area):
+    cmd = [exe, poly, "30"] + ([str(area)] if area else [])
+    line = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+    best = float(re.search(r"best_s=([0-9.]+)", line).group(1))
+    tris = int(re.search(r"triangles=(\d+)", line).group(1))
+    angle = float(re.search(r"smallest_angle=([0-9.]+)", line).group(1))
     return best, tris, angle
 
 
@@ -122,8 +128,8 @@ def main():
         poly = os.path.join(workdir, name.split()[0] + ".poly")
         write_poly(poly, pts, segs, holes)
         tt, tn, ta = run_triangle(pts, segs, holes, area)
-        dt, dn, da = run_delamesh(exe, poly, area, workdir)
-        print(f"{name} | {tt:.4f} | {dt:.4f} | {dt / tt:.2f} | {tn} | {dn} | {dn / tn:.3f}"
+        dt, dn, da = run_delamesh(exe, poly, area)
+        print(f"{name} | {tt:.6f} | {dt:.6f} | {dt / tt:.2f} | {tn} | {dn} | {dn / tn:.3f}"
               f" | {ta:.2f} | {da:.2f}")
 
 

@@ -168,6 +168,28 @@ impl Delaunay2 {
         })
     }
 
+    /// The cell with the edge `a → b` counter-clockwise and the index of its third vertex: a turn
+    /// around `a` that stops at the edge, without collecting `a`'s star.
+    pub fn edge_cell(&self, a: VertexId, b: VertexId) -> Option<(CellId, usize)> {
+        let start = self.vertex_cell_of(a);
+        if start == NO_CELL {
+            return None;
+        }
+        let mut c = start;
+        for _ in 0..self.cells.len() {
+            let i = self.index_of(c, a);
+            let v = self.cells[c.0 as usize];
+            if v[(i + 1) % 3] == b {
+                return Some((c, (i + 2) % 3));
+            }
+            c = self.neighbors[c.0 as usize][(i + 1) % 3];
+            if c == start {
+                break;
+            }
+        }
+        None
+    }
+
     /// Whether `p` is strictly inside the (perturbed) circumdisk of `c`, or beyond the hull edge of
     /// the infinite cell `c`.
     pub fn in_conflict(&self, c: CellId, p: DVec2) -> bool {

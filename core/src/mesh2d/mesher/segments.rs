@@ -2,10 +2,10 @@
 //! encroached (a vertex in its diametral lens, or missing from the triangulation); a point
 //! proposed by the triangle level that would encroach one is refused and the sub-segment queued.
 
-use super::constraints::{Constraints, Encroachment, edge_cell, needs_split};
+use super::constraints::{Constraints, Encroachment, needs_split};
 use crate::refine::{Candidate, Check, MesherLevel};
 use crate::triangulation::Triangulation;
-use crate::triangulation::delaunay2::{CellId, ConflictZone, Delaunay2, InsertReport, VertexId};
+use crate::triangulation::delaunay2::{ConflictZone, Delaunay2, InsertReport, VertexId};
 use glam::DVec2;
 use std::cell::RefCell;
 use std::collections::{HashSet, VecDeque};
@@ -33,7 +33,6 @@ pub(crate) struct SegmentLevel {
     /// What encroaches a sub-segment; `None` while only sub-segments missing from the
     /// triangulation are split (segment recovery, before the domain sides are known).
     pub(crate) encroachment: Option<Encroachment>,
-    scratch: Vec<CellId>,
     zone: ConflictZone,
     /// Reused buffers of `after_insertion`: cavity boundary vertices, sub-segments at them.
     ends: Vec<VertexId>,
@@ -49,7 +48,6 @@ impl SegmentLevel {
             proposed: None,
             min_length,
             encroachment: None,
-            scratch: Vec::new(),
             zone: ConflictZone::default(),
             ends: Vec::new(),
             pairs: Vec::new(),
@@ -57,14 +55,7 @@ impl SegmentLevel {
     }
 
     fn needs_split(&mut self, tr: &Delaunay2, a: VertexId, b: VertexId) -> bool {
-        needs_split(
-            tr,
-            &self.cons.borrow(),
-            a,
-            b,
-            self.encroachment.as_ref(),
-            &mut self.scratch,
-        )
+        needs_split(tr, &self.cons.borrow(), a, b, self.encroachment.as_ref())
     }
 
     fn push(&mut self, a: VertexId, b: VertexId, forced: bool) {
@@ -162,7 +153,7 @@ impl MesherLevel<Delaunay2> for SegmentLevel {
             return None;
         }
         self.proposed = Some((a, b));
-        let hint = edge_cell(tr, a, b, &mut self.scratch).map(|(c, _)| c);
+        let hint = tr.edge_cell(a, b).map(|(c, _)| c);
         Some(Candidate {
             point: self.split_point(tr, a, b),
             hint,
