@@ -12,7 +12,13 @@ pub struct Polyline {
     /// the first point).
     arc: Vec<f64>,
     closed: bool,
+    /// Bounding box of each run of [`CHUNK`] consecutive segments: nearest-point queries skip
+    /// the runs farther than the best distance found so far, instead of scanning every segment.
+    chunks: Vec<(Point3, Point3)>,
 }
+
+/// Segments per bounding box in [`Polyline::chunks`].
+const CHUNK: usize = 16;
 
 /// The point of a curve nearest to a query point.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -53,11 +59,35 @@ impl Polyline {
             total += pts[pts.len() - 1].distance(pts[0]);
             arc.push(total);
         }
-        Some(Polyline {
+        let mut line = Polyline {
             points: pts,
             arc,
             closed,
-        })
+            chunks: Vec::new(),
+        };
+        line.chunks = (0..line.segment_count())
+            .step_by(CHUNK)
+            .map(|first| {
+                (first..(first + CHUNK).min(line.segment_count()))
+                    .map(|i| line.segment(i))
+                    .fold(
+                        (Point3::INFINITY, Point3::NEG_INFINITY),
+                        |(lo, hi), (a, b)| (lo.min(a).min(b), hi.max(a).max(b)),
+                    )
+            })
+            .collect();
+        Some(line)
+    }
+
+    /// Lower bound of the distance from `p` to the segments of run `k` (their bounding box).
+    fn chunk_distance(&self, k: usize, p: Point3) -> f64 {
+        let (lo, hi) = self.chunks[k];
+        (lo - p).max(p - hi).max(Point3::ZERO).length()
+    }
+
+    /// The segments of run `k`.
+    fn chunk_segments(&self, k: usize) -> std::ops::Range<usize> {
+        k * CHUNK..((k + 1) * CHUNK).min(self.segment_count())
     }
 
     pub fn is_closed(&self) -> bool {
@@ -156,23 +186,29 @@ impl Polyline {
             point: self.points[0],
             distance: f64::INFINITY,
         };
-        for i in 0..self.segment_count() {
-            let (a, b) = self.segment(i);
-            let ab = b - a;
-            let len2 = ab.length_squared();
-            let t = if len2 > 0.0 {
-                ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let q = a + t * ab;
-            let d = q.distance(p);
-            if d < best.distance {
-                best = Projection {
-                    s: self.arc[i] + t * (self.arc[i + 1] - self.arc[i]),
-                    point: q,
-                    distance: d,
+        for k in 0..self.chunks.len() {
+            // Runs no nearer than the best so far cannot improve it (ties keep the first).
+            if self.chunk_distance(k, p) >= best.distance {
+                continue;
+            }
+            for i in self.chunk_segments(k) {
+                let (a, b) = self.segment(i);
+                let ab = b - a;
+                let len2 = ab.length_squared();
+                let t = if len2 > 0.0 {
+                    ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+                } else {
+                    0.0
                 };
+                let q = a + t * ab;
+                let d = q.distance(p);
+                if d < best.distance {
+                    best = Projection {
+                        s: self.arc[i] + t * (self.arc[i + 1] - self.arc[i]),
+                        point: q,
+                        distance: d,
+                    };
+                }
             }
         }
         best
@@ -183,18 +219,23 @@ impl Polyline {
     /// the curve crosses). Infinite when no such part exists.
     pub fn distance_outside_ball(&self, p: Point3, center: Point3, radius: f64) -> f64 {
         let mut best = f64::INFINITY;
-        for i in 0..self.segment_count() {
-            let (a, b) = self.segment(i);
-            // The parts of [a, b] are no nearer than the whole segment.
-            if point_segment_distance(p, a, b) >= best {
+        for k in 0..self.chunks.len() {
+            if self.chunk_distance(k, p) >= best {
                 continue;
             }
-            // The part of [a, b] outside the ball: up to two sub-segments.
-            for (x, y) in segment_outside_ball(a, b, center, radius)
-                .into_iter()
-                .flatten()
-            {
-                best = best.min(point_segment_distance(p, x, y));
+            for i in self.chunk_segments(k) {
+                let (a, b) = self.segment(i);
+                // The parts of [a, b] are no nearer than the whole segment.
+                if point_segment_distance(p, a, b) >= best {
+                    continue;
+                }
+                // The part of [a, b] outside the ball: up to two sub-segments.
+                for (x, y) in segment_outside_ball(a, b, center, radius)
+                    .into_iter()
+                    .flatten()
+                {
+                    best = best.min(point_segment_distance(p, x, y));
+                }
             }
         }
         best

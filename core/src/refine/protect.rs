@@ -543,14 +543,17 @@ fn spread(
 ) -> Vec<f64> {
     let floor = line.length() * 1e-9;
     // (s, u) samples of the cumulative measure.
+    // Trapezoids: each radius evaluation (a distance query to every nearby feature) serves the
+    // two steps it ends and starts.
     let mut samples = vec![(from, 0.0)];
     let (mut s, mut u) = (from, 0.0);
+    let mut r = radius(s).max(floor);
     while s < to {
-        let r = radius(s).max(floor);
         let ds = (0.2 * r).min(to - s);
-        let r_mid = radius(s + 0.5 * ds).max(floor);
-        u += ds / (SPACING * r_mid);
+        let r_next = radius(s + ds).max(floor);
+        u += 0.5 * ds * (1.0 / r + 1.0 / r_next) / SPACING;
         s += ds;
+        r = r_next;
         samples.push((s, u));
     }
     let n = ((u - RUN_SLACK).ceil().max(0.0) as usize).max(min_intervals);
