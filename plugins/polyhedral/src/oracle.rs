@@ -3,7 +3,7 @@
 use crate::occupancy::Occupancy;
 use crate::predicates::{Crossing, segment_crossing};
 use crate::tree::TriangleTree;
-use crate::validate::surface_defects;
+use crate::validate::surface_defects_in;
 use delamesh_core::oracle::{
     Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
 };
@@ -97,7 +97,12 @@ impl PolyhedralOracle {
         {
             return Err(PolyhedralError::PatchCount(p.len(), triangles.len()));
         }
-        let defects = surface_defects(points, triangles);
+        let geometry: Vec<[DVec3; 3]> = triangles
+            .iter()
+            .map(|t| t.map(|v| points[v as usize]))
+            .collect();
+        let tree = TriangleTree::new(&geometry);
+        let defects = surface_defects_in(triangles, &geometry, &tree);
         if defects.degenerate_triangles > 0 {
             return Err(PolyhedralError::DegenerateTriangles(
                 defects.degenerate_triangles,
@@ -116,10 +121,6 @@ impl PolyhedralOracle {
             return Err(PolyhedralError::SelfIntersecting(a, b));
         }
 
-        let geometry: Vec<[DVec3; 3]> = triangles
-            .iter()
-            .map(|t| t.map(|v| points[v as usize]))
-            .collect();
         let component = components(points.len(), triangles);
         let num_components = component.iter().max().map_or(0, |&c| c as usize + 1);
         let patch = match patches {
@@ -128,7 +129,6 @@ impl PolyhedralOracle {
         };
         let bbox = Aabb::of(&geometry.iter().flatten().copied().collect::<Vec<_>>())
             .ok_or(PolyhedralError::Empty)?;
-        let tree = TriangleTree::new(&geometry);
         let occupancy = Occupancy::new(bbox.min, bbox.max, &geometry);
         let mut oracle = PolyhedralOracle {
             planes: geometry.iter().map(Plane::of).collect(),
@@ -196,7 +196,7 @@ impl PolyhedralOracle {
 
     /// Winding numbers of the other components around component `k` (triangles `members`), probed
     /// at a point of `k`: its first vertex, or when that lies on another component (components
-    /// sharing a face, see [`surface_defects`]) the centroid of the first triangle of `k` that
+    /// sharing a face, see [`crate::surface_defects`]) the centroid of the first triangle of `k` that
     /// lies on no other component.
     fn windings_around(&self, k: u32, members: &[usize], n: usize) -> Vec<i32> {
         let first = members

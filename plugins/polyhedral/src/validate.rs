@@ -28,6 +28,20 @@ impl SurfaceDefects {
 
 /// Directed-edge bookkeeping and self-intersection search (AABB tree + exact predicates).
 pub fn surface_defects(points: &[DVec3], triangles: &[[u32; 3]]) -> SurfaceDefects {
+    let geometry: Vec<[DVec3; 3]> = triangles
+        .iter()
+        .map(|t| t.map(|v| points[v as usize]))
+        .collect();
+    surface_defects_in(triangles, &geometry, &TriangleTree::new(&geometry))
+}
+
+/// [`surface_defects`] with the triangles' points and their tree already built (the oracle keeps
+/// both for its queries).
+pub(crate) fn surface_defects_in(
+    triangles: &[[u32; 3]],
+    geometry: &[[DVec3; 3]],
+    tree: &TriangleTree,
+) -> SurfaceDefects {
     let mut d = SurfaceDefects::default();
     // Every directed edge as (min, max, traversed min→max), sorted: the uses of an edge are
     // consecutive.
@@ -52,17 +66,16 @@ pub fn surface_defects(points: &[DVec3], triangles: &[[u32; 3]]) -> SurfaceDefec
             _ => d.non_manifold_edges += 1,
         }
     }
-    d.first_intersection = first_intersection(points, triangles);
+    d.first_intersection = first_intersection(triangles, geometry, tree);
     d
 }
 
 /// A pair of triangles whose interiors meet (shared vertices and edges do not count).
-fn first_intersection(points: &[DVec3], triangles: &[[u32; 3]]) -> Option<(usize, usize)> {
-    let geometry: Vec<[DVec3; 3]> = triangles
-        .iter()
-        .map(|t| t.map(|v| points[v as usize]))
-        .collect();
-    let tree = TriangleTree::new(&geometry);
+fn first_intersection(
+    triangles: &[[u32; 3]],
+    geometry: &[[DVec3; 3]],
+    tree: &TriangleTree,
+) -> Option<(usize, usize)> {
     for (i, t) in triangles.iter().enumerate() {
         let g = &geometry[i];
         let (min, max) = (g[0].min(g[1]).min(g[2]), g[0].max(g[1]).max(g[2]));
