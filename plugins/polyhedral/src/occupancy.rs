@@ -1,11 +1,11 @@
-//! A coarse grid over the surface's bounding box marking the cells that may hold surface: a short
-//! segment whose box covers only unmarked cells meets no triangle, which settles most dual-edge
-//! queries (edges deep inside or outside the domain) with a few bit tests instead of a tree walk.
+//! A coarse grid over the surface's bounding box listing, for each cell, the triangles whose
+//! bounding box overlaps it. A short segment then needs no tree walk: when its box covers only
+//! empty cells it meets no triangle (most dual-edge queries, deep inside or outside the domain),
+//! and otherwise the triangles listed in the cells it covers are the candidates.
 //!
-//! Conservative by construction: a triangle marks every cell its bounding box overlaps, and the
-//! same monotone map from coordinates to cell indices serves triangles and segments. If a segment
-//! meets a triangle, their boxes overlap; the low corner of the overlap lies in both boxes, so its
-//! cell lies in both index ranges and is marked.
+//! Conservative by construction: the same monotone map from coordinates to cell indices serves
+//! triangles and segments. If a segment meets a triangle, their boxes overlap; the low corner of
+//! the overlap lies in both boxes, so its cell lies in both index ranges and lists the triangle.
 
 use glam::DVec3;
 
@@ -13,13 +13,31 @@ use glam::DVec3;
 const RESOLUTION: f64 = 64.0;
 /// A segment whose box covers more cells than this is left to the tree.
 const MAX_CELLS: usize = 64;
+/// Most candidates gathered for one segment before leaving it to the tree.
+pub(crate) const MAX_CANDIDATES: usize = 64;
+/// Triangle lists are kept while they hold at most this many entries per triangle on average
+/// (a few huge triangles could fill the grid); beyond, cells are only marked.
+const MAX_ENTRIES_PER_TRIANGLE: usize = 32;
 
 #[derive(Clone, Debug)]
 pub(crate) struct Occupancy {
     origin: DVec3,
     inv_cell: f64,
     dims: [usize; 3],
-    bits: Vec<u64>,
+    /// Cell `k` lists `items[start[k]..start[k + 1]]`; a cell is empty when the range is.
+    start: Vec<u32>,
+    /// The listed triangles, or nothing when the lists were too long to keep.
+    items: Vec<u32>,
+}
+
+/// What the grid knows of a segment.
+pub(crate) enum Near<'a> {
+    /// It meets no triangle.
+    Clear,
+    /// It can only meet these triangles (sorted, without repeats).
+    Candidates(&'a [u32]),
+    /// Too long, or too many candidates: ask the tree.
+    Unknown,
 }
 
 impl Occupancy {
@@ -38,22 +56,50 @@ impl Occupancy {
             origin: min,
             inv_cell,
             dims,
-            bits: vec![0; (dims[0] * dims[1] * dims[2]).div_ceil(64)],
+            start: Vec::new(),
+            items: Vec::new(),
         };
-        for t in triangles {
-            let lo = t[0].min(t[1]).min(t[2]);
-            let hi = t[0].max(t[1]).max(t[2]);
-            let (a, b) = (grid.index(lo), grid.index(hi));
-            for z in a[2]..=b[2] {
-                for y in a[1]..=b[1] {
-                    for x in a[0]..=b[0] {
-                        let k = grid.linear([x, y, z]);
-                        grid.bits[k / 64] |= 1u64 << (k % 64);
-                    }
-                }
+        let ranges: Vec<([usize; 3], [usize; 3])> = triangles
+            .iter()
+            .map(|t| {
+                let lo = t[0].min(t[1]).min(t[2]);
+                let hi = t[0].max(t[1]).max(t[2]);
+                (grid.index(lo), grid.index(hi))
+            })
+            .collect();
+        let mut count = vec![0u32; dims[0] * dims[1] * dims[2] + 1];
+        for &(a, b) in &ranges {
+            grid.for_cells(a, b, |k| count[k] += 1);
+        }
+        let mut total = 0u32;
+        for c in count.iter_mut() {
+            let n = *c;
+            *c = total;
+            total = total.saturating_add(n);
+        }
+        grid.start = count;
+        let keep = (total as usize) <= MAX_ENTRIES_PER_TRIANGLE * triangles.len().max(1);
+        if keep {
+            let mut fill = grid.start.clone();
+            grid.items = vec![0; total as usize];
+            for (t, &(a, b)) in ranges.iter().enumerate() {
+                let (items, fill) = (&mut grid.items, &mut fill);
+                let dims = grid.dims;
+                for_cells_in(dims, a, b, |k| {
+                    items[fill[k] as usize] = t as u32;
+                    fill[k] += 1;
+                });
             }
+        } else {
+            // Only the marks are kept: `start[k]` < `start[k + 1]` for a cell with triangles.
+            grid.items.clear();
         }
         grid
+    }
+
+    /// Calls `f` with the linear index of every cell in the index box `[a, b]`.
+    fn for_cells(&self, a: [usize; 3], b: [usize; 3], f: impl FnMut(usize)) {
+        for_cells_in(self.dims, a, b, f)
     }
 
     /// The cell of `p`, clamped to the grid (monotone in each coordinate).
@@ -68,28 +114,60 @@ impl Occupancy {
         ]
     }
 
-    fn linear(&self, [x, y, z]: [usize; 3]) -> usize {
-        (z * self.dims[1] + y) * self.dims[0] + x
-    }
-
-    /// Whether the segment `[a, b]` certainly meets no triangle (`false` when unsure).
-    pub(crate) fn segment_is_clear(&self, a: DVec3, b: DVec3) -> bool {
+    /// What the grid knows of the segment `[a, b]`; `buffer` holds the candidates.
+    pub(crate) fn near_segment<'b>(
+        &self,
+        a: DVec3,
+        b: DVec3,
+        buffer: &'b mut [u32; MAX_CANDIDATES],
+    ) -> Near<'b> {
         let (lo, hi) = (self.index(a.min(b)), self.index(a.max(b)));
         let count = (hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
         if count > MAX_CELLS {
-            return false;
+            return Near::Unknown;
         }
+        let lists = !self.items.is_empty();
+        let mut len = 0;
         for z in lo[2]..=hi[2] {
             for y in lo[1]..=hi[1] {
                 for x in lo[0]..=hi[0] {
-                    let k = self.linear([x, y, z]);
-                    if self.bits[k / 64] & (1u64 << (k % 64)) != 0 {
-                        return false;
+                    let k = (z * self.dims[1] + y) * self.dims[0] + x;
+                    let (s, e) = (self.start[k] as usize, self.start[k + 1] as usize);
+                    if s == e {
+                        continue;
                     }
+                    if !lists || len + (e - s) > MAX_CANDIDATES {
+                        return Near::Unknown;
+                    }
+                    buffer[len..len + (e - s)].copy_from_slice(&self.items[s..e]);
+                    len += e - s;
                 }
             }
         }
-        true
+        if len == 0 {
+            return Near::Clear;
+        }
+        let found = &mut buffer[..len];
+        found.sort_unstable();
+        let mut kept = 1;
+        for i in 1..len {
+            if found[i] != found[kept - 1] {
+                found[kept] = found[i];
+                kept += 1;
+            }
+        }
+        Near::Candidates(&buffer[..kept])
+    }
+}
+
+/// Calls `f` with the linear index of every cell in the index box `[a, b]` of a grid `dims`.
+fn for_cells_in(dims: [usize; 3], a: [usize; 3], b: [usize; 3], mut f: impl FnMut(usize)) {
+    for z in a[2]..=b[2] {
+        for y in a[1]..=b[1] {
+            for x in a[0]..=b[0] {
+                f((z * dims[1] + y) * dims[0] + x);
+            }
+        }
     }
 }
 
@@ -115,7 +193,7 @@ mod tests {
     }
 
     #[test]
-    fn a_clear_segment_meets_no_triangle_and_most_far_segments_are_clear() {
+    fn every_triangle_a_segment_meets_is_a_candidate() {
         let mut rng = StdRng::seed_from_u64(7);
         let mut point = |r: f64| {
             DVec3::new(
@@ -132,29 +210,49 @@ mod tests {
             .collect();
         let grid = Occupancy::new(DVec3::splat(-1.1), DVec3::splat(1.1), &triangles);
         let mut rng = StdRng::seed_from_u64(8);
-        let mut clear = 0;
+        let mut buffer = [0; MAX_CANDIDATES];
+        let (mut clear, mut listed) = (0, 0);
         for _ in 0..20_000 {
             let a = DVec3::new(
                 rng.random_range(-1.5..1.5),
                 rng.random_range(-1.5..1.5),
                 rng.random_range(-1.5..1.5),
             );
+            let d = 0.05;
             let b = a + DVec3::new(
-                rng.random_range(-0.05..0.05),
-                rng.random_range(-0.05..0.05),
-                rng.random_range(-0.05..0.05),
+                rng.random_range(-d..d),
+                rng.random_range(-d..d),
+                rng.random_range(-d..d),
             );
-            if grid.segment_is_clear(a, b) {
-                clear += 1;
-                assert!(!triangles.iter().any(|t| meets(a, b, t)), "{a} {b}");
+            let meeting = |t: &usize| meets(a, b, &triangles[*t]);
+            match grid.near_segment(a, b, &mut buffer) {
+                Near::Clear => {
+                    clear += 1;
+                    assert!(!(0..triangles.len()).any(|t| meeting(&t)), "{a} {b}");
+                }
+                Near::Candidates(c) => {
+                    listed += 1;
+                    assert!(c.windows(2).all(|w| w[0] < w[1]), "sorted, no repeats");
+                    for t in (0..triangles.len()).filter(meeting) {
+                        assert!(c.contains(&(t as u32)), "{t} missed for {a} {b}");
+                    }
+                }
+                Near::Unknown => {}
             }
         }
-        assert!(clear > 10_000, "only {clear} clear");
-        // A segment through a triangle's centre is never clear.
-        for t in &triangles {
-            let c = (t[0] + t[1] + t[2]) / 3.0;
-            let n = (t[1] - t[0]).cross(t[2] - t[0]).normalize() * 1e-3;
-            assert!(!grid.segment_is_clear(c - n, c + n));
+        assert!(
+            clear > 10_000 && listed > 100,
+            "{clear} clear, {listed} listed"
+        );
+        // A segment through a triangle's centre lists it.
+        for (t, tri) in triangles.iter().enumerate() {
+            let c = (tri[0] + tri[1] + tri[2]) / 3.0;
+            let n = (tri[1] - tri[0]).cross(tri[2] - tri[0]).normalize() * 1e-3;
+            match grid.near_segment(c - n, c + n, &mut buffer) {
+                Near::Candidates(found) => assert!(found.contains(&(t as u32))),
+                Near::Clear => panic!("triangle {t} missed"),
+                Near::Unknown => {}
+            }
         }
     }
 }

@@ -1,6 +1,6 @@
 //! `PolyhedralOracle`: the `Oracle` of a closed triangle surface.
 
-use crate::occupancy::Occupancy;
+use crate::occupancy::{MAX_CANDIDATES, Near, Occupancy};
 use crate::predicates::{Crossing, segment_crossing};
 use crate::tree::TriangleTree;
 use crate::validate::surface_defects_in;
@@ -359,11 +359,11 @@ impl PolyhedralOracle {
         only: Option<u32>,
         out: &mut Vec<SurfaceHit>,
     ) {
-        if !a.is_finite() || !b.is_finite() || self.occupancy.segment_is_clear(a, b) {
+        if !a.is_finite() || !b.is_finite() {
             return;
         }
         let start = out.len();
-        self.tree.for_each_near_segment(a, b, |t| {
+        let mut visit = |t: u32| {
             if only.is_some_and(|k| k != self.component[t as usize]) {
                 return;
             }
@@ -379,7 +379,13 @@ impl PolyhedralOracle {
                     patch: self.patch[t as usize],
                 });
             }
-        });
+        };
+        let mut buffer = [0; MAX_CANDIDATES];
+        match self.occupancy.near_segment(a, b, &mut buffer) {
+            Near::Clear => return,
+            Near::Candidates(triangles) => triangles.iter().for_each(|&t| visit(t)),
+            Near::Unknown => self.tree.for_each_near_segment(a, b, visit),
+        }
         let hits = &mut out[start..];
         hits.sort_by(|x, y| x.t.total_cmp(&y.t).then(x.patch.cmp(&y.patch)));
         // A segment through an edge or a vertex meets several triangles at one point.
