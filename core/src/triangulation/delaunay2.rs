@@ -302,21 +302,28 @@ impl Delaunay2 {
         report: Option<&mut InsertReport>,
     ) -> Result<InsertOutcome, TriangulationError> {
         validate_point(p, self.points.len())?;
-        let Some(start) = self.locate(p, hint) else {
-            return self.insert_on_line(p, report);
-        };
-        if let Some(v) = self.duplicate_in(start, p) {
-            return Ok(InsertOutcome::Duplicate(v));
-        }
         let mut zone = std::mem::take(&mut self.scratch.zone);
         zone.clear();
         match self.last_zone.get_mut().take() {
-            Some((q, cached)) if q == p && cached.cells.contains(&start) => {
+            // The zone of this very point, computed on the current triangulation (every change
+            // clears the cache): no need to locate it again. A cached zone is never that of a
+            // vertex, so the point is no duplicate.
+            Some((q, cached)) if q == p && !cached.cells.is_empty() => {
                 zone.cells.extend_from_slice(&cached.cells);
                 zone.boundary_facets
                     .extend_from_slice(&cached.boundary_facets);
             }
-            _ => self.find_conflicts(p, start, &mut zone),
+            _ => {
+                let Some(start) = self.locate(p, hint) else {
+                    self.scratch.zone = zone;
+                    return self.insert_on_line(p, report);
+                };
+                if let Some(v) = self.duplicate_in(start, p) {
+                    self.scratch.zone = zone;
+                    return Ok(InsertOutcome::Duplicate(v));
+                }
+                self.find_conflicts(p, start, &mut zone);
+            }
         }
         let result = self
             .push_vertex(p)
