@@ -3,7 +3,7 @@
 
 use crate::triangulation::Triangulation;
 use crate::triangulation::delaunay2::predicates::dot_sign;
-use crate::triangulation::delaunay2::{CellId, Delaunay2, VertexId};
+use crate::triangulation::delaunay2::{Delaunay2, VertexId};
 use glam::DVec2;
 use std::cmp::Ordering;
 
@@ -165,22 +165,6 @@ impl Constraints {
     }
 }
 
-/// The cell with the edge `a → b` counter-clockwise, and the index of its third vertex.
-pub(crate) fn edge_cell(
-    tr: &Delaunay2,
-    a: VertexId,
-    b: VertexId,
-    scratch: &mut Vec<CellId>,
-) -> Option<(CellId, usize)> {
-    tr.incident_cells(a, scratch);
-    scratch.iter().find_map(|&c| {
-        let v = tr.cell(c);
-        (0..3)
-            .find(|&i| v[(i + 1) % 3] == a && v[(i + 2) % 3] == b)
-            .map(|i| (c, i))
-    })
-}
-
 /// The region in which a vertex encroaches a sub-segment: Triangle's diametral lens, the points
 /// that see the sub-segment under an angle of at least 180° − 2θ for the angle bound θ. Vertices
 /// between the lens and the diametral circle cannot create triangles worse than θ there, so
@@ -225,12 +209,11 @@ pub(crate) fn needs_split(
     a: VertexId,
     b: VertexId,
     encroachment: Option<&Encroachment>,
-    scratch: &mut Vec<CellId>,
 ) -> bool {
     let Some(&s) = cons.get(a, b) else {
         return false;
     };
-    let Some((c, i)) = edge_cell(tr, s.a, s.b, scratch) else {
+    let Some((c, i)) = tr.edge_cell(s.a, s.b) else {
         return true;
     };
     let Some(encroachment) = encroachment else {

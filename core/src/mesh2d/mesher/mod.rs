@@ -17,7 +17,7 @@ use super::pslg::{Pslg, PslgError};
 use crate::refine::{Engine, Limits};
 use crate::triangulation::Triangulation;
 use crate::triangulation::delaunay2::{CellId, Delaunay2, TriangulationError, VertexId};
-use constraints::{Constraints, Encroachment, Label, edge_cell};
+use constraints::{Constraints, Encroachment, Label};
 use segments::SegmentLevel;
 use std::cell::RefCell;
 use std::rc::Rc;
@@ -219,13 +219,13 @@ fn carve(tr: &Delaunay2, cons: &Constraints, pslg: &Pslg) -> Vec<Label> {
 
 /// Records on each sub-segment the labels of the cells on its two sides.
 fn set_side_labels(tr: &Delaunay2, cons: &mut Constraints, labels: &[Label]) {
-    let mut scratch = Vec::new();
     for s in cons.sorted() {
-        let side = |x, y, scratch: &mut Vec<CellId>| {
-            edge_cell(tr, x, y, scratch).map_or(Label::Outside, |(c, _)| labels[c.0 as usize])
+        let side = |x, y| {
+            tr.edge_cell(x, y)
+                .map_or(Label::Outside, |(c, _)| labels[c.0 as usize])
         };
-        let left = side(s.a, s.b, &mut scratch);
-        let right = side(s.b, s.a, &mut scratch);
+        let left = side(s.a, s.b);
+        let right = side(s.b, s.a);
         if let Some(sub) = cons.get_mut(s.a, s.b) {
             sub.left = left;
             sub.right = right;

@@ -2,10 +2,10 @@
 //! encroached (a vertex in its diametral lens, or missing from the triangulation); a point
 //! proposed by the triangle level that would encroach one is refused and the sub-segment queued.
 
-use super::constraints::{Constraints, Encroachment, edge_cell, needs_split};
+use super::constraints::{Constraints, Encroachment, needs_split};
 use crate::refine::{Candidate, Check, MesherLevel};
 use crate::triangulation::Triangulation;
-use crate::triangulation::delaunay2::{CellId, ConflictZone, Delaunay2, InsertReport, VertexId};
+use crate::triangulation::delaunay2::{ConflictZone, Delaunay2, InsertReport, VertexId};
 use glam::DVec2;
 use std::cell::RefCell;
 use std::collections::{HashSet, VecDeque};
@@ -33,11 +33,13 @@ pub(crate) struct SegmentLevel {
     /// What encroaches a sub-segment; `None` while only sub-segments missing from the
     /// triangulation are split (segment recovery, before the domain sides are known).
     pub(crate) encroachment: Option<Encroachment>,
-    scratch: Vec<CellId>,
     zone: ConflictZone,
     /// Reused buffers of `after_insertion`: cavity boundary vertices, sub-segments at them.
     ends: Vec<VertexId>,
     pairs: Vec<(VertexId, VertexId)>,
+    /// Per vertex, the insertion that last listed it in `ends` (deduplication without sorting).
+    seen: Vec<u32>,
+    stamp: u32,
 }
 
 impl SegmentLevel {
@@ -49,22 +51,16 @@ impl SegmentLevel {
             proposed: None,
             min_length,
             encroachment: None,
-            scratch: Vec::new(),
             zone: ConflictZone::default(),
             ends: Vec::new(),
             pairs: Vec::new(),
+            seen: Vec::new(),
+            stamp: 0,
         }
     }
 
     fn needs_split(&mut self, tr: &Delaunay2, a: VertexId, b: VertexId) -> bool {
-        needs_split(
-            tr,
-            &self.cons.borrow(),
-            a,
-            b,
-            self.encroachment.as_ref(),
-            &mut self.scratch,
-        )
+        needs_split(tr, &self.cons.borrow(), a, b, self.encroachment.as_ref())
     }
 
     fn push(&mut self, a: VertexId, b: VertexId, forced: bool) {
@@ -162,7 +158,7 @@ impl MesherLevel<Delaunay2> for SegmentLevel {
             return None;
         }
         self.proposed = Some((a, b));
-        let hint = edge_cell(tr, a, b, &mut self.scratch).map(|(c, _)| c);
+        let hint = tr.edge_cell(a, b).map(|(c, _)| c);
         Some(Candidate {
             point: self.split_point(tr, a, b),
             hint,
@@ -246,17 +242,20 @@ impl MesherLevel<Delaunay2> for SegmentLevel {
         }
         // A sub-segment can only have become encroached (or lost) if both its ends are on the
         // cavity boundary, i.e. are vertices of the new cells.
+        self.seen.resize(tr.num_vertices(), 0);
+        self.stamp = self.stamp.wrapping_add(1);
+        if self.stamp == 0 {
+            self.seen.fill(0);
+            self.stamp = 1;
+        }
         let mut ends = std::mem::take(&mut self.ends);
         ends.clear();
-        ends.extend(
-            report
-                .created
-                .iter()
-                .flat_map(|&c| tr.cell(c))
-                .filter(|&x| !tr.is_infinite_vertex(x)),
-        );
-        ends.sort_unstable();
-        ends.dedup();
+        for x in report.created.iter().flat_map(|&c| tr.cell(c)) {
+            if !tr.is_infinite_vertex(x) && self.seen[x.0 as usize] != self.stamp {
+                self.seen[x.0 as usize] = self.stamp;
+                ends.push(x);
+            }
+        }
         let mut pairs = std::mem::take(&mut self.pairs);
         pairs.clear();
         {
@@ -265,6 +264,8 @@ impl MesherLevel<Delaunay2> for SegmentLevel {
                 pairs.extend(cons.around(x).iter().filter(|&&y| x < y).map(|&y| (x, y)));
             }
         }
+        // Queue in the order of the lower end (the queue order decides the refinement order).
+        pairs.sort_by_key(|&(x, _)| x);
         for &(x, y) in &pairs {
             if self.needs_split(tr, x, y) {
                 self.push(x, y, false);
