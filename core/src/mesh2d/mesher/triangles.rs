@@ -183,7 +183,6 @@ impl TriangleLevel {
             self.labels[c.0 as usize] = Label::Outside;
         }
         drop(cons);
-        assess.sort_unstable();
         for &c in &assess {
             self.assess(tr, c);
         }
