@@ -1,18 +1,11 @@
 //! The `convert` and `info` commands as a user runs them.
 
-use assert_cmd::Command;
+mod cli_support;
+
+use cli_support::{delamesh, test_data};
+
 use serde_json::Value;
-use std::path::{Path, PathBuf};
-
-fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data")
-        .join(name)
-}
-
-fn delamesh() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_delamesh"))
-}
+use std::path::Path;
 
 fn info(path: &Path) -> Value {
     let out = delamesh()
@@ -31,12 +24,12 @@ fn info(path: &Path) -> Value {
 
 #[test]
 fn info_reports_topology_of_a_torus_and_a_tet_mesh() {
-    let t = info(&data("torus.ply"));
+    let t = info(&test_data("torus.ply"));
     assert_eq!(t["topology"]["genus"], 1);
     assert_eq!(t["topology"]["euler_characteristic"], 0);
     assert_eq!(t["topology"]["closed"], true);
     assert!(t["topology"]["signed_volume"].as_f64().unwrap() > 0.0);
-    let v = info(&data("box.mesh"));
+    let v = info(&test_data("box.mesh"));
     assert_eq!(v["kind"], "volume");
     let subdomains = v["volume_mesh"]["subdomains"].as_array().unwrap();
     let volume: f64 = subdomains
@@ -68,8 +61,8 @@ fn info_finds_holes_in_an_open_surface() {
 #[test]
 fn convert_chain_preserves_counts_and_labels() {
     let dir = tempfile::tempdir().unwrap();
-    let reference = info(&data("box.mesh"));
-    let mut previous = data("box.mesh");
+    let reference = info(&test_data("box.mesh"));
+    let mut previous = test_data("box.mesh");
     for (name, flags) in [
         ("a.vtu", vec![]),
         ("b.vtk", vec!["--ascii"]),
@@ -113,7 +106,7 @@ fn format_flags_override_extensions() {
     let out = dir.path().join("mesh.dat");
     delamesh()
         .args(["convert", "--format", "OFF"])
-        .arg(data("icosahedron.obj"))
+        .arg(test_data("icosahedron.obj"))
         .arg(&out)
         .assert()
         .success();
@@ -151,7 +144,7 @@ fn bad_input_fails_cleanly_without_output() {
     // A failed write leaves an existing file untouched: the output's directory does not exist.
     let res = delamesh()
         .arg("convert")
-        .arg(data("box.off"))
+        .arg(test_data("box.off"))
         .arg(dir.path().join("no/such/dir/x.vtu"))
         .output()
         .unwrap();

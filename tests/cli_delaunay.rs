@@ -1,13 +1,12 @@
 //! `delamesh delaunay` end to end: the written mesh is read back and checked with exact predicates.
 
-use assert_cmd::Command;
+mod cli_support;
+
+use cli_support::delamesh;
+
 use delamesh::core::kernel::{Point3, Sign, insphere, orient3d};
 use std::fmt::Write as _;
 use std::path::Path;
-
-fn delamesh() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_delamesh"))
-}
 
 /// A small deterministic pseudo-random point set (a linear congruential generator keeps the test
 /// free of extra dependencies).

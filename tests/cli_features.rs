@@ -1,29 +1,9 @@
 //! `delamesh mesh` with sharp features: the piecewise-smooth domain by default, the smooth one
 //! unchanged when there is no feature, and clean errors for bad feature options.
 
-use assert_cmd::Command;
-use std::path::{Path, PathBuf};
+mod cli_support;
 
-fn root(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
-}
-
-fn features(name: &str) -> PathBuf {
-    root("tests/data/features").join(name)
-}
-
-fn delamesh() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_delamesh"))
-}
-
-const COARSE: [&str; 6] = [
-    "--facet-size",
-    "0.3",
-    "--facet-distance",
-    "0.02",
-    "--cell-size",
-    "0.4",
-];
+use cli_support::{COARSE, delamesh, feature_shape, repo};
 
 #[test]
 fn a_smooth_surface_is_meshed_exactly_as_without_features() {
@@ -32,7 +12,7 @@ fn a_smooth_surface_is_meshed_exactly_as_without_features() {
     for (out, extra) in [(&a, None), (&b, Some("--no-features"))] {
         delamesh()
             .args(["mesh", "-q"])
-            .arg(root("models/torus.off"))
+            .arg(repo("models/torus.off"))
             .arg("-o")
             .arg(out)
             .args(extra)
@@ -48,7 +28,7 @@ fn two_boxes_sharing_a_face_give_two_subdomains_of_unit_volume() {
     let out = dir.path().join("boxes.mesh");
     delamesh()
         .args(["mesh", "-q"])
-        .arg(features("two_boxes.off"))
+        .arg(feature_shape("two_boxes.off"))
         .arg("-o")
         .arg(&out)
         .args(COARSE)
@@ -81,9 +61,9 @@ fn user_polylines_are_accepted_when_on_surface_edges() {
     let dir = tempfile::tempdir().unwrap();
     delamesh()
         .args(["mesh", "-q"])
-        .arg(features("block_2x2.off"))
+        .arg(feature_shape("block_2x2.off"))
         .arg("--features")
-        .arg(features("block_2x2.polylines.txt"))
+        .arg(feature_shape("block_2x2.polylines.txt"))
         .arg("-o")
         .arg(dir.path().join("block.vtu"))
         .args(COARSE)
@@ -92,9 +72,9 @@ fn user_polylines_are_accepted_when_on_surface_edges() {
     // The same polyline is off the unit cube's surface.
     let out = delamesh()
         .args(["mesh", "-q"])
-        .arg(features("cube.off"))
+        .arg(feature_shape("cube.off"))
         .arg("--features")
-        .arg(features("block_2x2.polylines.txt"))
+        .arg(feature_shape("block_2x2.polylines.txt"))
         .arg("-o")
         .arg(dir.path().join("cube.vtu"))
         .assert()
@@ -114,11 +94,11 @@ fn user_polylines_are_accepted_when_on_surface_edges() {
 fn bad_feature_options_are_clean_errors() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("x.vtu");
-    let bad = root("plugins/piecewise-smooth/tests/data/nan.polylines.txt");
+    let bad = repo("plugins/piecewise-smooth/tests/data/nan.polylines.txt");
     let stderr = |args: &[&std::ffi::OsStr], code: i32| {
         let o = delamesh()
             .args(["mesh", "-q"])
-            .arg(features("cube.off"))
+            .arg(feature_shape("cube.off"))
             .arg("-o")
             .arg(&out)
             .args(args)
@@ -152,7 +132,7 @@ fn bad_feature_options_are_clean_errors() {
 fn info_counts_the_features_mesh_would_find() {
     let out = delamesh()
         .args(["info", "--json"])
-        .arg(features("box_with_hole.off"))
+        .arg(feature_shape("box_with_hole.off"))
         .assert()
         .success()
         .get_output()
@@ -166,7 +146,7 @@ fn info_counts_the_features_mesh_would_find() {
     assert_eq!(f["closed_curves"], 0);
     let out = delamesh()
         .args(["info", "--json"])
-        .arg(features("cylinder.off"))
+        .arg(feature_shape("cylinder.off"))
         .output()
         .unwrap();
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();

@@ -1,27 +1,10 @@
 //! `delamesh mesh` end to end: bundled models in, every output format out, bad input refused.
 
-use assert_cmd::Command;
-use std::path::{Path, PathBuf};
+mod cli_support;
 
-fn model(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("models")
-        .join(name)
-}
+use cli_support::{COARSE, delamesh, model};
 
-fn delamesh() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_delamesh"))
-}
-
-/// Coarse criteria so that each run takes a fraction of a second.
-const COARSE: [&str; 6] = [
-    "--facet-size",
-    "0.3",
-    "--facet-distance",
-    "0.02",
-    "--cell-size",
-    "0.4",
-];
+use std::path::Path;
 
 #[test]
 fn default_options_give_a_closed_quality_mesh_and_a_report() {
@@ -64,6 +47,12 @@ fn default_options_give_a_closed_quality_mesh_and_a_report() {
         .filter_map(|v| v.as_u64())
         .sum();
     assert_eq!(Some(histogram), r["counts"]["tets"].as_u64());
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let mode = |p: &Path| std::fs::metadata(p).expect("written").permissions().mode() & 0o777;
+        assert_eq!(mode(&report), mode(&out), "report and mesh written alike");
+    }
 }
 
 #[test]

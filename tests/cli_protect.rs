@@ -1,18 +1,9 @@
 //! `delamesh mesh` on CAD-like shapes with sharp features: corners kept exactly, every curve
 //! followed by feature edges written as line cells, small angles meshed without cascading.
 
-use assert_cmd::Command;
-use std::path::{Path, PathBuf};
+mod cli_support;
 
-fn shape(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/features")
-        .join(name)
-}
-
-fn delamesh() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_delamesh"))
-}
+use cli_support::{delamesh, feature_shape};
 
 /// Mesh `name` to MEDIT with a report; returns the report and the mesh read back.
 fn mesh(name: &str, extra: &[&str]) -> (serde_json::Value, delamesh::core::mesh::TetMesh) {
@@ -21,7 +12,7 @@ fn mesh(name: &str, extra: &[&str]) -> (serde_json::Value, delamesh::core::mesh:
     let report = dir.path().join("report.json");
     delamesh()
         .args(["mesh", "-q"])
-        .arg(shape(name))
+        .arg(feature_shape(name))
         .arg("-o")
         .arg(&out)
         .arg("--report")
@@ -127,7 +118,7 @@ fn edge_size_bounds_the_feature_edges() {
     let out = dir.path().join("never.vtu");
     let err = delamesh()
         .args(["mesh", "-q"])
-        .arg(shape("cube.off"))
+        .arg(feature_shape("cube.off"))
         .arg("-o")
         .arg(&out)
         .arg("--edge-size=0")
@@ -147,7 +138,7 @@ fn meshing_with_features_is_deterministic() {
     for out in [&a, &b] {
         delamesh()
             .args(["mesh", "-q"])
-            .arg(shape("wedge5.off"))
+            .arg(feature_shape("wedge5.off"))
             .arg("-o")
             .arg(out)
             .assert()

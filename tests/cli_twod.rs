@@ -1,6 +1,9 @@
 //! The `mesh2d` and `conform2d` commands as a user runs them.
 
-use assert_cmd::Command;
+mod cli_support;
+
+use cli_support::delamesh;
+
 use std::path::PathBuf;
 
 /// A scratch directory of its own for each test (tests run in parallel).
@@ -13,10 +16,6 @@ fn scratch(test: &str) -> PathBuf {
 const SQUARE_WITH_HOLE: &str = "# square with a square hole\n8 2 0 1\n1 0 0 1\n2 10 0 1\n3 10 10 1\n\
     4 0 10 1\n5 4 4 2\n6 6 4 2\n7 6 6 2\n8 4 6 2\n8 1\n1 1 2 1\n2 2 3 1\n3 3 4 1\n4 4 1 1\n\
     5 5 6 2\n6 6 7 2\n7 7 8 2\n8 8 5 2\n1\n1 5 5\n";
-
-fn delamesh() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_delamesh"))
-}
 
 #[test]
 fn mesh2d_writes_a_deterministic_vtu() {

@@ -1,7 +1,7 @@
 //! `delamesh mesh`: a quality tetrahedral mesh of the volume bounded by a closed surface.
 
 use crate::domain::{Domain, FeatureArgs};
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use clap::Args;
 use delamesh_core::complex::MeshComplex;
 use delamesh_core::oracle::Oracle;
@@ -13,7 +13,7 @@ use delamesh_polyhedral::{PolyhedralOracle, TriangleTree};
 use glam::DVec3;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
-use std::io::{IsTerminal, Write};
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -524,18 +524,11 @@ fn hausdorff(c: &MeshComplex, oracle: &PolyhedralOracle) -> (f64, f64) {
     (to_input, to_mesh)
 }
 
-/// Write JSON next to its destination, then rename: readers never see half a report.
+/// Written like the meshes (atomically, same permissions): readers never see half a report.
 fn write_json_atomically(path: &Path, value: &impl Serialize) -> Result<()> {
-    let dir = path
-        .parent()
-        .filter(|d| !d.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let mut tmp = tempfile::NamedTempFile::new_in(dir)
-        .with_context(|| format!("{}: cannot create the report", path.display()))?;
-    serde_json::to_writer_pretty(&mut tmp, value)
-        .with_context(|| format!("{}: cannot write the report", path.display()))?;
-    tmp.write_all(b"\n")?;
-    tmp.persist(path)
-        .with_context(|| format!("{}: cannot write the report", path.display()))?;
+    delamesh_formats::write_document(path, |w| {
+        serde_json::to_writer_pretty(&mut *w, value)?;
+        w.write_all(b"\n")
+    })?;
     Ok(())
 }

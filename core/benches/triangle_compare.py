@@ -1,27 +1,26 @@
 #!/usr/bin/env python3
-"""Side-by-side comparison of `delamesh mesh2d` with Shewchuk's Triangle (`pip install triangle`).
+"""Side-by-side comparison of `delamesh mesh2d`'s mesher with Shewchuk's Triangle (`pip install triangle`).
 
-Usage: triangle_compare.py PATH/TO/delamesh [WORKDIR]
+Usage: triangle_compare.py PATH/TO/mesh2d_poly [WORKDIR]
+(`cargo build --release --example mesh2d_poly` builds it in `target/release/examples/`.)
 
 Writes the benchmark PSLGs as .poly files (a square with a square hole, a star with 10-degree
 spikes, random star-shaped polygons), meshes each with Triangle (`-pq30`, plus an area bound where
-given) and with `delamesh mesh2d --min-angle 30` (same area bound), and prints one line per case:
-mesh times, the time ratio, triangle counts and their ratio, and the smallest angle of each mesh.
+given) and with delamesh's mesher at `--min-angle 30` (same area bound), and prints one line per
+case: mesh times, the time ratio, triangle counts and their ratio, and the smallest angle of each
+mesh.
 
-The times compare like with like: meshing only, each the first meshing call of a fresh process
-(best of 3 processes). delamesh's is the time its CLI reports around the mesher (the PSLG check,
-the Delaunay triangulation of the input points and the refinement); Triangle's is the first
-`triangle.triangulate` call of a new Python process (with its conversion from and to numpy
-arrays). Process start, file reading and output writing are excluded on both sides. A first call
-pays for cold caches and fresh memory pages, which dominates the tiny cases (tens of
-microseconds warm, hundreds cold, for both meshers); the last column gives Triangle's warm time
-(best of 3 calls in one process) for reference, to set against `cargo bench --bench mesh2d`. The
-machine's load skews small cases most: compare runs made at the same load.
+The times compare like with like: both sides run in-process, the best of repeated runs on the
+same input (at least 5, more until half a second has passed, as `timeit` does: warm code and
+allocator on both sides), with file reading and writing excluded. Triangle's time
+includes its conversion from and to numpy arrays; delamesh's covers the PSLG check, the Delaunay
+triangulation of the input points and the refinement. The machine's load skews small cases most:
+compare runs made at the same load.
 """
+
 
 import math
 import os
-import pickle
 import re
 import subprocess
 import sys
@@ -29,6 +28,9 @@ import time
 
 import numpy as np
 import triangle
+
+# Repetitions: at least MIN_RUNS, more until BUDGET_S has passed (as `examples/mesh2d_poly.rs`).
+MIN_RUNS, MAX_RUNS, BUDGET_S = 5, 2000, 0.5
 
 
 def square_with_hole():
@@ -84,45 +86,28 @@ def min_angle(vertices, tris):
     return worst
 
 
-TRIANGLE_FIRST_CALL = """
-import pickle, sys, time
-import triangle
-data, opts = pickle.load(sys.stdin.buffer)
-t0 = time.perf_counter()
-triangle.triangulate(data, opts)
-print(time.perf_counter() - t0)
-"""
-
-
 def run_triangle(pts, segs, holes, area):
     data = {"vertices": np.array(pts, float), "segments": np.array(segs, int)}
     if holes:
         data["holes"] = np.array(holes, float)
     opts = "pq30" + (f"a{area}" if area else "") + "Q"
-    # Like delamesh's CLI: the first call in a fresh process, best of 3 processes.
-    first = math.inf
-    for _ in range(3):
-        out = subprocess.run([sys.executable, "-c", TRIANGLE_FIRST_CALL], check=True,
-                             input=pickle.dumps((data, opts)), capture_output=True).stdout
-        first = min(first, float(out))
-    warm = math.inf
-    for _ in range(3):
+    best = math.inf
+    start = time.perf_counter()
+    runs = 0
+    while runs < MAX_RUNS and (runs < MIN_RUNS or time.perf_counter() - start <= BUDGET_S):
+        runs += 1
         t0 = time.perf_counter()
         out = triangle.triangulate(data, opts)
-        warm = min(warm, time.perf_counter() - t0)
-    return first, warm, len(out["triangles"]), min_angle(out["vertices"], out["triangles"])
+        best = min(best, time.perf_counter() - t0)
+    return best, len(out["triangles"]), min_angle(out["vertices"], out["triangles"])
 
 
-def run_delamesh(exe, poly, area, workdir):
-    cmd = [exe, "mesh2d", poly, "-o", os.path.join(workdir, "out.vtu"), "--min-angle", "30"]
-    if area:
-        cmd += ["--max-area", str(area)]
-    best, line = math.inf, ""
-    for _ in range(3):
-        line = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
-        best = min(best, float(re.search(r"([0-9.]+) s ->", line).group(1)))
-    tris = int(re.search(r"(\d+) triangles", line).group(1))
-    angle = float(re.search(r"smallest angle ([0-9.]+)", line).group(1))
+def run_delamesh(exe, poly, area):
+    cmd = [exe, poly, "30"] + ([str(area)] if area else [])
+    line = subprocess.run(cmd, check=True, capture_output=True, text=True).stdout
+    best = float(re.search(r"best_s=([0-9.]+)", line).group(1))
+    tris = int(re.search(r"triangles=(\d+)", line).group(1))
+    angle = float(re.search(r"smallest_angle=([0-9.]+)", line).group(1))
     return best, tris, angle
 
 
@@ -138,14 +123,14 @@ def main():
         ("random-polygon-1e5", random_polygon(100_000), None),
     ]
     print("case | Triangle s | delamesh s | time ratio | Triangle tris | delamesh tris | count ratio"
-          " | Triangle min angle | delamesh min angle | Triangle warm s")
+          " | Triangle min angle | delamesh min angle")
     for name, (pts, segs, holes), area in cases:
         poly = os.path.join(workdir, name.split()[0] + ".poly")
         write_poly(poly, pts, segs, holes)
-        tt, tw, tn, ta = run_triangle(pts, segs, holes, area)
-        dt, dn, da = run_delamesh(exe, poly, area, workdir)
+        tt, tn, ta = run_triangle(pts, segs, holes, area)
+        dt, dn, da = run_delamesh(exe, poly, area)
         print(f"{name} | {tt:.6f} | {dt:.6f} | {dt / tt:.2f} | {tn} | {dn} | {dn / tn:.3f}"
-              f" | {ta:.2f} | {da:.2f} | {tw:.6f}")
+              f" | {ta:.2f} | {da:.2f}")
 
 
 if __name__ == "__main__":

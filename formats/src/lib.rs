@@ -190,6 +190,15 @@ pub fn read_tet_mesh(path: &Path, format: Option<Format>) -> Result<TetMesh> {
     }
 }
 
+/// Writes any other output (a JSON report, say) the way meshes are written: atomically, with the
+/// permissions of an ordinary document, errors naming the file.
+pub fn write_document(
+    path: &Path,
+    body: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
+) -> Result<()> {
+    atomic::write_atomic(path, |w| body(w).map_err(Problem::Io)).map_err(|p| Error::new(path, p))
+}
+
 /// Writes a surface in any writable format (volume formats get a mesh of labelled triangles).
 pub fn write_surface(path: &Path, mesh: &SurfaceMesh, options: &WriteOptions) -> Result<()> {
     let run = || -> Result<(), Problem> {

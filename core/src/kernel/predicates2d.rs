@@ -53,6 +53,8 @@ const INCIRCLE_ERROR: f64 = (10.0 + 96.0 * EPS) * EPS;
 const INCIRCLE_ERROR_B: f64 = (4.0 + 48.0 * EPS) * EPS;
 const INCIRCLE_ERROR_C: f64 = (44.0 + 576.0 * EPS) * EPS * EPS;
 const RESULT_ERROR: f64 = (3.0 + 8.0 * EPS) * EPS;
+/// Error bound of [`incircle_double_double`] relative to the permanent, with a factor-2 margin.
+const INCIRCLE_ERROR_DD: f64 = 66.0 * EPS * EPS;
 
 /// Differences whose magnitude lies outside this range are left to `robust`: inside it, no
 /// product of the expansion stage can overflow or lose its rounding error to underflow.
@@ -73,6 +75,12 @@ fn incircle_exact(a: DVec2, b: DVec2, c: DVec2, d: DVec2, permanent: f64) -> Ord
     ];
     let in_range = |x: f64| x == 0.0 || (EXPANSION_RANGE.0..=EXPANSION_RANGE.1).contains(&x.abs());
     if diffs.iter().all(|&(hi, _)| in_range(hi)) {
+        // Double-double arithmetic on the exact differences settles nearly every case the first
+        // filter leaves, for a tenth of the cost of the exact expansions.
+        let det = incircle_double_double(diffs);
+        if det.abs() > INCIRCLE_ERROR_DD * permanent {
+            return sign(det);
+        }
         let [adx, ady, bdx, bdy, cdx, cdy] = diffs.map(|(hi, _)| hi);
         // Exact determinant of the rounded differences: the exact answer when they are exact,
         // since the determinant is translation invariant.
@@ -127,6 +135,42 @@ fn incircle_exact(a: DVec2, b: DVec2, c: DVec2, d: DVec2, permanent: f64) -> Ord
         }
     }
     sign(robust::incircle(coord(a), coord(b), coord(c), coord(d)))
+}
+
+/// The in-circle determinant of the exact differences `(hi, lo)` in double-double arithmetic.
+/// Each operation has a relative error of at most 7u² (u = 2⁻⁵³; Joldes, Muller, Popescu,
+/// "Tight and rigorous error bounds for basic building blocks of double-word arithmetic", 2017),
+/// so the result is within 33u² of the permanent: [`INCIRCLE_ERROR_DD`] allows twice that.
+fn incircle_double_double(d: [(f64, f64); 6]) -> f64 {
+    let [ax, ay, bx, by, cx, cy] = d;
+    let lift = |x, y| dd_add(dd_mul(x, x), dd_mul(y, y));
+    let cross = |ux, uy, vx, vy| dd_add(dd_mul(ux, vy), dd_neg(dd_mul(uy, vx)));
+    let row_a = dd_mul(lift(ax, ay), cross(bx, by, cx, cy));
+    let row_b = dd_mul(lift(bx, by), cross(cx, cy, ax, ay));
+    let row_c = dd_mul(lift(cx, cy), cross(ax, ay, bx, by));
+    let (hi, lo) = dd_add(dd_add(row_a, row_b), row_c);
+    hi + lo
+}
+
+/// Double-double sum (the accurate algorithm: relative error at most 3u²).
+#[inline(always)]
+fn dd_add(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
+    let (s, e) = two_sum(a.0, b.0);
+    let (t, f) = two_sum(a.1, b.1);
+    let (s, e) = fast_two_sum(s, e + t);
+    fast_two_sum(s, e + f)
+}
+
+/// Double-double product (relative error at most 7u² without a fused multiply-add).
+#[inline(always)]
+fn dd_mul(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
+    let (p, e) = two_product(a.0, b.0);
+    fast_two_sum(p, e + (a.0 * b.1 + a.1 * b.0))
+}
+
+#[inline(always)]
+fn dd_neg(a: (f64, f64)) -> (f64, f64) {
+    (-a.0, -a.1)
 }
 
 /// `(x² + y²) · (u × v)` exactly, for the in-circle row of a point at `(x, y)` relative to `d`.

@@ -4,6 +4,7 @@
 
 use super::criteria::CellCriteria;
 use super::engine::{Candidate, Check, MesherLevel};
+use super::facets::ClearFacets;
 use super::geometry::{
     cell_vertices, crowds_a_vertex, is_same_cell, power_distance, shortest_edge,
 };
@@ -31,6 +32,8 @@ pub struct CellLevel<'o> {
     /// When set, a circumcentre outside this box is outside the domain without asking the
     /// oracle (see [`CellLevel::outside_box`]).
     domain_box: Option<Aabb>,
+    /// The surface level's answers for dual edges (see [`CellLevel::share_clear_facets`]).
+    clear_facets: Option<ClearFacets>,
 }
 
 impl<'o> CellLevel<'o> {
@@ -43,7 +46,16 @@ impl<'o> CellLevel<'o> {
             proposed_radius2: 0.0,
             hits: Vec::new(),
             domain_box: None,
+            clear_facets: None,
         }
+    }
+
+    /// Take a new cell's subdomain from its old neighbour when the surface level found their
+    /// shared facet's dual edge crossing no boundary, instead of querying that segment again.
+    /// The surface level must come before this one in the engine, so that the facets of new cells
+    /// are up to date when this level labels them.
+    pub fn share_clear_facets(&mut self, clear: ClearFacets) {
+        self.clear_facets = Some(clear);
     }
 
     /// Label circumcentres outside the domain's bounding box (enlarged) as outside directly. A
@@ -114,6 +126,10 @@ impl<'o> CellLevel<'o> {
     ) -> Option<SubdomainId> {
         let i = tr.cell(c).as_ref().iter().position(|&v| v == apex)?;
         let n = tr.neighbor(c, i);
+        if let Some(clear) = &self.clear_facets {
+            // An infinite neighbour is outside: a clear dual ray leaves the domain.
+            return clear.is_clear(c, i).then(|| self.subdomain(n));
+        }
         if tr.is_infinite_cell(n) {
             return None;
         }

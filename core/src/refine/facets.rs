@@ -18,6 +18,8 @@ use super::queue::RefineQueue;
 use crate::kernel::Point3;
 use crate::oracle::{Aabb, Oracle, PatchId, SurfaceHit};
 use crate::triangulation::{CellId, ConflictZone, InsertReport, Triangulation, VertexId};
+use std::cell::RefCell;
+use std::rc::Rc;
 
 /// An empty ball centred on the boundary, through the vertices of a restricted facet.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -25,6 +27,35 @@ pub struct SurfaceBall {
     pub center: Point3,
     pub radius2: f64,
     pub patch: PatchId,
+}
+
+/// The facets whose dual edge the surface level found crossing no boundary, as a bit per facet of
+/// each cell slot. Shared with the cell level, which labels a new cell like its old neighbour
+/// across such a facet instead of querying the same segment again.
+#[derive(Clone, Debug, Default)]
+pub struct ClearFacets(Rc<RefCell<Vec<u8>>>);
+
+impl ClearFacets {
+    fn set(&self, c: CellId, i: usize, clear: bool) {
+        let mut bits = self.0.borrow_mut();
+        let k = c.0 as usize;
+        if bits.len() <= k {
+            bits.resize(k + 1, 0);
+        }
+        if clear {
+            bits[k] |= 1 << i;
+        } else {
+            bits[k] &= !(1 << i);
+        }
+    }
+
+    /// Whether the dual edge of facet `(c, i)` crosses no boundary, as last computed.
+    pub fn is_clear(&self, c: CellId, i: usize) -> bool {
+        self.0
+            .borrow()
+            .get(c.0 as usize)
+            .is_some_and(|b| b & (1 << i) != 0)
+    }
 }
 
 /// A queued facet: the cell it was seen from, the index of the opposite vertex, and the cell's
@@ -49,6 +80,7 @@ pub struct SurfaceLevel<'o> {
     criteria: FacetCriteria,
     /// Surface ball of each facet of each cell, indexed by `CellId` then by opposite vertex.
     balls: Vec<[Option<SurfaceBall>; 4]>,
+    clear: ClearFacets,
     /// Vertices lying on the boundary (P0 and surface-ball centres), indexed by `VertexId`.
     on_surface: Vec<bool>,
     /// Patch of each surface vertex when patches are checked (rule R3 of chapter 4), indexed by
@@ -73,6 +105,7 @@ impl<'o> SurfaceLevel<'o> {
             bbox: oracle.bounding_box(),
             criteria,
             balls: Vec::new(),
+            clear: ClearFacets::default(),
             on_surface: Vec::new(),
             vertex_patch: None,
             queue: RefineQueue::default(),
@@ -91,6 +124,11 @@ impl<'o> SurfaceLevel<'o> {
     pub fn check_patches(mut self) -> Self {
         self.vertex_patch = Some(Vec::new());
         self
+    }
+
+    /// The facets found crossing no boundary, kept up to date by this level (see [`ClearFacets`]).
+    pub fn clear_facets(&self) -> ClearFacets {
+        self.clear.clone()
     }
 
     /// Record that `v` lies on surface patch `patch` (0: on a curve or a corner, several patches).
@@ -149,21 +187,25 @@ impl<'o> SurfaceLevel<'o> {
         tr: &T,
         c: CellId,
         i: usize,
-    ) -> Option<SurfaceBall> {
-        let (from, to) = self.dual_edge(tr, c, i)?;
+    ) -> (Option<SurfaceBall>, bool) {
+        let Some((from, to)) = self.dual_edge(tr, c, i) else {
+            return (None, false);
+        };
         self.hits.clear();
         self.oracle.segment_hits(from, to, &mut self.hits);
         // The ball is orthogonal to the vertices' balls: its squared radius is a power distance.
         let v = cell_vertices(tr, c)[(i + 1) % 4];
         let (a, w) = (tr.point(v), tr.weight(v));
-        self.hits
+        let ball = self
+            .hits
             .iter()
             .map(|h| SurfaceBall {
                 center: h.point,
                 radius2: h.point.distance_squared(a) - w,
                 patch: h.patch,
             })
-            .max_by(|x, y| x.radius2.total_cmp(&y.radius2))
+            .max_by(|x, y| x.radius2.total_cmp(&y.radius2));
+        (ball, self.hits.is_empty())
     }
 
     /// The dual Voronoi edge of facet `(c, i)`, clipped to the neighbourhood of the domain.
@@ -273,12 +315,14 @@ impl<'o> SurfaceLevel<'o> {
 
     /// Recompute facet `(c, i)` and its mirror, and queue it when bad.
     fn update_facet<T: Triangulation<Point = Point3>>(&mut self, tr: &T, c: CellId, i: usize) {
-        let ball = self.compute_ball(tr, c, i);
+        let (ball, clear) = self.compute_ball(tr, c, i);
         self.balls[c.0 as usize][i] = ball;
+        self.clear.set(c, i, clear);
         let n = tr.neighbor(c, i);
         if !tr.is_infinite_cell(n) {
             let j = tr.mirror_index(c, i);
             self.balls[n.0 as usize][j] = ball;
+            self.clear.set(n, j, clear);
         }
         if let Some(ball) = ball {
             let cell = cell_vertices(tr, c);

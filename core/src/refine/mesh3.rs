@@ -184,6 +184,7 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
         if let Some(curves) = curves.as_mut() {
             engine.push_level(curves);
         }
+        cells.share_clear_facets(surface.clear_facets());
         engine.push_level(&mut surface).push_level(&mut cells);
         engine.refine(&mut tr, progress)
     };

@@ -158,28 +158,6 @@ impl Delaunay2 {
         Ok(outcomes)
     }
 
-    /// The cell with the edge `a → b` counter-clockwise and the index of its third vertex, found
-    /// by turning around `a` (stopping at the edge, without listing the whole star).
-    pub fn edge_cell(&self, a: VertexId, b: VertexId) -> Option<(CellId, usize)> {
-        let start = self.vertex_cell_of(a);
-        if start == NO_CELL {
-            return None;
-        }
-        let mut c = start;
-        for _ in 0..self.cells.len() {
-            let v = self.cells[c.0 as usize];
-            let i = v.iter().position(|&x| x == a)?;
-            if v[(i + 1) % 3] == b {
-                return Some((c, (i + 2) % 3));
-            }
-            c = self.neighbors[c.0 as usize][(i + 2) % 3];
-            if c == start {
-                return None;
-            }
-        }
-        None
-    }
-
     /// Every finite edge once, as `(cell, index of the opposite vertex)` with the cell finite.
     pub fn finite_edges(&self) -> impl Iterator<Item = (CellId, usize)> + '_ {
         self.finite_cells().flat_map(move |c| {
@@ -188,6 +166,28 @@ impl Delaunay2 {
                 (self.is_infinite_cell(n) || c < n).then_some((c, i))
             })
         })
+    }
+
+    /// The cell with the edge `a → b` counter-clockwise and the index of its third vertex: a turn
+    /// around `a` that stops at the edge, without collecting `a`'s star.
+    pub fn edge_cell(&self, a: VertexId, b: VertexId) -> Option<(CellId, usize)> {
+        let start = self.vertex_cell_of(a);
+        if start == NO_CELL {
+            return None;
+        }
+        let mut c = start;
+        for _ in 0..self.cells.len() {
+            let i = self.index_of(c, a);
+            let v = self.cells[c.0 as usize];
+            if v[(i + 1) % 3] == b {
+                return Some((c, (i + 2) % 3));
+            }
+            c = self.neighbors[c.0 as usize][(i + 1) % 3];
+            if c == start {
+                break;
+            }
+        }
+        None
     }
 
     /// Whether `p` is strictly inside the (perturbed) circumdisk of `c`, or beyond the hull edge of

@@ -5,6 +5,7 @@
 //! of the innermost component around it, so two nested spheres give a core and a shell, and an
 //! inner sphere oriented inwards makes a hollow (its inside has winding number zero).
 
+mod occupancy;
 mod oracle;
 #[cfg(feature = "cdylib")]
 mod plugin_export;

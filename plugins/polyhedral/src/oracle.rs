@@ -1,5 +1,6 @@
 //! `PolyhedralOracle`: the `Oracle` of a closed triangle surface.
 
+use crate::occupancy::Occupancy;
 use crate::predicates::{Crossing, segment_crossing};
 use crate::tree::TriangleTree;
 use crate::validate::surface_defects;
@@ -47,6 +48,8 @@ pub struct PolyhedralOracle {
     /// Connected component of each triangle.
     component: Vec<u32>,
     tree: TriangleTree,
+    /// Settles the short segment queries far from the surface without walking the tree.
+    occupancy: Occupancy,
     bbox: Aabb,
     /// Number of other components around each component.
     depth: Vec<u32>,
@@ -126,12 +129,14 @@ impl PolyhedralOracle {
         let bbox = Aabb::of(&geometry.iter().flatten().copied().collect::<Vec<_>>())
             .ok_or(PolyhedralError::Empty)?;
         let tree = TriangleTree::new(&geometry);
+        let occupancy = Occupancy::new(bbox.min, bbox.max, &geometry);
         let mut oracle = PolyhedralOracle {
             planes: geometry.iter().map(Plane::of).collect(),
             triangles: geometry,
             patch,
             component,
             tree,
+            occupancy,
             bbox,
             depth: vec![0; num_components],
             inner_label: vec![OUTSIDE; num_components],
@@ -354,7 +359,7 @@ impl PolyhedralOracle {
         only: Option<u32>,
         out: &mut Vec<SurfaceHit>,
     ) {
-        if !a.is_finite() || !b.is_finite() {
+        if !a.is_finite() || !b.is_finite() || self.occupancy.segment_is_clear(a, b) {
             return;
         }
         let start = out.len();

@@ -1,9 +1,9 @@
 //! The adaptive in-circle against an exact rational evaluation, on inputs built to reach each of
 //! its stages: random (first filter), exactly cocircular on integer grids (exact differences),
-//! and nearly cocircular far from the origin (inexact differences, first-order correction and
-//! the complete fallback).
+//! and nearly cocircular far from the origin (inexact differences, the double-double stage, the
+//! first-order correction and the complete fallback).
 
-use super::{dot_sign, incircle};
+use super::{INCIRCLE_ERROR_DD, dot_sign, incircle, incircle_double_double, two_diff};
 use crate::kernel::power::{dyadic, scaled};
 use glam::DVec2;
 use num_bigint::BigInt;
@@ -120,6 +120,41 @@ fn nearly_cocircular_points_agree_with_oracle() {
         inside > 0 && outside > 0,
         "{inside} inside, {outside} outside"
     );
+}
+
+#[test]
+fn the_double_double_stage_decides_nearly_cocircular_points_rightly() {
+    let mut rng = StdRng::seed_from_u64(17);
+    let mut decided = 0;
+    let samples = 2000;
+    for _ in 0..samples {
+        let centre = DVec2::new(rng.random_range(-0.5..0.5), rng.random_range(-0.5..0.5));
+        let radius = rng.random_range(1.0..4.0);
+        let mut on_circle = || {
+            let t: f64 = rng.random_range(0.0..std::f64::consts::TAU);
+            centre + radius * DVec2::new(t.cos(), t.sin())
+        };
+        let (a, b, c, d) = (on_circle(), on_circle(), on_circle(), on_circle());
+        let diffs = [
+            two_diff(a.x, d.x),
+            two_diff(a.y, d.y),
+            two_diff(b.x, d.x),
+            two_diff(b.y, d.y),
+            two_diff(c.x, d.x),
+            two_diff(c.y, d.y),
+        ];
+        let [ax, ay, bx, by, cx, cy] = diffs.map(|(hi, _)| hi);
+        let permanent = (ax * ax + ay * ay) * ((bx * cy).abs() + (cx * by).abs())
+            + (bx * bx + by * by) * ((cx * ay).abs() + (ax * cy).abs())
+            + (cx * cx + cy * cy) * ((ax * by).abs() + (bx * ay).abs());
+        let det = incircle_double_double(diffs);
+        if det.abs() > INCIRCLE_ERROR_DD * permanent {
+            decided += 1;
+            let sign = det.partial_cmp(&0.0).unwrap_or(Ordering::Equal);
+            assert_eq!(sign, incircle_oracle(a, b, c, d), "{a} {b} {c} {d}");
+        }
+    }
+    assert!(decided > samples / 2, "only {decided} of {samples} decided");
 }
 
 /// `(a - p) · (b - p)` in exact integer arithmetic.
