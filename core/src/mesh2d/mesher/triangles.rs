@@ -341,3 +341,41 @@ fn shortest_of(l: &[f64; 3]) -> usize {
     }
     i
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{BucketQueue, CellId, VertexId};
+
+    /// Pops come out by bucket (shortest edges first) and first-in first-out within a bucket, as
+    /// a stable sort by bucket gives, also when later pushes open buckets below the first one and
+    /// when pushes and pops interleave.
+    #[test]
+    fn bucket_queue_pops_shortest_first_then_fifo() {
+        let lengths = [1.0, 0.3, 5.0, 0.3, 1e-6, 2.0, 1.2, 1e-6, 40.0, 0.31];
+        let entry = |k: usize| (CellId(k as u32), [VertexId(0); 3]);
+        let mut queue = BucketQueue::default();
+        let mut expected: Vec<(usize, usize)> = Vec::new();
+        let mut popped = Vec::new();
+        for (k, &l) in lengths.iter().enumerate() {
+            queue.push(l, entry(k));
+            expected.push((BucketQueue::bucket(l), k));
+            if k == 4 {
+                // Interleave: pop the current front.
+                expected.sort_by_key(|&(b, _)| b);
+                let (_, front) = expected.remove(0);
+                assert_eq!(queue.peek().map(|e| e.0), Some(CellId(front as u32)));
+                queue.pop();
+                popped.push(front);
+            }
+        }
+        expected.sort_by_key(|&(b, _)| b);
+        let mut rest = Vec::new();
+        while let Some(&(c, _)) = queue.peek() {
+            rest.push(c.0 as usize);
+            queue.pop();
+        }
+        assert_eq!(rest, expected.iter().map(|&(_, k)| k).collect::<Vec<_>>());
+        assert_eq!(queue.len, 0);
+        assert_eq!(popped.len() + rest.len(), lengths.len());
+    }
+}
