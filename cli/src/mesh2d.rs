@@ -60,7 +60,7 @@ pub fn run(args: &Args) -> Result<()> {
     );
     delamesh_formats::write_tet_mesh(&args.output, &out, &WriteOptions::default())?;
     println!(
-        "{} vertices, {} triangles, {} sub-segments, smallest angle {:.2}°, {:.4} s -> {}",
+        "{} vertices, {} triangles, {} sub-segments, smallest angle {:.2}°, {:.6} s -> {}",
         m.points.len(),
         m.triangles.len(),
         m.segments.len(),

@@ -96,8 +96,8 @@ pub struct Delaunay2 {
     marks: RefCell<(Vec<u32>, u32)>,
     /// The last zone computed by `conflict_zone` and its point: a mesher usually asks for the zone
     /// of a point (to check it) and then inserts that very point, which reuses the zone. Cleared by
-    /// every change of the triangulation.
-    last_zone: RefCell<Option<(DVec2, ConflictZone)>>,
+    /// every change of the triangulation (the point is reset; the buffers are kept for reuse).
+    last_zone: RefCell<(Option<DVec2>, ConflictZone)>,
     /// Reused buffers of `insert_impl` and `star` (no allocation per insertion).
     scratch: Scratch,
 }
@@ -130,7 +130,7 @@ impl Delaunay2 {
             hint: Cell::new(NO_CELL),
             walk_rng: Cell::new(0x2545_F491_4F6C_DD1D),
             marks: RefCell::new((Vec::new(), 0)),
-            last_zone: RefCell::new(None),
+            last_zone: RefCell::new((None, ConflictZone::default())),
             scratch: Scratch::default(),
         }
     }
@@ -324,21 +324,25 @@ impl Delaunay2 {
         report: Option<&mut InsertReport>,
     ) -> Result<InsertOutcome, TriangulationError> {
         validate_point(p, self.points.len())?;
-        let Some(start) = self.locate(p, hint) else {
-            return self.insert_on_line(p, report);
-        };
-        if let Some(v) = self.duplicate_in(start, p) {
-            return Ok(InsertOutcome::Duplicate(v));
-        }
         let mut zone = std::mem::take(&mut self.scratch.zone);
         zone.clear();
-        match self.last_zone.get_mut().take() {
-            Some((q, cached)) if q == p && cached.cells.contains(&start) => {
-                zone.cells.extend_from_slice(&cached.cells);
-                zone.boundary_facets
-                    .extend_from_slice(&cached.boundary_facets);
+        let (cached_point, cached) = self.last_zone.get_mut();
+        match cached_point.take() {
+            // The zone of this very point, computed on the current triangulation (every change
+            // clears the cache): no need to locate it again. A cached zone is never that of a
+            // vertex, so the point is no duplicate. Swapping buffers spares a copy.
+            Some(q) if q == p && !cached.cells.is_empty() => std::mem::swap(&mut zone, cached),
+            _ => {
+                let Some(start) = self.locate(p, hint) else {
+                    self.scratch.zone = zone;
+                    return self.insert_on_line(p, report);
+                };
+                if let Some(v) = self.duplicate_in(start, p) {
+                    self.scratch.zone = zone;
+                    return Ok(InsertOutcome::Duplicate(v));
+                }
+                self.find_conflicts(p, start, &mut zone);
             }
-            _ => self.find_conflicts(p, start, &mut zone),
         }
         let result = self
             .push_vertex(p)
@@ -675,8 +679,8 @@ impl Triangulation for Delaunay2 {
             if self.duplicate_in(c, p).is_none() {
                 self.find_conflicts(p, c, out);
                 let mut last = self.last_zone.borrow_mut();
-                let (q, cached) = last.get_or_insert_with(Default::default);
-                *q = p;
+                let (q, cached) = &mut *last;
+                *q = Some(p);
                 cached.clear();
                 cached.cells.extend_from_slice(&out.cells);
                 cached

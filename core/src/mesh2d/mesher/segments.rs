@@ -37,6 +37,9 @@ pub(crate) struct SegmentLevel {
     /// Reused buffers of `after_insertion`: cavity boundary vertices, sub-segments at them.
     ends: Vec<VertexId>,
     pairs: Vec<(VertexId, VertexId)>,
+    /// Per vertex, the insertion that last listed it in `ends` (deduplication without sorting).
+    seen: Vec<u32>,
+    stamp: u32,
 }
 
 impl SegmentLevel {
@@ -51,6 +54,8 @@ impl SegmentLevel {
             zone: ConflictZone::default(),
             ends: Vec::new(),
             pairs: Vec::new(),
+            seen: Vec::new(),
+            stamp: 0,
         }
     }
 
@@ -237,17 +242,20 @@ impl MesherLevel<Delaunay2> for SegmentLevel {
         }
         // A sub-segment can only have become encroached (or lost) if both its ends are on the
         // cavity boundary, i.e. are vertices of the new cells.
+        self.seen.resize(tr.num_vertices(), 0);
+        self.stamp = self.stamp.wrapping_add(1);
+        if self.stamp == 0 {
+            self.seen.fill(0);
+            self.stamp = 1;
+        }
         let mut ends = std::mem::take(&mut self.ends);
         ends.clear();
-        ends.extend(
-            report
-                .created
-                .iter()
-                .flat_map(|&c| tr.cell(c))
-                .filter(|&x| !tr.is_infinite_vertex(x)),
-        );
-        ends.sort_unstable();
-        ends.dedup();
+        for x in report.created.iter().flat_map(|&c| tr.cell(c)) {
+            if !tr.is_infinite_vertex(x) && self.seen[x.0 as usize] != self.stamp {
+                self.seen[x.0 as usize] = self.stamp;
+                ends.push(x);
+            }
+        }
         let mut pairs = std::mem::take(&mut self.pairs);
         pairs.clear();
         {
@@ -256,6 +264,8 @@ impl MesherLevel<Delaunay2> for SegmentLevel {
                 pairs.extend(cons.around(x).iter().filter(|&&y| x < y).map(|&y| (x, y)));
             }
         }
+        // Queue in the order of the lower end (the queue order decides the refinement order).
+        pairs.sort_by_key(|&(x, _)| x);
         for &(x, y) in &pairs {
             if self.needs_split(tr, x, y) {
                 self.push(x, y, false);

@@ -4,7 +4,6 @@
 //! which is what Triangle uses and needs fewer points than circumcentres.
 
 use super::constraints::{Constraints, Label};
-use crate::mesh2d::quality::signed_area;
 use crate::refine::{Candidate, Check, MesherLevel};
 use crate::triangulation::Triangulation;
 use crate::triangulation::delaunay2::{CellId, Delaunay2, InsertReport, VertexId};
@@ -16,8 +15,8 @@ use std::rc::Rc;
 /// Quality bounds of the triangle level.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct TriangleCriteria {
-    /// Sine of the smallest allowed angle.
-    pub sin_min_angle: f64,
+    /// Squared sine of the smallest allowed angle.
+    pub sin2_min_angle: f64,
     /// Off-centre distance factor, from the angle bound.
     pub off_constant: f64,
     /// Area bound of each region (`INFINITY` for none).
@@ -30,7 +29,7 @@ impl TriangleCriteria {
         // edges away from that edge (0.95 of the distance giving an apex angle of exactly θ).
         let cos = min_angle_deg.to_radians().cos();
         TriangleCriteria {
-            sin_min_angle: min_angle_deg.to_radians().sin(),
+            sin2_min_angle: min_angle_deg.to_radians().sin().powi(2),
             off_constant: if min_angle_deg > 0.0 {
                 0.475 * ((1.0 + cos) / (1.0 - cos)).sqrt()
             } else {
@@ -46,11 +45,14 @@ type Queued = (CellId, [VertexId; 3]);
 /// Triangle's queue of bad triangles: buckets by the binary exponent (and first mantissa bit) of
 /// the shortest edge, first-in first-out within a bucket, shortest edges first. Splitting the
 /// triangles with the shortest edges first gives fewer points than worst-angle-first order, and
-/// the buckets make push and pop O(1).
+/// the buckets make push and pop O(1). Only the span of buckets in use is stored (a mesh uses a
+/// few dozen of the 4096 possible keys), so that a small run does not pay for thousands of them.
 #[derive(Default)]
 struct BucketQueue {
-    buckets: Vec<VecDeque<Queued>>,
-    /// No bucket below this one holds anything.
+    /// Bucket `base + i` is `buckets[i]`.
+    buckets: VecDeque<VecDeque<Queued>>,
+    base: usize,
+    /// No bucket below `base + first` holds anything.
     first: usize,
     len: usize,
 }
@@ -64,13 +66,22 @@ impl BucketQueue {
     }
 
     fn push(&mut self, shortest: f64, e: Queued) {
-        if self.buckets.is_empty() {
-            self.buckets = vec![VecDeque::new(); Self::BUCKETS];
-            self.first = Self::BUCKETS;
-        }
         let b = Self::bucket(shortest);
-        self.buckets[b].push_back(e);
-        self.first = self.first.min(b);
+        if self.buckets.is_empty() {
+            self.base = b;
+            self.first = 0;
+        }
+        while b < self.base {
+            self.buckets.push_front(VecDeque::new());
+            self.base -= 1;
+            self.first += 1;
+        }
+        let i = b - self.base;
+        if i >= self.buckets.len() {
+            self.buckets.resize_with(i + 1, VecDeque::new);
+        }
+        self.buckets[i].push_back(e);
+        self.first = self.first.min(i);
         self.len += 1;
     }
 
@@ -172,7 +183,6 @@ impl TriangleLevel {
             self.labels[c.0 as usize] = Label::Outside;
         }
         drop(cons);
-        assess.sort_unstable();
         for &c in &assess {
             self.assess(tr, c);
         }
@@ -187,14 +197,17 @@ impl TriangleLevel {
         };
         let v = tr.cell(c);
         let p = v.map(|x| tr.point(x));
-        let (shortest, _) = shortest_edge(&p);
-        let radius = tr.circumcenter(c).distance(p[0]);
-        let ratio = shortest / (2.0 * radius);
-        let area = signed_area(p[0], p[1], p[2]);
-        let too_big = area > self.criteria.max_area[r as usize];
-        let skinny = ratio < self.criteria.sin_min_angle && !self.spans_small_angle(tr, &v);
+        // Squared lengths only: the smallest angle is opposite the shortest edge and its sine is
+        // twice the area over the product of the two other edges (no square root, no circumcentre).
+        let l = [0, 1, 2].map(|i| p[i].distance_squared(p[(i + 1) % 3]));
+        let i = shortest_of(&l);
+        let twice_area = (p[1] - p[0]).perp_dot(p[2] - p[0]);
+        let too_big = 0.5 * twice_area > self.criteria.max_area[r as usize];
+        let skinny = twice_area * twice_area
+            < self.criteria.sin2_min_angle * l[(i + 1) % 3] * l[(i + 2) % 3]
+            && !self.spans_small_angle(tr, &v);
         if too_big || skinny {
-            self.queue.push(shortest, (c, v));
+            self.queue.push(l[i].sqrt(), (c, v));
         }
     }
 
@@ -203,7 +216,7 @@ impl TriangleLevel {
     /// same concentric shell), cannot be improved by splitting and is left alone.
     fn spans_small_angle(&self, tr: &Delaunay2, v: &[VertexId; 3]) -> bool {
         let p = v.map(|x| tr.point(x));
-        let (_, i) = shortest_edge(&p);
+        let i = shortest_edge(&p);
         let (x, y) = (v[i], v[(i + 1) % 3]);
         let cons = self.cons.borrow();
         let steiner = |v: VertexId| !cons.is_input.get(v.0 as usize).copied().unwrap_or(true);
@@ -282,7 +295,7 @@ impl MesherLevel<Delaunay2> for TriangleLevel {
     ) -> Option<Candidate<DVec2>> {
         let p = v.map(|x| tr.point(x));
         let center = tr.circumcenter(c);
-        let (_, i) = shortest_edge(&p);
+        let i = shortest_edge(&p);
         // The triangle is counter-clockwise, so the left normal of its shortest edge points inside.
         let (a, b) = (p[i], p[(i + 1) % 3]);
         let d = b - a;
@@ -313,10 +326,56 @@ impl MesherLevel<Delaunay2> for TriangleLevel {
     }
 }
 
-/// Length of the shortest edge and the index `i` of its start (the edge `p[i] → p[i + 1]`).
-fn shortest_edge(p: &[DVec2; 3]) -> (f64, usize) {
-    (0..3)
-        .map(|i| (p[i].distance(p[(i + 1) % 3]), i))
-        .min_by(|x, y| x.0.total_cmp(&y.0))
-        .unwrap_or((0.0, 0))
+/// The index `i` of the start of the shortest edge (the edge `p[i] → p[i + 1]`).
+fn shortest_edge(p: &[DVec2; 3]) -> usize {
+    shortest_of(&[0, 1, 2].map(|i| p[i].distance_squared(p[(i + 1) % 3])))
+}
+
+/// Index of the smallest of three (squared) edge lengths, the first one on ties.
+fn shortest_of(l: &[f64; 3]) -> usize {
+    let mut i = 0;
+    for j in 1..3 {
+        if l[j] < l[i] {
+            i = j;
+        }
+    }
+    i
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{BucketQueue, CellId, VertexId};
+
+    /// Pops come out by bucket (shortest edges first) and first-in first-out within a bucket, as
+    /// a stable sort by bucket gives, also when later pushes open buckets below the first one and
+    /// when pushes and pops interleave.
+    #[test]
+    fn bucket_queue_pops_shortest_first_then_fifo() {
+        let lengths = [1.0, 0.3, 5.0, 0.3, 1e-6, 2.0, 1.2, 1e-6, 40.0, 0.31];
+        let entry = |k: usize| (CellId(k as u32), [VertexId(0); 3]);
+        let mut queue = BucketQueue::default();
+        let mut expected: Vec<(usize, usize)> = Vec::new();
+        let mut popped = Vec::new();
+        for (k, &l) in lengths.iter().enumerate() {
+            queue.push(l, entry(k));
+            expected.push((BucketQueue::bucket(l), k));
+            if k == 4 {
+                // Interleave: pop the current front.
+                expected.sort_by_key(|&(b, _)| b);
+                let (_, front) = expected.remove(0);
+                assert_eq!(queue.peek().map(|e| e.0), Some(CellId(front as u32)));
+                queue.pop();
+                popped.push(front);
+            }
+        }
+        expected.sort_by_key(|&(b, _)| b);
+        let mut rest = Vec::new();
+        while let Some(&(c, _)) = queue.peek() {
+            rest.push(c.0 as usize);
+            queue.pop();
+        }
+        assert_eq!(rest, expected.iter().map(|&(_, k)| k).collect::<Vec<_>>());
+        assert_eq!(queue.len, 0);
+        assert_eq!(popped.len() + rest.len(), lengths.len());
+    }
 }
