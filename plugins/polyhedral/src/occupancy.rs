@@ -15,9 +15,11 @@ const RESOLUTION: f64 = 64.0;
 const MAX_CELLS: usize = 64;
 /// Most candidates gathered for one segment before leaving it to the tree.
 pub(crate) const MAX_CANDIDATES: usize = 64;
-/// Triangle lists are kept while they hold at most this many entries per triangle on average
-/// (a few huge triangles could fill the grid); beyond, cells are only marked.
+/// Triangle lists are kept while they hold at most this many entries per triangle on average, or
+/// [`ENTRIES_ALWAYS_KEPT`] (a few huge triangles could fill the grid); beyond, cells are only
+/// marked.
 const MAX_ENTRIES_PER_TRIANGLE: usize = 32;
+const ENTRIES_ALWAYS_KEPT: usize = 1 << 20;
 
 #[derive(Clone, Debug)]
 pub(crate) struct Occupancy {
@@ -78,7 +80,8 @@ impl Occupancy {
             total = total.saturating_add(n);
         }
         grid.start = count;
-        let keep = (total as usize) <= MAX_ENTRIES_PER_TRIANGLE * triangles.len().max(1);
+        let keep = (total as usize)
+            <= (MAX_ENTRIES_PER_TRIANGLE * triangles.len()).max(ENTRIES_ALWAYS_KEPT);
         if keep {
             let mut fill = grid.start.clone();
             grid.items = vec![0; total as usize];
@@ -114,6 +117,22 @@ impl Occupancy {
         ]
     }
 
+    /// The cell of `p` when no triangle comes near it: all points of such a cell lie in one
+    /// subdomain, since the segment between two of them meets no triangle.
+    pub(crate) fn empty_cell(&self, p: DVec3) -> Option<usize> {
+        let k = self.linear(self.index(p));
+        (self.start[k] == self.start[k + 1]).then_some(k)
+    }
+
+    /// The number of cells.
+    pub(crate) fn num_cells(&self) -> usize {
+        self.start.len() - 1
+    }
+
+    fn linear(&self, [x, y, z]: [usize; 3]) -> usize {
+        (z * self.dims[1] + y) * self.dims[0] + x
+    }
+
     /// What the grid knows of the segment `[a, b]`; `buffer` holds the candidates.
     pub(crate) fn near_segment<'b>(
         &self,
@@ -131,7 +150,7 @@ impl Occupancy {
         for z in lo[2]..=hi[2] {
             for y in lo[1]..=hi[1] {
                 for x in lo[0]..=hi[0] {
-                    let k = (z * self.dims[1] + y) * self.dims[0] + x;
+                    let k = self.linear([x, y, z]);
                     let (s, e) = (self.start[k] as usize, self.start[k + 1] as usize);
                     if s == e {
                         continue;

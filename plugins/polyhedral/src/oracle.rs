@@ -8,6 +8,7 @@ use delamesh_core::oracle::{
     Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
 };
 use glam::DVec3;
+use std::sync::OnceLock;
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PolyhedralError {
@@ -50,6 +51,8 @@ pub struct PolyhedralOracle {
     tree: TriangleTree,
     /// Settles the short segment queries far from the surface without walking the tree.
     occupancy: Occupancy,
+    /// Subdomain of each empty occupancy cell, found by the first inside test in it.
+    cell_subdomain: Vec<OnceLock<SubdomainId>>,
     bbox: Aabb,
     /// Number of other components around each component.
     depth: Vec<u32>,
@@ -136,6 +139,9 @@ impl PolyhedralOracle {
             patch,
             component,
             tree,
+            cell_subdomain: (0..occupancy.num_cells())
+                .map(|_| OnceLock::new())
+                .collect(),
             occupancy,
             bbox,
             depth: vec![0; num_components],
@@ -399,6 +405,16 @@ impl PolyhedralOracle {
         out.truncate(kept);
     }
 
+    /// The subdomain of `p` from the winding numbers of the components around it.
+    fn subdomain_by_windings(&self, p: DVec3) -> SubdomainId {
+        let (w, _) = self.windings(p, None, self.depth.len());
+        w.iter()
+            .enumerate()
+            .filter(|&(_, &x)| x != 0)
+            .max_by_key(|&(k, _)| self.depth[k])
+            .map_or(OUTSIDE, |(k, _)| self.inner_label[k])
+    }
+
     /// Distance from `p` to the surface, for approximation measurements.
     pub fn distance_to_surface(&self, p: DVec3) -> f64 {
         self.tree.distance(p, &self.triangles)
@@ -429,12 +445,10 @@ impl Oracle for PolyhedralOracle {
         if !p.is_finite() || !self.bbox.contains(p) {
             return OUTSIDE;
         }
-        let (w, _) = self.windings(p, None, self.depth.len());
-        w.iter()
-            .enumerate()
-            .filter(|&(_, &x)| x != 0)
-            .max_by_key(|&(k, _)| self.depth[k])
-            .map_or(OUTSIDE, |(k, _)| self.inner_label[k])
+        match self.occupancy.empty_cell(p) {
+            Some(k) => *self.cell_subdomain[k].get_or_init(|| self.subdomain_by_windings(p)),
+            None => self.subdomain_by_windings(p),
+        }
     }
 
     fn segment_hits(&self, a: DVec3, b: DVec3, out: &mut Vec<SurfaceHit>) {
