@@ -217,3 +217,38 @@ fn boxes_sharing_a_face_are_two_subdomains_not_a_self_intersection() {
         Err(PolyhedralError::SelfIntersecting(..))
     ));
 }
+
+#[test]
+fn subdomains_of_many_points_match_the_geometry_whatever_the_query_order() {
+    // Labels are remembered per empty grid cell: asking in two orders must not change them.
+    let outer = cube(DVec3::ZERO, 3.0, false);
+    let inner = cube(DVec3::splat(1.0), 1.0, false);
+    let (p, t) = merge(outer, inner);
+    let o = PolyhedralOracle::new(&p, &t, None).expect("nested cubes");
+    let (core, shell) = (
+        o.subdomain(DVec3::splat(1.5)),
+        o.subdomain(DVec3::splat(0.5)),
+    );
+    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1);
+        (state >> 11) as f64 / (1u64 << 53) as f64 * 3.2 - 0.1
+    };
+    let points: Vec<DVec3> = (0..5000)
+        .map(|_| DVec3::new(next(), next(), next()))
+        .collect();
+    let expected = |q: DVec3| {
+        if q.cmpgt(DVec3::splat(1.0)).all() && q.cmplt(DVec3::splat(2.0)).all() {
+            core
+        } else if q.cmpgt(DVec3::ZERO).all() && q.cmplt(DVec3::splat(3.0)).all() {
+            shell
+        } else {
+            OUTSIDE
+        }
+    };
+    for q in points.iter().chain(points.iter().rev()) {
+        assert_eq!(o.subdomain(*q), expected(*q), "{q}");
+    }
+}
