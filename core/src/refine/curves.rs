@@ -12,7 +12,13 @@ pub struct Polyline {
     /// the first point).
     arc: Vec<f64>,
     closed: bool,
+    /// Padded bounding boxes of runs of [`CHUNK`] consecutive segments, so nearest-point
+    /// queries skip whole runs that cannot beat the best distance found so far.
+    chunks: Vec<(Point3, Point3)>,
 }
+
+/// Segments per bounding box in [`Polyline::chunks`].
+const CHUNK: usize = 8;
 
 /// The point of a curve nearest to a query point.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -53,11 +59,30 @@ impl Polyline {
             total += pts[pts.len() - 1].distance(pts[0]);
             arc.push(total);
         }
-        Some(Polyline {
+        let mut line = Polyline {
             points: pts,
             arc,
             closed,
-        })
+            chunks: Vec::new(),
+        };
+        line.chunks = (0..line.segment_count())
+            .step_by(CHUNK)
+            .map(|first| {
+                let last = (first + CHUNK).min(line.segment_count());
+                let (mut lo, mut hi) = (line.points[first], line.points[first]);
+                for i in first..last {
+                    let (a, b) = line.segment(i);
+                    lo = lo.min(a).min(b);
+                    hi = hi.max(a).max(b);
+                }
+                // Padding covers rounding in the nearest points computed on the segments, so a
+                // skipped run never holds a strictly nearer computed distance.
+                let pad =
+                    1e-9 * (hi - lo).max_element() + 1e-12 * lo.abs().max(hi.abs()).max_element();
+                (lo - Point3::splat(pad), hi + Point3::splat(pad))
+            })
+            .collect();
+        Some(line)
     }
 
     pub fn is_closed(&self) -> bool {
@@ -156,23 +181,28 @@ impl Polyline {
             point: self.points[0],
             distance: f64::INFINITY,
         };
-        for i in 0..self.segment_count() {
-            let (a, b) = self.segment(i);
-            let ab = b - a;
-            let len2 = ab.length_squared();
-            let t = if len2 > 0.0 {
-                ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let q = a + t * ab;
-            let d = q.distance(p);
-            if d < best.distance {
-                best = Projection {
-                    s: self.arc[i] + t * (self.arc[i + 1] - self.arc[i]),
-                    point: q,
-                    distance: d,
+        for (k, &(lo, hi)) in self.chunks.iter().enumerate() {
+            if box_distance(p, lo, hi) >= best.distance {
+                continue;
+            }
+            for i in k * CHUNK..((k + 1) * CHUNK).min(self.segment_count()) {
+                let (a, b) = self.segment(i);
+                let ab = b - a;
+                let len2 = ab.length_squared();
+                let t = if len2 > 0.0 {
+                    ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+                } else {
+                    0.0
                 };
+                let q = a + t * ab;
+                let d = q.distance(p);
+                if d < best.distance {
+                    best = Projection {
+                        s: self.arc[i] + t * (self.arc[i + 1] - self.arc[i]),
+                        point: q,
+                        distance: d,
+                    };
+                }
             }
         }
         best
@@ -183,18 +213,23 @@ impl Polyline {
     /// the curve crosses). Infinite when no such part exists.
     pub fn distance_outside_ball(&self, p: Point3, center: Point3, radius: f64) -> f64 {
         let mut best = f64::INFINITY;
-        for i in 0..self.segment_count() {
-            let (a, b) = self.segment(i);
-            // The parts of [a, b] are no nearer than the whole segment.
-            if point_segment_distance(p, a, b) >= best {
+        for (k, &(lo, hi)) in self.chunks.iter().enumerate() {
+            if box_distance(p, lo, hi) >= best {
                 continue;
             }
-            // The part of [a, b] outside the ball: up to two sub-segments.
-            for (x, y) in segment_outside_ball(a, b, center, radius)
-                .into_iter()
-                .flatten()
-            {
-                best = best.min(point_segment_distance(p, x, y));
+            for i in k * CHUNK..((k + 1) * CHUNK).min(self.segment_count()) {
+                let (a, b) = self.segment(i);
+                // The parts of [a, b] are no nearer than the whole segment.
+                if point_segment_distance(p, a, b) >= best {
+                    continue;
+                }
+                // The part of [a, b] outside the ball: up to two sub-segments.
+                for (x, y) in segment_outside_ball(a, b, center, radius)
+                    .into_iter()
+                    .flatten()
+                {
+                    best = best.min(point_segment_distance(p, x, y));
+                }
             }
         }
         best
@@ -223,6 +258,11 @@ impl Polyline {
         out.push(self.point_at(s1));
         out
     }
+}
+
+/// Distance from `p` to the axis-aligned box `[lo, hi]` (0 inside).
+fn box_distance(p: Point3, lo: Point3, hi: Point3) -> f64 {
+    (lo - p).max(p - hi).max(Point3::ZERO).length()
 }
 
 /// Distance from `p` to the segment `[a, b]`.
@@ -268,6 +308,60 @@ fn segment_outside_ball(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A random walk of `n` points, so runs of segments have overlapping and far-apart boxes.
+    fn random_walk(rng: &mut impl rand::Rng, n: usize) -> Vec<Point3> {
+        let mut p = Point3::ZERO;
+        (0..n)
+            .map(|_| {
+                p += Point3::new(
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                );
+                p
+            })
+            .collect()
+    }
+
+    #[test]
+    fn pruned_queries_equal_a_scan_of_every_segment() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(7);
+        for n in [2, 3, 9, 17, 40] {
+            for closed in [false, true] {
+                let line = Polyline::new(&random_walk(&mut rng, n), closed).expect("valid");
+                for _ in 0..50 {
+                    let p = Point3::new(
+                        rng.random_range(-6.0..6.0),
+                        rng.random_range(-6.0..6.0),
+                        rng.random_range(-6.0..6.0),
+                    );
+                    let segments: Vec<(Point3, Point3)> =
+                        (0..line.segment_count()).map(|i| line.segment(i)).collect();
+                    let nearest = segments
+                        .iter()
+                        .map(|&(a, b)| point_segment_distance(p, a, b))
+                        .fold(f64::INFINITY, f64::min);
+                    assert_eq!(line.project(p).distance, nearest);
+                    let (center, radius) = (line.points()[n / 2], rng.random_range(0.1..3.0));
+                    // Every segment in turn, skipping those whose whole is no nearer.
+                    let mut outside = f64::INFINITY;
+                    for &(a, b) in &segments {
+                        if point_segment_distance(p, a, b) < outside {
+                            for (x, y) in segment_outside_ball(a, b, center, radius)
+                                .into_iter()
+                                .flatten()
+                            {
+                                outside = outside.min(point_segment_distance(p, x, y));
+                            }
+                        }
+                    }
+                    assert_eq!(line.distance_outside_ball(p, center, radius), outside);
+                }
+            }
+        }
+    }
 
     fn square() -> Polyline {
         let pts = [
