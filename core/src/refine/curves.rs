@@ -208,11 +208,28 @@ impl Polyline {
         best
     }
 
+    /// Distance from `p` to the curve, or `bound` when that is smaller: [`Polyline::project`]'s
+    /// distance without looking at the parts no nearer than `bound`.
+    pub fn distance_below(&self, p: Point3, bound: f64) -> f64 {
+        let mut best = bound;
+        for (k, &(lo, hi)) in self.chunks.iter().enumerate() {
+            if box_distance(p, lo, hi) >= best {
+                continue;
+            }
+            for i in k * CHUNK..((k + 1) * CHUNK).min(self.segment_count()) {
+                let (a, b) = self.segment(i);
+                best = best.min(point_segment_distance(p, a, b));
+            }
+        }
+        best
+    }
+
     /// Distance from `p` to the part of the curve farther than `radius` from `center`: how close
     /// the curve comes to `p` once it has left a ball around `center` (a protecting ball that
-    /// the curve crosses). Infinite when no such part exists.
-    pub fn distance_outside_ball(&self, p: Point3, center: Point3, radius: f64) -> f64 {
-        let mut best = f64::INFINITY;
+    /// the curve crosses), or `bound` when that is smaller: parts no nearer than `bound` are
+    /// skipped. Infinite when no such part exists and `bound` is infinite.
+    pub fn distance_outside_ball(&self, p: Point3, center: Point3, radius: f64, bound: f64) -> f64 {
+        let mut best = bound;
         for (k, &(lo, hi)) in self.chunks.iter().enumerate() {
             if box_distance(p, lo, hi) >= best {
                 continue;
@@ -357,7 +374,16 @@ mod tests {
                             }
                         }
                     }
-                    assert_eq!(line.distance_outside_ball(p, center, radius), outside);
+                    assert_eq!(
+                        line.distance_outside_ball(p, center, radius, f64::INFINITY),
+                        outside
+                    );
+                    let bound = rng.random_range(0.0..4.0);
+                    assert_eq!(line.distance_below(p, bound), nearest.min(bound));
+                    assert_eq!(
+                        line.distance_outside_ball(p, center, radius, bound),
+                        outside.min(bound)
+                    );
                 }
             }
         }
@@ -424,9 +450,9 @@ mod tests {
     fn distance_outside_a_ball_ignores_the_covered_part() {
         let line = Polyline::new(&[Point3::ZERO, Point3::new(4.0, 0.0, 0.0)], false).expect("ok");
         let p = Point3::new(1.0, 1.0, 0.0);
-        let d = line.distance_outside_ball(p, Point3::new(1.0, 0.0, 0.0), 2.0);
+        let d = line.distance_outside_ball(p, Point3::new(1.0, 0.0, 0.0), 2.0, f64::INFINITY);
         assert!((d - 5.0f64.sqrt()).abs() < 1e-12, "{d}");
-        let far = line.distance_outside_ball(p, Point3::new(2.0, 0.0, 0.0), 10.0);
+        let far = line.distance_outside_ball(p, Point3::new(2.0, 0.0, 0.0), 10.0, f64::INFINITY);
         assert!(far.is_infinite());
     }
 
