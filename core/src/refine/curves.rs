@@ -12,13 +12,13 @@ pub struct Polyline {
     /// the first point).
     arc: Vec<f64>,
     closed: bool,
-    /// Bounding box of each run of [`CHUNK`] consecutive segments: nearest-point queries skip
-    /// the runs farther than the best distance found so far, instead of scanning every segment.
+    /// Padded bounding boxes of runs of [`CHUNK`] consecutive segments, so nearest-point
+    /// queries skip whole runs that cannot beat the best distance found so far.
     chunks: Vec<(Point3, Point3)>,
 }
 
 /// Segments per bounding box in [`Polyline::chunks`].
-const CHUNK: usize = 16;
+const CHUNK: usize = 8;
 
 /// The point of a curve nearest to a query point.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -68,26 +68,21 @@ impl Polyline {
         line.chunks = (0..line.segment_count())
             .step_by(CHUNK)
             .map(|first| {
-                (first..(first + CHUNK).min(line.segment_count()))
-                    .map(|i| line.segment(i))
-                    .fold(
-                        (Point3::INFINITY, Point3::NEG_INFINITY),
-                        |(lo, hi), (a, b)| (lo.min(a).min(b), hi.max(a).max(b)),
-                    )
+                let last = (first + CHUNK).min(line.segment_count());
+                let (mut lo, mut hi) = (line.points[first], line.points[first]);
+                for i in first..last {
+                    let (a, b) = line.segment(i);
+                    lo = lo.min(a).min(b);
+                    hi = hi.max(a).max(b);
+                }
+                // Padding covers rounding in the nearest points computed on the segments, so a
+                // skipped run never holds a strictly nearer computed distance.
+                let pad =
+                    1e-9 * (hi - lo).max_element() + 1e-12 * lo.abs().max(hi.abs()).max_element();
+                (lo - Point3::splat(pad), hi + Point3::splat(pad))
             })
             .collect();
         Some(line)
-    }
-
-    /// Lower bound of the distance from `p` to the segments of run `k` (their bounding box).
-    fn chunk_distance(&self, k: usize, p: Point3) -> f64 {
-        let (lo, hi) = self.chunks[k];
-        (lo - p).max(p - hi).max(Point3::ZERO).length()
-    }
-
-    /// The segments of run `k`.
-    fn chunk_segments(&self, k: usize) -> std::ops::Range<usize> {
-        k * CHUNK..((k + 1) * CHUNK).min(self.segment_count())
     }
 
     pub fn is_closed(&self) -> bool {
@@ -186,12 +181,11 @@ impl Polyline {
             point: self.points[0],
             distance: f64::INFINITY,
         };
-        for k in 0..self.chunks.len() {
-            // Runs no nearer than the best so far cannot improve it (ties keep the first).
-            if self.chunk_distance(k, p) >= best.distance {
+        for (k, &(lo, hi)) in self.chunks.iter().enumerate() {
+            if box_distance(p, lo, hi) >= best.distance {
                 continue;
             }
-            for i in self.chunk_segments(k) {
+            for i in k * CHUNK..((k + 1) * CHUNK).min(self.segment_count()) {
                 let (a, b) = self.segment(i);
                 let ab = b - a;
                 let len2 = ab.length_squared();
@@ -214,16 +208,33 @@ impl Polyline {
         best
     }
 
-    /// Distance from `p` to the part of the curve farther than `radius` from `center`: how close
-    /// the curve comes to `p` once it has left a ball around `center` (a protecting ball that
-    /// the curve crosses). Infinite when no such part exists.
-    pub fn distance_outside_ball(&self, p: Point3, center: Point3, radius: f64) -> f64 {
-        let mut best = f64::INFINITY;
-        for k in 0..self.chunks.len() {
-            if self.chunk_distance(k, p) >= best {
+    /// Distance from `p` to the curve, or `bound` when that is smaller: [`Polyline::project`]'s
+    /// distance without looking at the parts no nearer than `bound`.
+    pub fn distance_below(&self, p: Point3, bound: f64) -> f64 {
+        let mut best = bound;
+        for (k, &(lo, hi)) in self.chunks.iter().enumerate() {
+            if box_distance(p, lo, hi) >= best {
                 continue;
             }
-            for i in self.chunk_segments(k) {
+            for i in k * CHUNK..((k + 1) * CHUNK).min(self.segment_count()) {
+                let (a, b) = self.segment(i);
+                best = best.min(point_segment_distance(p, a, b));
+            }
+        }
+        best
+    }
+
+    /// Distance from `p` to the part of the curve farther than `radius` from `center`: how close
+    /// the curve comes to `p` once it has left a ball around `center` (a protecting ball that
+    /// the curve crosses), or `bound` when that is smaller: parts no nearer than `bound` are
+    /// skipped. Infinite when no such part exists and `bound` is infinite.
+    pub fn distance_outside_ball(&self, p: Point3, center: Point3, radius: f64, bound: f64) -> f64 {
+        let mut best = bound;
+        for (k, &(lo, hi)) in self.chunks.iter().enumerate() {
+            if box_distance(p, lo, hi) >= best {
+                continue;
+            }
+            for i in k * CHUNK..((k + 1) * CHUNK).min(self.segment_count()) {
                 let (a, b) = self.segment(i);
                 // The parts of [a, b] are no nearer than the whole segment.
                 if point_segment_distance(p, a, b) >= best {
@@ -264,6 +275,11 @@ impl Polyline {
         out.push(self.point_at(s1));
         out
     }
+}
+
+/// Distance from `p` to the axis-aligned box `[lo, hi]` (0 inside).
+fn box_distance(p: Point3, lo: Point3, hi: Point3) -> f64 {
+    (lo - p).max(p - hi).max(Point3::ZERO).length()
 }
 
 /// Distance from `p` to the segment `[a, b]`.
@@ -309,6 +325,69 @@ fn segment_outside_ball(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A random walk of `n` points, so runs of segments have overlapping and far-apart boxes.
+    fn random_walk(rng: &mut impl rand::Rng, n: usize) -> Vec<Point3> {
+        let mut p = Point3::ZERO;
+        (0..n)
+            .map(|_| {
+                p += Point3::new(
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                    rng.random_range(-1.0..1.0),
+                );
+                p
+            })
+            .collect()
+    }
+
+    #[test]
+    fn pruned_queries_equal_a_scan_of_every_segment() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand::rngs::StdRng::seed_from_u64(7);
+        for n in [2, 3, 9, 17, 40] {
+            for closed in [false, true] {
+                let line = Polyline::new(&random_walk(&mut rng, n), closed).expect("valid");
+                for _ in 0..50 {
+                    let p = Point3::new(
+                        rng.random_range(-6.0..6.0),
+                        rng.random_range(-6.0..6.0),
+                        rng.random_range(-6.0..6.0),
+                    );
+                    let segments: Vec<(Point3, Point3)> =
+                        (0..line.segment_count()).map(|i| line.segment(i)).collect();
+                    let nearest = segments
+                        .iter()
+                        .map(|&(a, b)| point_segment_distance(p, a, b))
+                        .fold(f64::INFINITY, f64::min);
+                    assert_eq!(line.project(p).distance, nearest);
+                    let (center, radius) = (line.points()[n / 2], rng.random_range(0.1..3.0));
+                    // Every segment in turn, skipping those whose whole is no nearer.
+                    let mut outside = f64::INFINITY;
+                    for &(a, b) in &segments {
+                        if point_segment_distance(p, a, b) < outside {
+                            for (x, y) in segment_outside_ball(a, b, center, radius)
+                                .into_iter()
+                                .flatten()
+                            {
+                                outside = outside.min(point_segment_distance(p, x, y));
+                            }
+                        }
+                    }
+                    assert_eq!(
+                        line.distance_outside_ball(p, center, radius, f64::INFINITY),
+                        outside
+                    );
+                    let bound = rng.random_range(0.0..4.0);
+                    assert_eq!(line.distance_below(p, bound), nearest.min(bound));
+                    assert_eq!(
+                        line.distance_outside_ball(p, center, radius, bound),
+                        outside.min(bound)
+                    );
+                }
+            }
+        }
+    }
 
     fn square() -> Polyline {
         let pts = [
@@ -371,9 +450,9 @@ mod tests {
     fn distance_outside_a_ball_ignores_the_covered_part() {
         let line = Polyline::new(&[Point3::ZERO, Point3::new(4.0, 0.0, 0.0)], false).expect("ok");
         let p = Point3::new(1.0, 1.0, 0.0);
-        let d = line.distance_outside_ball(p, Point3::new(1.0, 0.0, 0.0), 2.0);
+        let d = line.distance_outside_ball(p, Point3::new(1.0, 0.0, 0.0), 2.0, f64::INFINITY);
         assert!((d - 5.0f64.sqrt()).abs() < 1e-12, "{d}");
-        let far = line.distance_outside_ball(p, Point3::new(2.0, 0.0, 0.0), 10.0);
+        let far = line.distance_outside_ball(p, Point3::new(2.0, 0.0, 0.0), 10.0, f64::INFINITY);
         assert!(far.is_infinite());
     }
 

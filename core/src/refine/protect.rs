@@ -340,13 +340,13 @@ fn distance_to_other_features(
             (Some(a), Some(b)) => a.iter().copied().find(|k| b.contains(k)),
             _ => None,
         };
-        let dj = match shared {
+        // Each distance is taken below `d`: only a nearer piece changes it.
+        d = match shared {
             Some(k) => piece
                 .line
-                .distance_outside_ball(p, corners[k], corner_radius[k]),
-            None => piece.line.project(p).distance,
+                .distance_outside_ball(p, corners[k], corner_radius[k], d),
+            None => piece.line.distance_below(p, d),
         };
-        d = d.min(dj);
     }
     d
 }
@@ -394,7 +394,7 @@ fn populate(
             }
             for piece in pieces {
                 if piece.distance_bound(c) < d && piece.ends.is_none_or(|e| !e.contains(&k)) {
-                    d = d.min(piece.line.project(c).distance);
+                    d = piece.line.distance_below(c, d);
                 }
             }
             edge_size
