@@ -9,8 +9,10 @@
 
 use glam::DVec3;
 
-/// Cells along the longest side of the bounding box.
-const RESOLUTION: f64 = 64.0;
+/// Cells along the longest side of the bounding box: about two per triangle (the mean longest
+/// side of their boxes), within these bounds. Finer cells list big triangles many times over;
+/// coarser ones give small triangles many neighbours in a cell.
+const RESOLUTION: (f64, f64) = (16.0, 128.0);
 /// A segment whose box covers more cells than this is left to the tree.
 const MAX_CELLS: usize = 64;
 /// Most candidates gathered for one segment before leaving it to the tree.
@@ -46,8 +48,14 @@ impl Occupancy {
     /// The grid over the box `[min, max]` with the cells overlapped by each triangle marked.
     pub(crate) fn new(min: DVec3, max: DVec3, triangles: &[[DVec3; 3]]) -> Self {
         let extent = (max - min).max_element();
+        let mean_side = triangles
+            .iter()
+            .map(|t| (t[0].max(t[1]).max(t[2]) - t[0].min(t[1]).min(t[2])).max_element())
+            .sum::<f64>()
+            / triangles.len().max(1) as f64;
+        let resolution = (2.0 * extent / mean_side).clamp(RESOLUTION.0, RESOLUTION.1);
         let inv_cell = if extent > 0.0 && extent.is_finite() {
-            RESOLUTION / extent
+            resolution / extent
         } else {
             1.0
         };
