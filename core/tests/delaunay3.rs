@@ -117,6 +117,35 @@ fn hundred_thousand_random_points_are_delaunay() {
     assert_valid(&dt);
 }
 
+/// Sets large enough for the bulk construction to insert their last BRIO rounds in parallel parts
+/// give the triangulation that inserting the points one at a time gives.
+#[test]
+fn parallel_bulk_construction_matches_one_by_one_insertion() {
+    let sphere: Vec<Point3> = uniform(50_000, 8)
+        .into_iter()
+        .map(|p| {
+            // Every point on the hull: no part can insert any, all go through the fallback.
+            let q = p * 2.0 - Point3::ONE;
+            q / q.length().max(1e-9)
+        })
+        .collect();
+    for (name, pts) in [
+        ("uniform", uniform(60_000, 6)),
+        ("grid", grid(40)),
+        ("sphere", sphere),
+    ] {
+        let dt = Delaunay3::from_points(&pts).unwrap();
+        assert_valid(&dt);
+        assert_eq!(dt.cells().count(), dt.num_cells(), "{name}");
+        let order: Vec<usize> = (0..pts.len()).collect();
+        assert_eq!(
+            tet_set(&dt, &pts),
+            tet_set(&insert_one_by_one(&pts, &order), &pts),
+            "{name}"
+        );
+    }
+}
+
 #[test]
 fn brute_force_empty_spheres_on_small_sets() {
     for seed in 0..20 {

@@ -13,6 +13,8 @@ const BITS: u32 = 21;
 const ROUND_RATIO: f64 = 0.125;
 /// Below this size a round is not split further.
 const MIN_ROUND: usize = 64;
+/// Point sets at least this large are sorted on two threads.
+const PARALLEL_SORT: usize = 1 << 16;
 
 /// A seeded permutation source (SplitMix64): deterministic across runs and platforms.
 struct SplitMix(u64);
@@ -24,10 +26,6 @@ impl SplitMix {
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
         z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
         z ^ (z >> 31)
-    }
-
-    fn below(&mut self, n: usize) -> usize {
-        (((self.next() >> 32) * n as u64) >> 32) as usize
     }
 }
 
@@ -109,48 +107,110 @@ impl HilbertGrid {
 }
 
 /// Indices of `points` in Hilbert-curve order. Ties (points in one grid cell) are broken by the
-/// lexicographic order of coordinates, then by index, so equal points end up adjacent.
+/// lexicographic order of coordinates, then by index, so equal points end up adjacent. Large sets
+/// are keyed and sorted in two halves on two threads, then merged: the order is total, so the
+/// result is the same.
 pub fn hilbert_order(points: &[Point3]) -> Vec<u32> {
     let grid = HilbertGrid::new(points);
-    let mut keyed: Vec<(u64, u32)> = points
-        .iter()
-        .enumerate()
-        .map(|(i, &p)| (grid.key(p), i as u32))
-        .collect();
-    keyed.sort_unstable_by(|a, b| {
+    let before = |a: &(u64, u32), b: &(u64, u32)| {
         a.0.cmp(&b.0)
             .then_with(|| lex_cmp(points[a.1 as usize], points[b.1 as usize]))
             .then(a.1.cmp(&b.1))
+    };
+    let sorted = |range: std::ops::Range<usize>| {
+        let mut keyed: Vec<(u64, u32)> = range.map(|i| (grid.key(points[i]), i as u32)).collect();
+        keyed.sort_unstable_by(before);
+        keyed
+    };
+    let n = points.len();
+    let threads = std::thread::available_parallelism().map_or(1, |t| t.get());
+    if n < PARALLEL_SORT || threads < 2 {
+        return sorted(0..n).into_iter().map(|(_, i)| i).collect();
+    }
+    let (a, b) = std::thread::scope(|scope| {
+        let upper = scope.spawn(|| sorted(n / 2..n));
+        let lower = sorted(0..n / 2);
+        let upper = upper
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+        (lower, upper)
     });
-    keyed.into_iter().map(|(_, i)| i).collect()
+    let mut order = Vec::with_capacity(n);
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        if before(&b[j], &a[i]).is_lt() {
+            order.push(b[j].1);
+            j += 1;
+        } else {
+            order.push(a[i].1);
+            i += 1;
+        }
+    }
+    order.extend(a[i..].iter().chain(&b[j..]).map(|k| k.1));
+    order
 }
 
-/// Reorders `ranks` — positions along a space-filling curve — into a BRIO order: a seeded shuffle
-/// split into rounds of geometrically growing size, each round sorted back along the curve.
-pub fn brio_rounds(ranks: &mut [u32], seed: u64) {
-    let n = ranks.len();
+/// `points` in the given order, gathered on two threads for large sets (the reads are scattered,
+/// so each costs a cache miss).
+pub fn gather(points: &[Point3], order: &[u32]) -> Vec<Point3> {
+    let copy = |out: &mut [Point3], order: &[u32]| {
+        for (o, &i) in out.iter_mut().zip(order) {
+            *o = points[i as usize];
+        }
+    };
+    let mut out = vec![Point3::ZERO; order.len()];
+    let threads = std::thread::available_parallelism().map_or(1, |t| t.get());
+    if order.len() < PARALLEL_SORT || threads < 2 {
+        copy(&mut out, order);
+    } else {
+        let half = order.len() / 2;
+        let (lower, upper) = out.split_at_mut(half);
+        std::thread::scope(|scope| {
+            scope.spawn(|| copy(upper, &order[half..]));
+            copy(lower, &order[..half]);
+        });
+    }
+    out
+}
+
+/// A BRIO order of the positions `0..n` along a space-filling curve: rounds of geometrically
+/// growing size, each in curve order, returned with the rounds' ranges in insertion order. Each
+/// position draws its round from a seeded generator (the last round with probability 7/8, the
+/// one before with 7/64, …), so rounds come out sorted from a counting sort.
+pub fn brio_rounds(n: usize, seed: u64) -> (Vec<u32>, Vec<std::ops::Range<usize>>) {
+    let mut levels = 1;
+    let mut size = n;
+    while size > MIN_ROUND {
+        size = (size as f64 * ROUND_RATIO) as usize;
+        levels += 1;
+    }
     let mut rng = SplitMix(seed);
-    for i in (1..n).rev() {
-        ranks.swap(i, rng.below(i + 1));
+    // Level 0 is the last round; a level is kept with probability 1/8 per step up.
+    let level: Vec<u8> = (0..n)
+        .map(|_| ((rng.next().trailing_zeros() / 3) as usize).min(levels - 1) as u8)
+        .collect();
+    let mut start = vec![0usize; levels + 1];
+    for &l in &level {
+        start[levels - 1 - l as usize + 1] += 1;
     }
-    let mut end = n;
-    while end > 0 {
-        let start = if end <= MIN_ROUND {
-            0
-        } else {
-            (end as f64 * ROUND_RATIO) as usize
-        };
-        ranks[start..end].sort_unstable();
-        end = start;
+    for k in 0..levels {
+        start[k + 1] += start[k];
     }
+    let rounds: Vec<std::ops::Range<usize>> = (0..levels).map(|k| start[k]..start[k + 1]).collect();
+    let mut order = vec![0u32; n];
+    for (rank, &l) in level.iter().enumerate() {
+        let slot = &mut start[levels - 1 - l as usize];
+        order[*slot] = rank as u32;
+        *slot += 1;
+    }
+    (order, rounds)
 }
 
 /// A BRIO insertion order of `points` (indices into it), each round in Hilbert order.
 /// Points must be finite.
 pub fn brio_order(points: &[Point3], seed: u64) -> Vec<u32> {
     let curve = hilbert_order(points);
-    let mut ranks: Vec<u32> = (0..points.len() as u32).collect();
-    brio_rounds(&mut ranks, seed);
+    let (ranks, _) = brio_rounds(points.len(), seed);
     ranks.into_iter().map(|r| curve[r as usize]).collect()
 }
 
@@ -188,6 +248,43 @@ mod tests {
             let slow = (0..BITS).fold(0u64, |acc, b| acc | (u64::from((v >> b) & 1) << (3 * b)));
             assert_eq!(spread_bits(v), slow, "{v:#x}");
         }
+    }
+
+    #[test]
+    fn brio_rounds_are_sorted_and_grow_geometrically() {
+        let (order, rounds) = brio_rounds(100_000, 3);
+        assert_eq!(rounds.first().map(|r| r.start), Some(0));
+        assert_eq!(rounds.last().map(|r| r.end), Some(100_000));
+        for w in rounds.windows(2) {
+            assert_eq!(w[0].end, w[1].start);
+        }
+        for r in &rounds {
+            assert!(order[r.clone()].is_sorted());
+        }
+        let last = rounds.last().unwrap().len() as f64;
+        assert!((last / 100_000.0 - 0.875).abs() < 0.01, "last round {last}");
+        let mut sorted = order.clone();
+        sorted.sort_unstable();
+        assert!(sorted.iter().enumerate().all(|(i, &j)| i as u32 == j));
+    }
+
+    #[test]
+    fn hilbert_order_on_two_threads_equals_one_sort() {
+        let pts: Vec<Point3> = (0..PARALLEL_SORT as u32 + 999)
+            .map(|i| {
+                let h = i.wrapping_mul(2_654_435_761);
+                Point3::new(f64::from(h % 97), f64::from(h / 97 % 89), f64::from(i % 7))
+            })
+            .collect();
+        let grid = HilbertGrid::new(&pts);
+        let mut expected: Vec<u32> = (0..pts.len() as u32).collect();
+        expected.sort_by(|&a, &b| {
+            grid.key(pts[a as usize])
+                .cmp(&grid.key(pts[b as usize]))
+                .then_with(|| lex_cmp(pts[a as usize], pts[b as usize]))
+                .then(a.cmp(&b))
+        });
+        assert_eq!(hilbert_order(&pts), expected);
     }
 
     #[test]

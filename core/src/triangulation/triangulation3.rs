@@ -9,17 +9,22 @@
 //! incident cell per vertex. An infinite vertex closes the hull. Each insertion walks to the point
 //! (visibility walk from the last created cell), grows the cavity of cells in conflict under the
 //! symbolic perturbation of [`crate::kernel::perturbation`], and stars it from the new vertex.
+//!
+//! Bulk construction from scratch numbers the points along a Hilbert curve and inserts them in
+//! BRIO rounds; the large rounds are split into two parts inserted on two threads (module
+//! `parallel`), in a way that makes the cell array the same on any number of cores.
 
 mod cavity;
 mod kernel;
+mod parallel;
 mod regular;
 
-use super::spatial_sort::{brio_order, brio_rounds, hilbert_order};
+use super::spatial_sort::{brio_order, brio_rounds, gather, hilbert_order};
 use super::{
     CellId, ConflictZone, InsertOutcome, InsertReport, Triangulation, TriangulationError, VertexId,
 };
 use crate::kernel::{Point2, Point3, Sign, StaticFilter, WeightedPoint3, orient2d, orient3d};
-use cavity::{ByteMarks, CavityMarks, HashMarks, NewCell, Scratch};
+use cavity::{ByteMarks, CavityMarks, HashMarks, Scratch, grow_cavity};
 pub use kernel::{ConflictKernel, Euclidean, Power};
 pub use regular::MAX_WEIGHT;
 use std::collections::HashMap;
@@ -36,12 +41,13 @@ pub const MAX_VERTICES: usize = 1 << 27;
 /// Coordinates beyond this magnitude could overflow the in-sphere determinant (degree 5).
 pub const MAX_COORDINATE: f64 = 1e50;
 /// Expected number of cells per vertex of a uniform 3D point set (≈ 6.75 in a cube), rounded
-/// up: capacity reserved for bulk construction so the cell array is not reallocated on the way.
-const CELLS_PER_VERTEX: f64 = 6.8;
+/// up with room for the slots the parallel build reserves and leaves unused: capacity reserved
+/// for bulk construction so the cell array is not reallocated on the way.
+const CELLS_PER_VERTEX: f64 = 7.0;
 /// Seed of the BRIO shuffle: fixed, so construction is deterministic.
 const BRIO_SEED: u64 = 0x5EED_DE1A_u64;
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[repr(C, align(32))]
 struct CellRecord {
     v: [u32; 4],
@@ -212,29 +218,16 @@ impl<K: ConflictKernel> Triangulation3<K> {
         self.points.reserve(points.len());
         self.vertex_cell.reserve(points.len());
         let want = (total as f64 * CELLS_PER_VERTEX) as usize + 64;
-        self.cells.reserve(want.saturating_sub(self.cells.len()));
+        self.cells
+            .reserve_exact(want.saturating_sub(self.cells.len()));
         let mut vertex_of = vec![VertexId(0); points.len()];
         self.bulk = true;
         let mut result = Ok(());
         if self.points.is_empty() && !K::WEIGHTED {
-            // Fresh build: number the distinct points along the Hilbert curve, so the points of
-            // any cell sit close together in memory, then insert them in BRIO order. (Weighted
-            // points take the general path below, which resolves coincident points by weight.)
-            let curve = hilbert_order(points);
-            let mut prev: Option<Point3> = None;
-            for i in curve {
-                let p = points[i as usize];
-                if prev != Some(p) {
-                    self.push_vertex(p, 0.0);
-                    prev = Some(p);
-                }
-                vertex_of[i as usize] = VertexId((self.points.len() - 1) as u32);
-            }
-            let mut order: Vec<u32> = (0..self.points.len() as u32).collect();
-            brio_rounds(&mut order, BRIO_SEED);
-            for v in order {
-                self.insert_new_vertex(v, None, None);
-            }
+            // Weighted points take the general path below, which resolves coincident points by
+            // weight.
+            let threaded = std::thread::available_parallelism().is_ok_and(|t| t.get() > 1);
+            self.insert_fresh(points, want, threaded, &mut vertex_of);
         } else {
             for i in brio_order(points, BRIO_SEED) {
                 let i = i as usize;
@@ -250,6 +243,48 @@ impl<K: ConflictKernel> Triangulation3<K> {
         self.bulk = false;
         self.rebuild_vertex_cells();
         result.map(|()| vertex_of)
+    }
+
+    /// Bulk insertion into an empty triangulation of validated points, numbered along the
+    /// Hilbert curve (so the points of any cell sit close together in memory) and inserted in
+    /// BRIO order, large rounds in parallel parts when `threaded` (which changes nothing in the
+    /// result). The cell array stays within `budget` slots. Sets `vertex_of[i]` to the vertex of
+    /// `points[i]`.
+    fn insert_fresh(
+        &mut self,
+        points: &[Point3],
+        budget: usize,
+        threaded: bool,
+        vertex_of: &mut [VertexId],
+    ) {
+        let curve = hilbert_order(points);
+        let sorted = gather(points, &curve);
+        let mut distinct = Vec::with_capacity(sorted.len());
+        for (&i, &p) in curve.iter().zip(&sorted) {
+            if distinct.last() != Some(&p) {
+                distinct.push(p);
+            }
+            vertex_of[i as usize] = VertexId((distinct.len() - 1) as u32);
+        }
+        drop(sorted);
+        for &p in &distinct {
+            self.filter.include(p);
+            self.kernel.push_vertex(0.0);
+        }
+        self.vertex_cell.resize(distinct.len(), NO_CELL);
+        self.points = distinct;
+        let (order, rounds) = brio_rounds(self.points.len(), BRIO_SEED);
+        let mut part_scratch = Vec::new();
+        for round in rounds {
+            let round = &order[round];
+            if round.len() >= parallel::MIN_PARALLEL_ROUND && self.lower.is_none() {
+                self.insert_round_parallel(round, budget, threaded, &mut part_scratch);
+            } else {
+                for &v in round {
+                    self.insert_new_vertex(v, None, None);
+                }
+            }
+        }
     }
 
     fn rebuild_vertex_cells(&mut self) {
@@ -531,6 +566,11 @@ impl<K: ConflictKernel> Triangulation3<K> {
 
     fn free_cell(&mut self, c: u32) {
         self.num_live -= 1;
+        self.release_slot(c);
+    }
+
+    /// Puts slot `c`, which holds no live cell, on the free list.
+    fn release_slot(&mut self, c: u32) {
         let rec = &mut self.cells[c as usize];
         rec.v = [FREE; 4];
         rec.n = [self.free_head, NO_CELL, NO_CELL, NO_CELL];
@@ -561,15 +601,31 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 c = r.n[i] >> 2;
             }
         }
+        self.walk(
+            p,
+            c,
+            |c| self.cells[c as usize],
+            |c| Self::is_infinite_record(&self.cells[c as usize]),
+        )
+    }
+
+    /// Visibility walk from finite cell `c` towards `p`, reading the cells it crosses through
+    /// `cell`: returns a cell whose closure contains `p`, or the first cell entered for which
+    /// `stop` holds (which must hold for infinite cells; `cell` is not called for it).
+    #[inline]
+    fn walk(
+        &self,
+        p: Point3,
+        mut c: u32,
+        cell: impl Fn(u32) -> CellRecord,
+        stop: impl Fn(u32) -> bool,
+    ) -> u32 {
         let mut prev = NO_CELL;
         // Deterministic per-point pseudo-random facet order.
         let mut rnd =
             (p.x.to_bits() ^ p.y.to_bits().rotate_left(21) ^ p.z.to_bits().rotate_left(42)) | 1;
         'walk: loop {
-            let r = self.cells[c as usize];
-            if r.v[0].max(r.v[1]).max(r.v[2].max(r.v[3])) == INFINITE {
-                return c;
-            }
+            let r = cell(c);
             let pts = &self.points;
             let (a, b, cc, d) = (
                 pts[r.v[0] as usize],
@@ -594,6 +650,9 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 t[i] = p;
                 let side = self.filter.orient3d(t[0], t[1], t[2], t[3]);
                 if side == Sign::Negative {
+                    if stop(next) {
+                        return next;
+                    }
                     prev = c;
                     c = next;
                     continue 'walk;
@@ -607,7 +666,12 @@ impl<K: ConflictKernel> Triangulation3<K> {
     /// orthogonal sphere; with zero weights, strictly inside its perturbed circumsphere).
     #[inline]
     pub(crate) fn in_conflict(&self, c: u32, p: Point3, w: f64) -> bool {
-        let v = self.cells[c as usize].v;
+        self.conflicts(self.cells[c as usize].v, p, w)
+    }
+
+    /// [`Self::in_conflict`] for the cell with vertices `v` (reads no cell).
+    #[inline]
+    fn conflicts(&self, v: [u32; 4], p: Point3, w: f64) -> bool {
         // The infinite vertex is the largest index: one comparison tells infinite cells apart.
         if v[0].max(v[1]).max(v[2].max(v[3])) == INFINITE {
             return self.in_conflict_infinite(v, p, w);
@@ -645,32 +709,15 @@ impl<K: ConflictKernel> Triangulation3<K> {
         cavity: &mut Vec<u32>,
         boundary: &mut Vec<(u32, u8)>,
     ) {
-        stack.clear();
-        cavity.clear();
-        boundary.clear();
-        marks.set_in(start);
-        stack.push(start);
-        cavity.push(start);
-        while let Some(c) = stack.pop() {
-            let r = self.cells[c as usize];
-            for (i, &nb) in r.n.iter().enumerate() {
-                let n = nb >> 2;
-                match marks.get(n) {
-                    Some(true) => {}
-                    Some(false) => boundary.push((c, i as u8)),
-                    None => {
-                        if self.in_conflict(n, q.point, q.weight) {
-                            marks.set_in(n);
-                            stack.push(n);
-                            cavity.push(n);
-                        } else {
-                            marks.set_out(n);
-                            boundary.push((c, i as u8));
-                        }
-                    }
-                }
-            }
-        }
+        grow_cavity(
+            start,
+            marks,
+            stack,
+            cavity,
+            boundary,
+            |c| self.cells[c as usize].n,
+            |n| Some(self.in_conflict(n, q.point, q.weight)),
+        );
     }
 
     /// Inserts vertex `v` (already in `points`) by starring its cavity, grown from `start`.
@@ -689,25 +736,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 &mut s.boundary,
             );
         }
-        // Record the new cells before overwriting any cavity slot. The vertex array is built by
-        // selection, not by storing into a copy: a scalar store followed by a vector load of the
-        // same bytes stalls store forwarding.
-        s.new_cells.clear();
-        for &(c, i) in &s.boundary {
-            let r = &self.cells[c as usize];
-            let i = i as usize;
-            s.new_cells.push(NewCell {
-                verts: std::array::from_fn(|k| {
-                    // Branch-free select: `i` varies unpredictably from one facet to the next.
-                    let here = u32::from(k == i).wrapping_neg();
-                    (r.v[k] & !here) | (v & here)
-                }),
-                apex: i as u8,
-                outside: r.n[i],
-                id: NO_CELL,
-                local: [0; 4],
-            });
-        }
+        s.collect_new_cells(v, |c| self.cells[c as usize]);
         let removed_infinite = s
             .cavity
             .iter()
@@ -728,41 +757,15 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 self.alloc_cell(s.new_cells[k].verts)
             };
         }
-        // The boundary of the cavity is an oriented closed surface: each of its edges is listed
-        // once in each direction by the two new cells sharing it. Linking runs in two passes —
-        // every new cell stores its three directed edges, then looks up their reversals — so
-        // neither pass branches on whether the twin came first.
-        s.edges.begin(self.points.len());
-        for nc in &mut s.new_cells {
-            // The side facets' positions are the boundary vertices' positions.
-            for &(k, _, _) in &SIDE_EDGE[nc.apex as usize] {
-                nc.local[k] = s.edges.number(nc.verts[k]);
-            }
-        }
-        s.edges.prepare(s.new_cells.len());
-        // Pass 1: vertices, the link across the boundary facet, and the directed side edges.
-        for nc in &s.new_cells {
-            let (i, id, verts) = (nc.apex as usize, nc.id, nc.verts);
-            let cell = &mut self.cells[id as usize];
-            cell.v = verts;
-            cell.n[i] = nc.outside;
-            self.cells[(nc.outside >> 2) as usize].n[(nc.outside & 3) as usize] = pack(id, i);
-            if verts[0].max(verts[1]).max(verts[2].max(verts[3])) != INFINITE {
-                self.num_finite += 1;
-            }
-            for &(j, a, b) in &SIDE_EDGE[i] {
-                let (x, y) = ((verts[a], nc.local[a]), (verts[b], nc.local[b]));
-                s.edges.put(x, y, pack(id, j));
-            }
-        }
-        // Pass 2: each side facet's twin holds the same edge in the other direction.
-        for nc in &s.new_cells {
-            let (i, id, verts) = (nc.apex as usize, nc.id, nc.verts);
-            for &(j, a, b) in &SIDE_EDGE[i] {
-                let (x, y) = ((verts[a], nc.local[a]), (verts[b], nc.local[b]));
-                self.cells[id as usize].n[j] = s.edges.get(y, x).unwrap_or(NO_CELL);
-            }
-        }
+        let mut finite = 0;
+        s.link_new_cells(self.points.len(), |nc, n| {
+            let v = nc.verts;
+            self.cells[nc.id as usize] = CellRecord { v, n };
+            let out = nc.outside;
+            self.cells[(out >> 2) as usize].n[(out & 3) as usize] = pack(nc.id, nc.apex as usize);
+            finite += usize::from(v[0].max(v[1]).max(v[2].max(v[3])) != INFINITE);
+        });
+        self.num_finite += finite;
         if !self.bulk {
             for nc in &s.new_cells {
                 for w in nc.verts {

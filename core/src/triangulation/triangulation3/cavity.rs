@@ -1,5 +1,7 @@
-//! Reusable buffers of the cavity search and re-triangulation, so insertion does not allocate.
+//! The cavity search and re-triangulation, written once for the sequential insertion and for
+//! the parts of a parallel build, and the buffers they reuse so that insertion does not allocate.
 
+use super::{CellRecord, NO_CELL, SIDE_EDGE};
 use std::collections::HashMap;
 
 /// Per-cell state of a cavity search: unvisited, in conflict, or tested and outside.
@@ -236,6 +238,49 @@ pub(super) struct NewCell {
     pub(super) local: [u32; 4],
 }
 
+/// Grows the conflict zone from `start` (which conflicts) through the neighbour lists given by
+/// `neighbors`, filling `cavity` and the `boundary` facets `(cavity cell, index)`. `test(n)` tells
+/// whether cell `n` conflicts, or `None` when the caller may not touch `n` although it might:
+/// the search then stops and returns false, leaving in `cavity` and `boundary` what it marked.
+pub(super) fn grow_cavity<M: CavityMarks>(
+    start: u32,
+    marks: &mut M,
+    stack: &mut Vec<u32>,
+    cavity: &mut Vec<u32>,
+    boundary: &mut Vec<(u32, u8)>,
+    neighbors: impl Fn(u32) -> [u32; 4],
+    mut test: impl FnMut(u32) -> Option<bool>,
+) -> bool {
+    stack.clear();
+    cavity.clear();
+    boundary.clear();
+    marks.set_in(start);
+    stack.push(start);
+    cavity.push(start);
+    while let Some(c) = stack.pop() {
+        for (i, &nb) in neighbors(c).iter().enumerate() {
+            let n = nb >> 2;
+            match marks.get(n) {
+                Some(true) => {}
+                Some(false) => boundary.push((c, i as u8)),
+                None => match test(n) {
+                    Some(true) => {
+                        marks.set_in(n);
+                        stack.push(n);
+                        cavity.push(n);
+                    }
+                    Some(false) => {
+                        marks.set_out(n);
+                        boundary.push((c, i as u8));
+                    }
+                    None => return false,
+                },
+            }
+        }
+    }
+    true
+}
+
 /// Buffers reused by every insertion.
 #[derive(Clone, Debug, Default)]
 pub(super) struct Scratch {
@@ -250,6 +295,72 @@ pub(super) struct Scratch {
     /// Per-vertex marks of the swallowed-vertex search: equal to `stamp` when seen this time.
     pub(super) vertex_stamp: Vec<u32>,
     pub(super) stamp: u32,
+}
+
+impl Scratch {
+    /// Records the cells that star the cavity boundary from new vertex `v`, reading the cavity
+    /// cells through `record`: done before any cavity slot is overwritten.
+    #[inline]
+    pub(super) fn collect_new_cells(&mut self, v: u32, record: impl Fn(u32) -> CellRecord) {
+        self.new_cells.clear();
+        for &(c, i) in &self.boundary {
+            let r = record(c);
+            let i = i as usize;
+            // The vertex array is built by selection, not by storing into a copy: a scalar store
+            // followed by a vector load of the same bytes stalls store forwarding.
+            self.new_cells.push(NewCell {
+                verts: std::array::from_fn(|k| {
+                    // Branch-free select: `i` varies unpredictably from one facet to the next.
+                    let here = u32::from(k == i).wrapping_neg();
+                    (r.v[k] & !here) | (v & here)
+                }),
+                apex: i as u8,
+                outside: r.n[i],
+                id: NO_CELL,
+                local: [0; 4],
+            });
+        }
+    }
+
+    /// Finds the neighbours of every new cell (whose `id` is assigned) and hands each cell with
+    /// its neighbour list to `emit`, in a triangulation of `num_vertices` finite vertices.
+    ///
+    /// The boundary of the cavity is an oriented closed surface: each of its edges is listed once
+    /// in each direction by the two new cells sharing it. Every new cell stores its three directed
+    /// edges, then looks up their reversals, so neither pass branches on whether the twin came
+    /// first.
+    #[inline]
+    pub(super) fn link_new_cells(
+        &mut self,
+        num_vertices: usize,
+        mut emit: impl FnMut(&NewCell, [u32; 4]),
+    ) {
+        self.edges.begin(num_vertices);
+        for nc in &mut self.new_cells {
+            // The side facets' positions are the boundary vertices' positions.
+            for &(k, _, _) in &SIDE_EDGE[nc.apex as usize] {
+                nc.local[k] = self.edges.number(nc.verts[k]);
+            }
+        }
+        self.edges.prepare(self.new_cells.len());
+        for nc in &self.new_cells {
+            let (i, verts) = (nc.apex as usize, nc.verts);
+            for &(j, a, b) in &SIDE_EDGE[i] {
+                let (x, y) = ((verts[a], nc.local[a]), (verts[b], nc.local[b]));
+                self.edges.put(x, y, super::pack(nc.id, j));
+            }
+        }
+        for nc in &self.new_cells {
+            let (i, verts) = (nc.apex as usize, nc.verts);
+            let mut n = [NO_CELL; 4];
+            n[i] = nc.outside;
+            for &(j, a, b) in &SIDE_EDGE[i] {
+                let (x, y) = ((verts[a], nc.local[a]), (verts[b], nc.local[b]));
+                n[j] = self.edges.get(y, x).unwrap_or(NO_CELL);
+            }
+            emit(nc, n);
+        }
+    }
 }
 
 #[cfg(test)]

@@ -18,7 +18,7 @@ mod sealed {
 
 /// The predicate that decides whether a point destroys a cell, plus the per-vertex data it needs.
 /// Implemented by [`Euclidean`] (Delaunay) and [`Power`] (regular); sealed.
-pub trait ConflictKernel: Clone + Debug + Default + sealed::Sealed {
+pub trait ConflictKernel: Clone + Debug + Default + Send + Sync + sealed::Sealed {
     /// Whether vertices carry weights, and so can be hidden (a compile-time switch: the Delaunay
     /// engine carries none of the hidden-vertex bookkeeping).
     const WEIGHTED: bool;
