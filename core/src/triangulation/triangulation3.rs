@@ -24,7 +24,7 @@ use super::{
     CellId, ConflictZone, InsertOutcome, InsertReport, Triangulation, TriangulationError, VertexId,
 };
 use crate::kernel::{Point2, Point3, Sign, StaticFilter, WeightedPoint3, orient2d, orient3d};
-use cavity::{ByteMarks, CavityMarks, HashMarks, Scratch, grow_cavity};
+use cavity::{ByteMarks, CavityMarks, CellWriter, HashMarks, NewCell, Scratch, grow_cavity};
 pub use kernel::{ConflictKernel, Euclidean, Power};
 pub use regular::MAX_WEIGHT;
 use std::collections::HashMap;
@@ -102,6 +102,36 @@ pub struct Triangulation3<K: ConflictKernel> {
     /// Static predicate filters for the bounding box of the vertices.
     filter: StaticFilter,
     scratch: Scratch,
+}
+
+/// Writes new cells into the cell array of a sequential insertion, counting the finite ones.
+struct SequentialWriter<'a> {
+    cells: &'a mut Vec<CellRecord>,
+    finite: usize,
+}
+
+impl CellWriter for SequentialWriter<'_> {
+    #[inline]
+    fn place(&mut self, nc: &NewCell) {
+        let v = nc.verts;
+        self.cells[nc.id as usize] = nc.record();
+        let out = nc.outside;
+        self.cells[(out >> 2) as usize].n[(out & 3) as usize] = pack(nc.id, nc.apex as usize);
+        self.finite += usize::from(v[0].max(v[1]).max(v[2].max(v[3])) != INFINITE);
+    }
+
+    #[inline]
+    fn link(&mut self, facet: u32, neighbor: u32) {
+        self.cells[(facet >> 2) as usize].n[(facet & 3) as usize] = neighbor;
+    }
+}
+
+/// Where a [`Triangulation3::walk`] ends.
+enum Walk {
+    /// A cell whose closure contains the point.
+    Found(u32),
+    /// The walk was about to enter cell `at`, where it had to stop, from cell `before`.
+    Stopped { before: u32, at: u32 },
 }
 
 /// Bookkeeping while the points span less than 3 dimensions (no cells exist yet).
@@ -601,16 +631,19 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 c = r.n[i] >> 2;
             }
         }
-        self.walk(
+        match self.walk(
             p,
             c,
             |c| self.cells[c as usize],
             |c| Self::is_infinite_record(&self.cells[c as usize]),
-        )
+        ) {
+            Walk::Found(c) => c,
+            Walk::Stopped { at, .. } => at,
+        }
     }
 
     /// Visibility walk from finite cell `c` towards `p`, reading the cells it crosses through
-    /// `cell`: returns a cell whose closure contains `p`, or the first cell entered for which
+    /// `cell`: ends in a cell whose closure contains `p`, or at the first cell entered for which
     /// `stop` holds (which must hold for infinite cells; `cell` is not called for it).
     #[inline]
     fn walk(
@@ -619,7 +652,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
         mut c: u32,
         cell: impl Fn(u32) -> CellRecord,
         stop: impl Fn(u32) -> bool,
-    ) -> u32 {
+    ) -> Walk {
         let mut prev = NO_CELL;
         // Deterministic per-point pseudo-random facet order.
         let mut rnd =
@@ -651,14 +684,17 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 let side = self.filter.orient3d(t[0], t[1], t[2], t[3]);
                 if side == Sign::Negative {
                     if stop(next) {
-                        return next;
+                        return Walk::Stopped {
+                            before: c,
+                            at: next,
+                        };
                     }
                     prev = c;
                     c = next;
                     continue 'walk;
                 }
             }
-            return c;
+            return Walk::Found(c);
         }
     }
 
@@ -757,15 +793,12 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 self.alloc_cell(s.new_cells[k].verts)
             };
         }
-        let mut finite = 0;
-        s.link_new_cells(self.points.len(), |nc, n| {
-            let v = nc.verts;
-            self.cells[nc.id as usize] = CellRecord { v, n };
-            let out = nc.outside;
-            self.cells[(out >> 2) as usize].n[(out & 3) as usize] = pack(nc.id, nc.apex as usize);
-            finite += usize::from(v[0].max(v[1]).max(v[2].max(v[3])) != INFINITE);
-        });
-        self.num_finite += finite;
+        let mut writer = SequentialWriter {
+            cells: &mut self.cells,
+            finite: 0,
+        };
+        s.link_new_cells(self.points.len(), &mut writer);
+        self.num_finite += writer.finite;
         if !self.bulk {
             for nc in &s.new_cells {
                 for w in nc.verts {

@@ -322,19 +322,18 @@ impl Scratch {
         }
     }
 
-    /// Finds the neighbours of every new cell (whose `id` is assigned) and hands each cell with
-    /// its neighbour list to `emit`, in a triangulation of `num_vertices` finite vertices.
+    /// Writes the new cells (whose `id` is assigned) through `out`: each cell with its link
+    /// across the cavity boundary, then the links between new cells, in a triangulation of
+    /// `num_vertices` finite vertices.
     ///
     /// The boundary of the cavity is an oriented closed surface: each of its edges is listed once
     /// in each direction by the two new cells sharing it. Every new cell stores its three directed
     /// edges, then looks up their reversals, so neither pass branches on whether the twin came
-    /// first.
+    /// first. The links are stored one by one into the written cells: gathering them into an
+    /// array first would store scalars and load them back as a vector, which stalls store
+    /// forwarding.
     #[inline]
-    pub(super) fn link_new_cells(
-        &mut self,
-        num_vertices: usize,
-        mut emit: impl FnMut(&NewCell, [u32; 4]),
-    ) {
+    pub(super) fn link_new_cells(&mut self, num_vertices: usize, out: &mut impl CellWriter) {
         self.edges.begin(num_vertices);
         for nc in &mut self.new_cells {
             // The side facets' positions are the boundary vertices' positions.
@@ -344,6 +343,7 @@ impl Scratch {
         }
         self.edges.prepare(self.new_cells.len());
         for nc in &self.new_cells {
+            out.place(nc);
             let (i, verts) = (nc.apex as usize, nc.verts);
             for &(j, a, b) in &SIDE_EDGE[i] {
                 let (x, y) = ((verts[a], nc.local[a]), (verts[b], nc.local[b]));
@@ -352,13 +352,35 @@ impl Scratch {
         }
         for nc in &self.new_cells {
             let (i, verts) = (nc.apex as usize, nc.verts);
-            let mut n = [NO_CELL; 4];
-            n[i] = nc.outside;
             for &(j, a, b) in &SIDE_EDGE[i] {
                 let (x, y) = ((verts[a], nc.local[a]), (verts[b], nc.local[b]));
-                n[j] = self.edges.get(y, x).unwrap_or(NO_CELL);
+                let twin = self.edges.get(y, x).unwrap_or(NO_CELL);
+                out.link(super::pack(nc.id, j), twin);
             }
-            emit(nc, n);
+        }
+    }
+}
+
+/// Where [`Scratch::link_new_cells`] writes the new cells.
+pub(super) trait CellWriter {
+    /// Writes cell `nc.id` (its side links still unset) and the link to it from outside.
+    fn place(&mut self, nc: &NewCell);
+    /// Sets the neighbour entry `facet` (`cell << 2 | index`) to `neighbor`.
+    fn link(&mut self, facet: u32, neighbor: u32);
+}
+
+impl NewCell {
+    /// The cell record, linked across the boundary facet only.
+    #[inline]
+    pub(super) fn record(&self) -> CellRecord {
+        let apex = self.apex as usize;
+        CellRecord {
+            v: self.verts,
+            // Built by selection, as the vertices are (see `collect_new_cells`).
+            n: std::array::from_fn(|k| {
+                let here = u32::from(k == apex).wrapping_neg();
+                (self.outside & here) | (NO_CELL & !here)
+            }),
         }
     }
 }

@@ -16,8 +16,8 @@
 //! the first pass's, treating the Hilbert order as a cycle (its ends are neighbouring corners of
 //! the box); what remains is inserted sequentially.
 
-use super::cavity::{ByteMarks, Scratch, grow_cavity};
-use super::{CellRecord, ConflictKernel, FREE, NO_CELL, Triangulation3, pack};
+use super::cavity::{ByteMarks, CellWriter, NewCell, Scratch, grow_cavity};
+use super::{CellRecord, ConflictKernel, FREE, NO_CELL, Triangulation3, Walk, pack};
 use std::ptr::{addr_of, addr_of_mut};
 
 /// Parts per pass. A constant rather than the number of cores, so that every machine builds the
@@ -113,6 +113,24 @@ impl SharedCells {
     }
 }
 
+/// Used only by [`Part::insert`] for the cells of its cavity. SAFETY (both methods): the new
+/// cells take slots of the part; the cells outside the cavity facets are the part's or mixed
+/// cells whose entry facing the cavity only this part writes.
+impl CellWriter for SharedCells {
+    #[inline]
+    fn place(&mut self, nc: &NewCell) {
+        unsafe {
+            self.write(nc.id, nc.record());
+            self.set_neighbor(nc.outside, pack(nc.id, nc.apex as usize));
+        }
+    }
+
+    #[inline]
+    fn link(&mut self, facet: u32, neighbor: u32) {
+        unsafe { self.set_neighbor(facet, neighbor) }
+    }
+}
+
 /// One part of a pass: its range, its slots and what became of its points.
 struct Part<'a, K: ConflictKernel> {
     /// The triangulation with its cell array moved out (the cells are reached through `cells`).
@@ -160,15 +178,20 @@ impl<K: ConflictKernel> Part<'_, K> {
         // SAFETY (the closures below): the walk and the cavity search start in a cell of this
         // part and step only from cells of this part; what they step to is this part's or a
         // mixed cell, of which they read the vertices only.
-        let c = tri.walk(
+        let c = match tri.walk(
             p,
             from,
             |c| unsafe { cells.record(c) },
             |c| !range.owns(unsafe { cells.vertices(c) }),
-        );
-        if !range.owns(unsafe { cells.vertices(c) }) {
-            return false;
-        }
+        ) {
+            Walk::Found(c) => c,
+            Walk::Stopped { before, .. } => {
+                // The next point is probably close: start it from here rather than walk the
+                // same way again.
+                self.state.last = Some(before);
+                return false;
+            }
+        };
         let mut marks = ByteMarks::new(&mut s.mark, 0);
         let grown = grow_cavity(
             c,
@@ -189,6 +212,7 @@ impl<K: ConflictKernel> Part<'_, K> {
         let fresh = (self.state.end - self.state.next) as usize;
         if !grown || new.saturating_sub(old) > self.state.free.len() + self.state.list_len + fresh {
             clear_marks(s);
+            self.state.last = Some(c);
             return false;
         }
         let reused = old.min(new);
@@ -208,12 +232,7 @@ impl<K: ConflictKernel> Part<'_, K> {
                 self.state.next - 1
             };
         }
-        // SAFETY: the new cells take slots of this part; the cells outside the cavity facets
-        // are this part's or mixed cells whose entry facing the cavity only this part writes.
-        s.link_new_cells(tri.points.len(), |nc, n| unsafe {
-            cells.write(nc.id, CellRecord { v: nc.verts, n });
-            cells.set_neighbor(nc.outside, pack(nc.id, nc.apex as usize));
-        });
+        s.link_new_cells(tri.points.len(), &mut { cells });
         self.state.free.extend_from_slice(&s.cavity[reused..]);
         self.state.growth += new as isize - old as isize;
         self.state.last = s.new_cells.last().map(|nc| nc.id);
