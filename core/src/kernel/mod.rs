@@ -5,6 +5,7 @@
 //! test). The `perturbation` module resolves exact degeneracies symbolically so that a Delaunay
 //! triangulation is unique whatever the insertion order.
 
+mod double_double;
 pub mod perturbation;
 pub mod power;
 pub mod predicates;

@@ -3,6 +3,7 @@
 //! Thin wrappers over the `robust` crate (Shewchuk's adaptive-precision predicates: a floating-point
 //! evaluation with an error bound, refined exactly only when the bound cannot decide the sign).
 
+use super::double_double::{dd_add, dd_mul, dd_neg, dd_sub, two_diff};
 use super::{Point2, Point3};
 use robust::{Coord, Coord3D};
 
@@ -279,14 +280,144 @@ fn insphere_refined(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3, det: 
     insphere_exact(a, b, c, d, e)
 }
 
+/// u = 2⁻⁵³, the unit roundoff.
+const UNIT_ROUNDOFF: f64 = f64::EPSILON / 2.0;
+/// Error bound of [`insphere_double_double`] relative to its permanent: eight levels of
+/// double-double operations, each within 7u² of its exact result, stay within
+/// (1 + 7u²)⁸ − 1 < 57u²; this is twice that.
+const INSPHERE_ERROR_DD: f64 = 114.0 * UNIT_ROUNDOFF * UNIT_ROUNDOFF;
+/// Non-zero differences outside this range skip the double-double stage: inside it no term of
+/// degree five overflows.
+const DD_RANGE: (f64, f64) = (1e-50, 1e50);
+/// Smallest permanent the double-double stage decides with: above it, what underflow can lose
+/// is far below the error bound.
+const MIN_DD_PERMANENT: f64 = 1e-200;
+
+/// The in-sphere sign when the floating-point filters failed: the determinant of the exact
+/// differences in double-double arithmetic decides all but near-exact degeneracies (points
+/// sampled from a sphere make many), then `robust`'s exact evaluation.
 #[cold]
+#[inline(never)]
 fn insphere_exact(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> Sign {
+    let diffs = [a, b, c, d].map(|p| [two_diff(p.x, e.x), two_diff(p.y, e.y), two_diff(p.z, e.z)]);
+    let in_range = |x: f64| x == 0.0 || (DD_RANGE.0..=DD_RANGE.1).contains(&x.abs());
+    if diffs.iter().flatten().all(|&(hi, _)| in_range(hi)) {
+        let (det, permanent) = insphere_double_double(diffs);
+        if permanent > MIN_DD_PERMANENT && det.abs() > INSPHERE_ERROR_DD * permanent {
+            return Sign::of(det);
+        }
+    }
     Sign::of(robust::insphere(c3(a), c3(b), c3(c), c3(d), c3(e)))
+}
+
+/// The in-sphere determinant of the exact differences `(hi, lo)` (rows a, b, c, d relative to
+/// e) in double-double arithmetic, in the same expansion as [`insphere_det`], with its
+/// permanent: the same expression in absolute values, which bounds the rounding error.
+fn insphere_double_double(d: [[(f64, f64); 3]; 4]) -> (f64, f64) {
+    let [[ax, ay, az], [bx, by, bz], [cx, cy, cz], [dx, dy, dz]] = d;
+    let cross = |ux, uy, vx, vy| dd_sub(dd_mul(ux, vy), dd_mul(vx, uy));
+    let (ab, cd, bc) = (
+        cross(ax, ay, bx, by),
+        cross(cx, cy, dx, dy),
+        cross(bx, by, cx, cy),
+    );
+    let (da, ac, bd) = (
+        cross(dx, dy, ax, ay),
+        cross(ax, ay, cx, cy),
+        cross(bx, by, dx, dy),
+    );
+    let triple =
+        |z1, m1, z2, m2, z3, m3| dd_add(dd_add(dd_mul(z1, m1), dd_mul(z2, m2)), dd_mul(z3, m3));
+    let abc = triple(az, bc, dd_neg(bz), ac, cz, ab);
+    let cda = triple(cz, da, dz, ac, az, cd);
+    let bcd = triple(bz, cd, dd_neg(cz), bd, dz, bc);
+    let dab = triple(dz, ab, az, bd, bz, da);
+    let lift = |x, y, z| dd_add(dd_add(dd_mul(x, x), dd_mul(y, y)), dd_mul(z, z));
+    let (la, lb, lc, ld) = (
+        lift(ax, ay, az),
+        lift(bx, by, bz),
+        lift(cx, cy, cz),
+        lift(dx, dy, dz),
+    );
+    let det = dd_add(
+        dd_sub(dd_mul(ld, abc), dd_mul(lc, dab)),
+        dd_sub(dd_mul(lb, cda), dd_mul(la, bcd)),
+    );
+    // The permanent from the high parts: they differ from the exact differences by a relative
+    // u at most, and the factor-2 margin of the bound absorbs that and this sum's roundings.
+    let h = |v: (f64, f64)| v.0.abs();
+    let p2 = |ux, uy, vx, vy| h(ux) * h(vy) + h(vx) * h(uy);
+    let (pab, pcd, pbc) = (p2(ax, ay, bx, by), p2(cx, cy, dx, dy), p2(bx, by, cx, cy));
+    let (pda, pac, pbd) = (p2(dx, dy, ax, ay), p2(ax, ay, cx, cy), p2(bx, by, dx, dy));
+    let p3 = |z1, m1: f64, z2, m2: f64, z3, m3: f64| h(z1) * m1 + h(z2) * m2 + h(z3) * m3;
+    let permanent = ld.0 * p3(az, pbc, bz, pac, cz, pab)
+        + lc.0 * p3(dz, pab, az, pbd, bz, pda)
+        + lb.0 * p3(cz, pda, dz, pac, az, pcd)
+        + la.0 * p3(bz, pcd, cz, pbd, dz, pbc);
+    (det.0 + det.1, permanent)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Points of the unit sphere rounded to doubles: nearly every in-sphere test of five of them
+    /// reaches the double-double stage, and some the exact one.
+    #[test]
+    fn nearly_cospherical_signs_match_the_exact_predicate() {
+        let mut x = 0x9E37_79B9_7F4A_7C15u64;
+        let mut unit = move || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let mut on_sphere = |scale: f64| {
+            let p = Point3::new(unit(), unit(), unit());
+            p / p.length() * scale
+        };
+        let exact = |q: [Point3; 5]| {
+            Sign::of(robust::insphere(
+                c3(q[0]),
+                c3(q[1]),
+                c3(q[2]),
+                c3(q[3]),
+                c3(q[4]),
+            ))
+        };
+        let mut decided = 0;
+        for k in 0..20_000 {
+            let scale = [1.0, 1e-30, 1e20][k % 3];
+            let q = [(); 5].map(|()| on_sphere(scale));
+            assert_eq!(
+                insphere_exact(q[0], q[1], q[2], q[3], q[4]),
+                exact(q),
+                "{q:?}"
+            );
+            assert_eq!(insphere(q[0], q[1], q[2], q[3], q[4]), exact(q), "{q:?}");
+            let diffs = [q[0], q[1], q[2], q[3]].map(|p| {
+                [
+                    two_diff(p.x, q[4].x),
+                    two_diff(p.y, q[4].y),
+                    two_diff(p.z, q[4].z),
+                ]
+            });
+            let (det, permanent) = insphere_double_double(diffs);
+            decided += usize::from(det.abs() > INSPHERE_ERROR_DD * permanent);
+        }
+        // The stage is worth having only if it decides most of these.
+        assert!(decided > 19_900, "double-double decided {decided} of 20000");
+        // Exactly cospherical integer points: the stage must not decide, the answer is zero.
+        let q = [
+            (3.0, 4.0, 0.0),
+            (0.0, 3.0, 4.0),
+            (4.0, 0.0, 3.0),
+            (-5.0, 0.0, 0.0),
+            (0.0, -4.0, 3.0),
+        ]
+        .map(|(x, y, z)| Point3::new(x, y, z));
+        assert_eq!(insphere_exact(q[0], q[1], q[2], q[3], q[4]), Sign::Zero);
+    }
 
     #[test]
     fn orientation_convention_of_the_unit_tetrahedron() {

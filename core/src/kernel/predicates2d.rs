@@ -3,6 +3,7 @@
 //! perturbation that makes a planar Delaunay triangulation unique, and the exact diametral-disk
 //! test (angle sign) that constraint meshing needs.
 
+use super::double_double::{dd_add, dd_mul, dd_neg, fast_two_sum, two_diff, two_product, two_sum};
 use glam::DVec2;
 use std::cmp::Ordering;
 
@@ -152,27 +153,6 @@ fn incircle_double_double(d: [(f64, f64); 6]) -> f64 {
     hi + lo
 }
 
-/// Double-double sum (the accurate algorithm: relative error at most 3u²).
-#[inline(always)]
-fn dd_add(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
-    let (s, e) = two_sum(a.0, b.0);
-    let (t, f) = two_sum(a.1, b.1);
-    let (s, e) = fast_two_sum(s, e + t);
-    fast_two_sum(s, e + f)
-}
-
-/// Double-double product (relative error at most 7u² without a fused multiply-add).
-#[inline(always)]
-fn dd_mul(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
-    let (p, e) = two_product(a.0, b.0);
-    fast_two_sum(p, e + (a.0 * b.1 + a.1 * b.0))
-}
-
-#[inline(always)]
-fn dd_neg(a: (f64, f64)) -> (f64, f64) {
-    (-a.0, -a.1)
-}
-
 /// `(x² + y²) · (u × v)` exactly, for the in-circle row of a point at `(x, y)` relative to `d`.
 fn lifted_row(x: f64, y: f64, u: (f64, f64), v: (f64, f64)) -> Expansion<32> {
     let (p1, p0) = two_product(u.0, v.1);
@@ -239,37 +219,6 @@ pub fn circumcenter(a: DVec2, b: DVec2, c: DVec2) -> DVec2 {
     let ab2 = ab.length_squared();
     let ac2 = ac.length_squared();
     a + DVec2::new(ac.y * ab2 - ab.y * ac2, ab.x * ac2 - ac.x * ab2) / d
-}
-
-/// `a * b` as an exact unevaluated sum `hi + lo`.
-fn two_product(a: f64, b: f64) -> (f64, f64) {
-    let hi = a * b;
-    (hi, a.mul_add(b, -hi))
-}
-
-/// `a - b` as an exact unevaluated sum `hi + lo` (Knuth's two-difference).
-#[inline(always)]
-fn two_diff(a: f64, b: f64) -> (f64, f64) {
-    let x = a - b;
-    let bv = a - x;
-    let av = x + bv;
-    (x, (a - av) + (bv - b))
-}
-
-/// `a + b` as an exact unevaluated sum `hi + lo` (Knuth's two-sum).
-#[inline(always)]
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
-    let x = a + b;
-    let bv = x - a;
-    let av = x - bv;
-    (x, (a - av) + (b - bv))
-}
-
-/// `a + b` exactly when `|a| ≥ |b|` or `a` is zero (Dekker's fast two-sum).
-#[inline(always)]
-fn fast_two_sum(a: f64, b: f64) -> (f64, f64) {
-    let x = a + b;
-    (x, b - (x - a))
 }
 
 /// A non-overlapping floating-point expansion of at most `N` components, in increasing
