@@ -5,6 +5,7 @@
 use crate::kernel::Point3;
 use crate::oracle::{CurveId, FeatureCurve};
 use crate::refine::curves::{Polyline, point_segment_distance};
+use rayon::prelude::*;
 use std::collections::BTreeMap;
 
 /// The six dihedral angles of a tetrahedron, in degrees (edge order 01, 02, 03, 12, 13, 23).
@@ -304,12 +305,16 @@ pub fn sample_triangles(
 }
 
 /// The largest distance from `samples` to a set measured by `distance_to_set`: one side of a
-/// Hausdorff distance.
-pub fn one_sided_distance(samples: &[Point3], distance_to_set: impl Fn(Point3) -> f64) -> f64 {
+/// Hausdorff distance. The samples are measured on all cores; the maximum does not depend on
+/// the order.
+pub fn one_sided_distance(
+    samples: &[Point3],
+    distance_to_set: impl Fn(Point3) -> f64 + Sync,
+) -> f64 {
     samples
-        .iter()
+        .par_iter()
         .map(|&p| distance_to_set(p))
-        .fold(0.0, f64::max)
+        .reduce(|| 0.0, f64::max)
 }
 
 /// How one input feature curve is followed by the mesh's feature edges.
