@@ -129,10 +129,23 @@ fn parallel_bulk_construction_matches_one_by_one_insertion() {
             q / q.length().max(1e-9)
         })
         .collect();
+    // Half the points in a ball a hundredth of the box wide: parts of very different densities.
+    let clustered: Vec<Point3> = uniform(60_000, 9)
+        .into_iter()
+        .enumerate()
+        .map(|(i, p)| {
+            if i % 2 == 0 {
+                p
+            } else {
+                Point3::splat(0.3) + (p - Point3::splat(0.5)) * 0.01
+            }
+        })
+        .collect();
     for (name, pts) in [
         ("uniform", uniform(60_000, 6)),
         ("grid", grid(40)),
         ("sphere", sphere),
+        ("clustered", clustered),
     ] {
         let dt = Delaunay3::from_points(&pts).unwrap();
         assert_valid(&dt);
