@@ -3,8 +3,8 @@
 //! each part is inserted by its own thread into the shared cell array.
 //!
 //! A cell *belongs* to a part when its four vertices are finite and in the part's range, and a
-//! part changes only its own cells: a point whose walk or cavity reaches another cell is
-//! deferred. Cells of two parts never share a facet (its three vertices would be in both ranges),
+//! part changes only its own cells: a point whose walk or cavity reaches another cell, or whose
+//! insertion needs more slots than the part has left, is deferred. Cells of two parts never share a facet (its three vertices would be in both ranges),
 //! so the cells a part reaches from its own are its own or *mixed* (vertices of several parts, or
 //! the infinite vertex). Mixed cells are neither destroyed nor created during a pass; a part only
 //! writes the neighbour entry of a mixed cell that faces one of its own cells, and reads only
@@ -31,7 +31,7 @@ pub(super) const MIN_PARALLEL_ROUND: usize = 40_000;
 pub(super) const SLOTS_PER_POINT: f64 = 6.9;
 /// Fresh slots reserved per part on top of those.
 const SPARE_SLOTS: usize = 4096;
-/// Cells searched around a part's first point for a cell of the part to start walking from.
+/// Cells searched around a part's middle point for a cell of the part to start walking from.
 const START_SEARCH: usize = 4096;
 
 /// The vertex ids `start, start + 1, …` taken cyclically modulo `n`, `len` of them.
