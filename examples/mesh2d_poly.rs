@@ -7,7 +7,6 @@
 //! Prints one line: `best_s=… triangles=… smallest_angle=…`.
 
 use delamesh_core::mesh2d::mesher::{MeshOptions, mesh};
-use delamesh_core::mesh2d::quality::min_angle_deg;
 use std::path::PathBuf;
 use std::process::exit;
 use std::time::Instant;
@@ -59,14 +58,7 @@ fn main() {
         result = Some(m);
     }
     let Some(m) = result else { return };
-    let smallest = m
-        .triangles
-        .iter()
-        .map(|t| {
-            let p = t.map(|i| m.points[i as usize]);
-            min_angle_deg(p[0], p[1], p[2])
-        })
-        .fold(f64::INFINITY, f64::min);
+    let smallest = m.smallest_angle_deg();
     println!(
         "best_s={best:.6} triangles={} smallest_angle={smallest:.2}",
         m.triangles.len()

@@ -4,7 +4,6 @@ use anyhow::{Context, Result};
 use delamesh_core::mesh::{CurveId, PatchId, TetMesh};
 use delamesh_core::mesh2d::Point2;
 use delamesh_core::mesh2d::mesher::{MeshOptions, mesh};
-use delamesh_core::mesh2d::quality::min_angle_deg;
 use delamesh_formats::WriteOptions;
 use std::path::PathBuf;
 
@@ -43,14 +42,7 @@ pub fn run(args: &Args) -> Result<()> {
     };
     let m = mesh(&pslg, &options).with_context(|| format!("meshing {}", args.input.display()))?;
     let elapsed = start.elapsed();
-    let worst = m
-        .triangles
-        .iter()
-        .map(|t| {
-            let p = t.map(|i| m.points[i as usize]);
-            min_angle_deg(p[0], p[1], p[2])
-        })
-        .fold(f64::INFINITY, f64::min);
+    let worst = m.smallest_angle_deg();
     let out = planar_mesh(
         &m.points,
         &m.triangles,

@@ -66,14 +66,7 @@ const EXPANSION_RANGE: (f64, f64) = (1e-50, 1e50);
 #[cold]
 #[inline(never)]
 fn incircle_exact(a: DVec2, b: DVec2, c: DVec2, d: DVec2, permanent: f64) -> Ordering {
-    let diffs = [
-        two_diff(a.x, d.x),
-        two_diff(a.y, d.y),
-        two_diff(b.x, d.x),
-        two_diff(b.y, d.y),
-        two_diff(c.x, d.x),
-        two_diff(c.y, d.y),
-    ];
+    let diffs = exact_differences(a, b, c, d);
     let in_range = |x: f64| x == 0.0 || (EXPANSION_RANGE.0..=EXPANSION_RANGE.1).contains(&x.abs());
     if diffs.iter().all(|&(hi, _)| in_range(hi)) {
         // Double-double arithmetic on the exact differences settles nearly every case the first
@@ -136,6 +129,18 @@ fn incircle_exact(a: DVec2, b: DVec2, c: DVec2, d: DVec2, permanent: f64) -> Ord
         }
     }
     sign(robust::incircle(coord(a), coord(b), coord(c), coord(d)))
+}
+
+/// `a − d`, `b − d`, `c − d` coordinate by coordinate, each as an exact `(hi, lo)` pair.
+fn exact_differences(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> [(f64, f64); 6] {
+    [
+        two_diff(a.x, d.x),
+        two_diff(a.y, d.y),
+        two_diff(b.x, d.x),
+        two_diff(b.y, d.y),
+        two_diff(c.x, d.x),
+        two_diff(c.y, d.y),
+    ]
 }
 
 /// The in-circle determinant of the exact differences `(hi, lo)` in double-double arithmetic.

@@ -181,47 +181,37 @@ impl Polyline {
             point: self.points[0],
             distance: f64::INFINITY,
         };
-        for (k, &(lo, hi)) in self.chunks.iter().enumerate() {
-            if box_distance(p, lo, hi) >= best.distance {
-                continue;
+        self.scan_near(p, f64::INFINITY, |i, bound| {
+            let (a, b) = self.segment(i);
+            let ab = b - a;
+            let len2 = ab.length_squared();
+            let t = if len2 > 0.0 {
+                ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let q = a + t * ab;
+            let d = q.distance(p);
+            if d >= bound {
+                return bound;
             }
-            for i in k * CHUNK..((k + 1) * CHUNK).min(self.segment_count()) {
-                let (a, b) = self.segment(i);
-                let ab = b - a;
-                let len2 = ab.length_squared();
-                let t = if len2 > 0.0 {
-                    ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                let q = a + t * ab;
-                let d = q.distance(p);
-                if d < best.distance {
-                    best = Projection {
-                        s: self.arc[i] + t * (self.arc[i + 1] - self.arc[i]),
-                        point: q,
-                        distance: d,
-                    };
-                }
-            }
-        }
+            best = Projection {
+                s: self.arc[i] + t * (self.arc[i + 1] - self.arc[i]),
+                point: q,
+                distance: d,
+            };
+            d
+        });
         best
     }
 
     /// Distance from `p` to the curve, or `bound` when that is smaller: [`Polyline::project`]'s
     /// distance without looking at the parts no nearer than `bound`.
     pub fn distance_below(&self, p: Point3, bound: f64) -> f64 {
-        let mut best = bound;
-        for (k, &(lo, hi)) in self.chunks.iter().enumerate() {
-            if box_distance(p, lo, hi) >= best {
-                continue;
-            }
-            for i in k * CHUNK..((k + 1) * CHUNK).min(self.segment_count()) {
-                let (a, b) = self.segment(i);
-                best = best.min(point_segment_distance(p, a, b));
-            }
-        }
-        best
+        self.scan_near(p, bound, |i, best| {
+            let (a, b) = self.segment(i);
+            best.min(point_segment_distance(p, a, b))
+        })
     }
 
     /// Distance from `p` to the part of the curve farther than `radius` from `center`: how close
@@ -229,24 +219,33 @@ impl Polyline {
     /// the curve crosses), or `bound` when that is smaller: parts no nearer than `bound` are
     /// skipped. Infinite when no such part exists and `bound` is infinite.
     pub fn distance_outside_ball(&self, p: Point3, center: Point3, radius: f64, bound: f64) -> f64 {
+        self.scan_near(p, bound, |i, best| {
+            let (a, b) = self.segment(i);
+            // The parts of [a, b] are no nearer than the whole segment.
+            if point_segment_distance(p, a, b) >= best {
+                return best;
+            }
+            // The part of [a, b] outside the ball: up to two sub-segments.
+            segment_outside_ball(a, b, center, radius)
+                .into_iter()
+                .flatten()
+                .fold(best, |best, (x, y)| {
+                    best.min(point_segment_distance(p, x, y))
+                })
+        })
+    }
+
+    /// The chunk walk of the nearest-point queries: `visit(i, best)` for each segment `i` of the
+    /// chunks whose padded box is nearer to `p` than the current best distance, which starts at
+    /// `bound` and becomes what `visit` returns. Returns the final best distance.
+    fn scan_near(&self, p: Point3, bound: f64, mut visit: impl FnMut(usize, f64) -> f64) -> f64 {
         let mut best = bound;
         for (k, &(lo, hi)) in self.chunks.iter().enumerate() {
             if box_distance(p, lo, hi) >= best {
                 continue;
             }
             for i in k * CHUNK..((k + 1) * CHUNK).min(self.segment_count()) {
-                let (a, b) = self.segment(i);
-                // The parts of [a, b] are no nearer than the whole segment.
-                if point_segment_distance(p, a, b) >= best {
-                    continue;
-                }
-                // The part of [a, b] outside the ball: up to two sub-segments.
-                for (x, y) in segment_outside_ball(a, b, center, radius)
-                    .into_iter()
-                    .flatten()
-                {
-                    best = best.min(point_segment_distance(p, x, y));
-                }
+                best = visit(i, best);
             }
         }
         best

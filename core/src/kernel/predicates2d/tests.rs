@@ -3,7 +3,7 @@
 //! and nearly cocircular far from the origin (inexact differences, the double-double stage, the
 //! first-order correction and the complete fallback).
 
-use super::{INCIRCLE_ERROR_DD, dot_sign, incircle, incircle_double_double, two_diff};
+use super::{INCIRCLE_ERROR_DD, dot_sign, exact_differences, incircle, incircle_double_double};
 use crate::kernel::power::{dyadic, scaled};
 use glam::DVec2;
 use num_bigint::BigInt;
@@ -135,14 +135,7 @@ fn the_double_double_stage_decides_nearly_cocircular_points_rightly() {
             centre + radius * DVec2::new(t.cos(), t.sin())
         };
         let (a, b, c, d) = (on_circle(), on_circle(), on_circle(), on_circle());
-        let diffs = [
-            two_diff(a.x, d.x),
-            two_diff(a.y, d.y),
-            two_diff(b.x, d.x),
-            two_diff(b.y, d.y),
-            two_diff(c.x, d.x),
-            two_diff(c.y, d.y),
-        ];
+        let diffs = exact_differences(a, b, c, d);
         let [ax, ay, bx, by, cx, cy] = diffs.map(|(hi, _)| hi);
         let permanent = (ax * ax + ay * ay) * ((bx * cy).abs() + (cx * by).abs())
             + (bx * bx + by * by) * ((cx * ay).abs() + (ax * cy).abs())

@@ -64,6 +64,19 @@ pub struct Mesh {
     pub insertions: usize,
 }
 
+impl Mesh {
+    /// The smallest angle of any triangle, in degrees (infinite without triangles).
+    pub fn smallest_angle_deg(&self) -> f64 {
+        self.triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|i| self.points[i as usize]);
+                super::quality::min_angle_deg(a, b, c)
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
 /// Why [`mesh`] failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MeshError {

@@ -361,7 +361,9 @@ impl<K: ConflictKernel> Triangulation3<K> {
         }
         let total = base + regions.iter().sum::<usize>();
         for s in scratch.iter_mut() {
-            ByteMarks::new(&mut s.mark, total);
+            if s.mark.len() < total {
+                s.mark.resize(total, 0);
+            }
         }
         let mut cells = std::mem::take(&mut self.cells);
         // The regions lie in the reserved capacity beyond the length: slots are written before
