@@ -7,6 +7,7 @@ mod conform2d;
 mod convert;
 mod delaunay;
 mod domain;
+mod image;
 mod info;
 mod mesh;
 mod mesh2d;

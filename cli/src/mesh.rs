@@ -74,11 +74,17 @@ pub struct MeshArgs {
     /// Mesh the domain of an oracle plugin instead of a surface file.
     #[command(flatten)]
     pub plugin: crate::plugins::PluginArgs,
+    /// Options of segmented and gray-level 3D images (.inr .nii .vti .nrrd .nhdr, optionally .gz).
+    #[command(flatten)]
+    pub image: crate::image::ImageArgs,
 }
 
 pub fn run(args: &MeshArgs) -> Result<()> {
     let input = match (&args.input, &args.plugin.plugin) {
         (_, Some(spec)) => return crate::plugins::mesh(args, spec),
+        (Some(input), None) if delamesh_formats::image::is_image_path(input) => {
+            return crate::image::mesh(args, input);
+        }
         (Some(input), None) => input,
         (None, None) => bail!("give a closed surface file to mesh, or --plugin"),
     };
@@ -188,7 +194,11 @@ pub fn run(args: &MeshArgs) -> Result<()> {
 
 /// The CGAL-style criteria: defaults from the bounding box, overridden by the options.
 pub(crate) fn criteria(args: &MeshArgs, oracle: &dyn Oracle) -> Result<MeshCriteria> {
-    let mut c = MeshCriteria::default_for(&oracle.bounding_box());
+    override_criteria(args, MeshCriteria::default_for(&oracle.bounding_box()))
+}
+
+/// `c` with the criteria the options give.
+pub(crate) fn override_criteria(args: &MeshArgs, mut c: MeshCriteria) -> Result<MeshCriteria> {
     let positive = |name: &str, v: f64| -> Result<f64> {
         if v.is_finite() && v > 0.0 {
             Ok(v)
