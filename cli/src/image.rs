@@ -28,10 +28,6 @@ pub struct ImageArgs {
     /// label indicator (smoother interfaces, as CGAL).
     #[arg(long, value_enum, default_value = "trilinear")]
     pub label_interpolation: LabelInterpolation,
-    /// Keep the curves where three or more labels meet, and where labels meet the image border,
-    /// as mesh edges.
-    #[arg(long)]
-    pub image_features: bool,
 }
 
 /// `--label-interpolation` values.
@@ -53,7 +49,6 @@ impl ImageArgs {
                 LabelInterpolation::Nearest => Interpolation::Nearest,
                 LabelInterpolation::Trilinear => Interpolation::Trilinear,
             },
-            features: self.image_features,
         }
     }
 }

@@ -88,8 +88,8 @@ pub(crate) fn initial_points<C: Class>(g: &ClassGrid<C>) -> Vec<(DVec3, u32, u32
                 }
                 let stride = group.len().div_ceil(BLOCKS_PER_GROUP);
                 for b in group.iter().step_by(stride) {
-                    let centre = DVec3::from_array(b.map(|v| (v * BLOCK) as f64))
-                        + 0.5 * BLOCK as f64;
+                    let centre =
+                        DVec3::from_array(b.map(|v| (v * BLOCK) as f64)) + 0.5 * BLOCK as f64;
                     let reach = 0.5 * BLOCK as f64 + 1.5;
                     for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
                         let (from, to) = (centre - reach * axis, centre + reach * axis);

@@ -7,11 +7,11 @@
 //! which gives smoother interfaces. Segment queries walk the voxels along the segment (skipping
 //! blocks of one label) and bisect each change of label to a thousandth of a voxel.
 //!
-//! Gray-level images are meshed as `{value ≥ isovalue}` (subdomain 1). With
-//! [`ImageOptions::features`], the curves where three or more labels meet, and where labels
-//! meet the image border, are feature curves, so that the mesh follows them with edges.
+//! Gray-level images are meshed as `{value ≥ isovalue}` (subdomain 1).
+//!
+//! Not yet: the curves where three or more labels meet (CGAL 6's `Detect_features_in_image`) are
+//! not protected, so triple lines are approximated by the surface facets, not followed by edges.
 
-mod features;
 mod grid;
 mod initial;
 mod labels;
@@ -33,9 +33,6 @@ pub struct ImageOptions {
     pub isovalue: Option<f64>,
     /// The label between voxel centres.
     pub interpolation: Interpolation,
-    /// Protect the curves where three or more labels meet, and where labels meet the image
-    /// border, as feature curves.
-    pub features: bool,
 }
 
 /// Why an image cannot be meshed.

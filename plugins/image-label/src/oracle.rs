@@ -2,10 +2,8 @@
 
 use crate::labels::{Classified, Field, classify_isovalue, classify_labels};
 use crate::walk::{Change, changes};
-use crate::{ImageLabelError, ImageOptions, features, initial};
-use delamesh_core::oracle::{
-    Aabb, FeatureCurve, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
-};
+use crate::{ImageLabelError, ImageOptions, initial};
+use delamesh_core::oracle::{Aabb, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint};
 use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
 use delamesh_formats::image::Image;
 use glam::{DAffine3, DVec3};
@@ -29,7 +27,6 @@ pub struct ImageLabelOracle {
     to_index: DAffine3,
     bbox: Aabb,
     initial: Vec<SurfacePoint>,
-    curves: Vec<FeatureCurve>,
 }
 
 impl ImageLabelOracle {
@@ -55,7 +52,6 @@ impl ImageLabelOracle {
             to_index,
             bbox,
             initial: Vec::new(),
-            curves: Vec::new(),
         };
         let initial = with_grid!(&oracle.field, g => initial::initial_points(g));
         oracle.initial = initial
@@ -67,18 +63,6 @@ impl ImageLabelOracle {
             .collect();
         if oracle.initial.is_empty() {
             return Err(ImageLabelError::Empty(options.background));
-        }
-        if options.features {
-            let curves = with_grid!(&oracle.field, g => features::feature_lines(g));
-            oracle.curves = curves
-                .into_iter()
-                .enumerate()
-                .map(|(i, (points, closed))| FeatureCurve {
-                    id: i as u32 + 1,
-                    points: points.into_iter().map(|q| oracle.world(q)).collect(),
-                    closed,
-                })
-                .collect();
         }
         Ok(oracle)
     }
@@ -107,7 +91,11 @@ impl ImageLabelOracle {
     pub fn default_criteria(&self) -> MeshCriteria {
         let mut c = MeshCriteria::default_for(&self.bbox);
         let m = self.to_world.matrix3;
-        let voxel = m.x_axis.length().min(m.y_axis.length()).min(m.z_axis.length());
+        let voxel = m
+            .x_axis
+            .length()
+            .min(m.y_axis.length())
+            .min(m.z_axis.length());
         let distance = c.facet.distance.at(self.bbox.center(), 1).max(voxel);
         c.facet.distance = Sizing::Constant(distance);
         c
@@ -203,10 +191,6 @@ impl Oracle for ImageLabelOracle {
 
     fn initial_points(&self) -> Vec<SurfacePoint> {
         self.initial.clone()
-    }
-
-    fn feature_curves(&self) -> Vec<FeatureCurve> {
-        self.curves.clone()
     }
 }
 

@@ -1,7 +1,6 @@
 //! The image oracle as a C-ABI plugin library (feature `cdylib`), so that hosts loading plugins
 //! mesh images as the CLI does. Configuration: the path of the image on the first line, then
-//! optional `background=L`, `isovalue=V`, `interpolation=nearest|trilinear` and `features=on|off`
-//! lines.
+//! optional `background=L`, `isovalue=V` and `interpolation=nearest|trilinear` lines.
 //!
 //! Built with `cargo build -p delamesh-image-label --features cdylib`.
 
@@ -18,7 +17,10 @@ impl PluginOracle for ImageLabelOracle {
         }
         let mut options = ImageOptions::default();
         for line in lines {
-            let number = |v: &str| v.parse::<f64>().map_err(|_| format!("{line:?}: not a number"));
+            let number = |v: &str| {
+                v.parse::<f64>()
+                    .map_err(|_| format!("{line:?}: not a number"))
+            };
             match line.split_once('=').map(|(k, v)| (k.trim(), v.trim())) {
                 Some(("background", v)) => {
                     options.background = v
@@ -26,16 +28,16 @@ impl PluginOracle for ImageLabelOracle {
                         .map_err(|_| format!("{line:?}: not a label (non-negative integer)"))?;
                 }
                 Some(("isovalue", v)) => options.isovalue = Some(number(v)?),
-                Some(("interpolation", "nearest")) => options.interpolation = Interpolation::Nearest,
+                Some(("interpolation", "nearest")) => {
+                    options.interpolation = Interpolation::Nearest
+                }
                 Some(("interpolation", "trilinear")) => {
                     options.interpolation = Interpolation::Trilinear;
                 }
-                Some(("features", "on")) => options.features = true,
-                Some(("features", "off")) => options.features = false,
                 _ => {
                     return Err(format!(
-                        "unknown configuration line {line:?} (expected background=L, isovalue=V, \
-                         interpolation=nearest|trilinear or features=on|off)"
+                        "unknown configuration line {line:?} (expected background=L, isovalue=V or \
+                         interpolation=nearest|trilinear)"
                     ));
                 }
             }

@@ -56,7 +56,11 @@ pub(crate) fn changes<C: Class>(grid: &ClassGrid<C>, a: DVec3, b: DVec3, out: &m
             }
         }
         .min(1.0);
-        let next_class = grid.class_at(at(next));
+        // In a block of one class the block says it, without reading voxels.
+        let next_class = match grid.block_of(at(next)).map(|b| grid.block_summary(b)) {
+            Some(s) if s != MIXED => s,
+            _ => grid.class_at(at(next)),
+        };
         // Several changes between two samples (a third label a fraction of a voxel thick): find
         // them one after the other.
         let (mut from, mut c) = (t, class);
