@@ -7,6 +7,8 @@ use crate::settings::FeatureSettings;
 use delamesh_core::mesh::SurfaceMesh;
 use delamesh_core::oracle::{Oracle, PatchId};
 use delamesh_core::plugin::DynOracle;
+use delamesh_formats::image::Image;
+use delamesh_image_label::{ImageLabelOracle, ImageOptions};
 use delamesh_piecewise_smooth::{
     FeatureOptions, Features, PiecewiseSmoothOracle, Polyline, read_polylines,
 };
@@ -20,6 +22,8 @@ pub enum Domain {
     PiecewiseSmooth(PiecewiseSmoothOracle),
     /// The domain of an oracle plugin loaded through the C ABI.
     Plugin(DynOracle),
+    /// The labels of a segmented 3D image (or a gray-level image's side of an isovalue).
+    Image(ImageLabelOracle),
 }
 
 impl Domain {
@@ -71,12 +75,23 @@ impl Domain {
         crate::plugins::load_oracle(spec, config).map(Domain::Plugin)
     }
 
+    /// The domain of a 3D image (`name` says which input it is, in errors).
+    pub fn from_image(name: &str, image: &Image, options: &ImageOptions) -> Result<Domain, Error> {
+        ImageLabelOracle::new(image, options)
+            .map(Domain::Image)
+            .map_err(|e| Error::Image {
+                name: name.to_string(),
+                problem: e.to_string(),
+            })
+    }
+
     /// The oracle the mesher asks.
     pub fn oracle(&self) -> &dyn Oracle {
         match self {
             Domain::Smooth(o) => o,
             Domain::PiecewiseSmooth(o) => o,
             Domain::Plugin(o) => o,
+            Domain::Image(o) => o,
         }
     }
 
@@ -86,7 +101,7 @@ impl Domain {
         match self {
             Domain::Smooth(o) => Some(o),
             Domain::PiecewiseSmooth(o) => Some(o.polyhedral()),
-            Domain::Plugin(_) => None,
+            Domain::Plugin(_) | Domain::Image(_) => None,
         }
     }
 

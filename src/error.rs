@@ -26,6 +26,14 @@ pub enum Error {
         /// What is wrong with it.
         problem: String,
     },
+    /// The image cannot be meshed (not labels, only background, too many labels...).
+    #[error("{name}: cannot mesh this image: {problem}")]
+    Image {
+        /// The input, as given.
+        name: String,
+        /// What is wrong with it.
+        problem: String,
+    },
     /// Sharp features cannot be taken from the surface with the given feature polylines.
     #[error(
         "{name}: cannot mesh this surface with the feature polylines of {}: {problem}",

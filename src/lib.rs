@@ -19,7 +19,7 @@
 //! ```
 //!
 //! The workspace crates stay reachable one level down: [`core`], [`formats`], [`polyhedral`],
-//! [`piecewise_smooth`]. The command line (`src/main.rs`, `src/cli/`) is behind the default `cli`
+//! [`piecewise_smooth`], [`image_label`]. The command line (`src/main.rs`, `src/cli/`) is behind the default `cli`
 //! feature; `default-features = false` leaves only the library.
 
 mod domain;
@@ -31,6 +31,7 @@ mod settings;
 
 pub use delamesh_core as core;
 pub use delamesh_formats as formats;
+pub use delamesh_image_label as image_label;
 pub use delamesh_piecewise_smooth as piecewise_smooth;
 pub use delamesh_polyhedral as polyhedral;
 
@@ -40,5 +41,6 @@ pub use error::Error;
 pub use pipeline::{Meshed, Mesher, mesh_file};
 pub use report::{Report, Times};
 pub use settings::{
-    DEFAULT_MAX_VERTICES, FeatureSettings, MeshSettings, MeshSettingsBuilder, SettingsError,
+    DEFAULT_MAX_VERTICES, FeatureSettings, ImageSettings, MeshSettings, MeshSettingsBuilder,
+    SettingsError,
 };

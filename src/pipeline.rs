@@ -9,6 +9,7 @@ use delamesh_core::complex::MeshComplex;
 use delamesh_core::mesh::{SurfaceMesh, TetMesh};
 use delamesh_core::refine::criteria::MeshCriteria;
 use delamesh_core::refine::{MeshError, Progress, RefineError, RefineStats, mesh_domain};
+use delamesh_formats::image::{is_image_path, read_image};
 use delamesh_formats::{WriteOptions, read_surface, write_tet_mesh};
 use std::path::Path;
 use std::time::Instant;
@@ -75,6 +76,9 @@ impl<'p> Mesher<'p> {
     /// reads).
     pub fn mesh_file(&mut self, path: &Path) -> Result<Meshed, Error> {
         self.settings.validate()?;
+        if is_image_path(path) {
+            return self.mesh_image_file(path);
+        }
         let started = Instant::now();
         let surface = read_surface(path, None)?.mesh;
         let read = started.elapsed();
@@ -100,6 +104,25 @@ impl<'p> Mesher<'p> {
             ..Times::default()
         };
         self.mesh_domain(format!("plugin `{spec}`"), domain, None, started, times)
+    }
+
+    /// Meshes the labels of the 3D image in the file `path` (`.inr`, `.nii`, `.vti`, `.nrrd`,
+    /// `.nhdr`, each optionally `.gz`), one subdomain per label.
+    pub fn mesh_image_file(&mut self, path: &Path) -> Result<Meshed, Error> {
+        self.settings.validate()?;
+        let started = Instant::now();
+        let image = read_image(path)?;
+        let read = started.elapsed();
+        let t = Instant::now();
+        let name = path.display().to_string();
+        let domain = Domain::from_image(&name, &image, &self.settings.image.options)?;
+        drop(image);
+        let times = Times {
+            read,
+            oracle: t.elapsed(),
+            ..Times::default()
+        };
+        self.mesh_domain(name, domain, None, started, times)
     }
 
     fn mesh_surface_from(
@@ -129,7 +152,11 @@ impl<'p> Mesher<'p> {
         mut times: Times,
     ) -> Result<Meshed, Error> {
         let oracle = domain.oracle();
-        let options = self.settings.mesh_options(&oracle.bounding_box());
+        let mut options = self.settings.mesh_options(&oracle.bounding_box());
+        if let (Domain::Image(image), None) = (&domain, self.settings.facet_distance) {
+            // Finer than the voxels, the facet distance would chase their staircase.
+            options.criteria.facet.distance = image.default_criteria().facet.distance;
+        }
         let mut silent = |_: &Progress| {};
         let progress: &mut dyn FnMut(&Progress) = match self.progress.as_mut() {
             Some(f) => f,

@@ -12,6 +12,7 @@
 use delamesh_core::oracle::Aabb;
 use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
 use delamesh_core::refine::{Limits, MeshOptions};
+use std::collections::BTreeMap;
 use std::fmt;
 use std::path::PathBuf;
 
@@ -42,6 +43,17 @@ pub struct MeshSettings {
     pub keep_partial: bool,
     /// How sharp features of a surface are found.
     pub features: FeatureSettings,
+    /// How a 3D image becomes a domain, and its sizes per label.
+    pub image: ImageSettings,
+}
+
+/// Options of segmented and gray-level 3D images (unused for surfaces and plugins).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ImageSettings {
+    /// Background label, isovalue, interpolation between voxel centres.
+    pub options: delamesh_image_label::ImageOptions,
+    /// Largest tetrahedron circumradius per label (subdomain); other labels use `cell_size`.
+    pub cell_size_per_label: BTreeMap<u32, f64>,
 }
 
 /// Sharp-feature detection on a surface input.
@@ -77,6 +89,7 @@ impl Default for MeshSettings {
             max_vertices: DEFAULT_MAX_VERTICES,
             keep_partial: false,
             features: FeatureSettings::default(),
+            image: ImageSettings::default(),
         }
     }
 }
@@ -135,6 +148,15 @@ impl MeshSettings {
         positive("facet-distance", self.facet_distance)?;
         non_negative("cell-radius-edge-ratio", self.cell_radius_edge_ratio)?;
         positive("cell-size", self.cell_size)?;
+        for &size in self.image.cell_size_per_label.values() {
+            positive("cell-size-per-label", Some(size))?;
+        }
+        if let Some(v) = self.image.options.isovalue.filter(|v| !v.is_finite()) {
+            return Err(SettingsError::new(
+                "isovalue",
+                format!("must be a number, got {v}"),
+            ));
+        }
         Ok(())
     }
 
@@ -176,6 +198,12 @@ impl MeshSettings {
         }
         if let Some(v) = self.cell_size {
             c.cell.size = Sizing::Constant(v);
+        }
+        if !self.image.cell_size_per_label.is_empty() {
+            c.cell.size = Sizing::PerLabel {
+                default: c.cell.size.at(bbox.center(), 0),
+                values: self.image.cell_size_per_label.clone(),
+            };
         }
         c
     }
@@ -263,6 +291,21 @@ impl MeshSettingsBuilder {
     /// See [`FeatureSettings::polylines`].
     pub fn feature_polylines(mut self, path: impl Into<PathBuf>) -> Self {
         self.settings.features.polylines = Some(path.into());
+        self
+    }
+    /// See [`ImageSettings::options`]: the outside label of a segmented image.
+    pub fn background(mut self, label: u32) -> Self {
+        self.settings.image.options.background = label;
+        self
+    }
+    /// See [`ImageSettings::options`]: mesh a gray-level image as {value ≥ `v`}.
+    pub fn isovalue(mut self, v: f64) -> Self {
+        self.settings.image.options.isovalue = Some(v);
+        self
+    }
+    /// See [`ImageSettings::cell_size_per_label`].
+    pub fn cell_size_for_label(mut self, label: u32, size: f64) -> Self {
+        self.settings.image.cell_size_per_label.insert(label, size);
         self
     }
     /// The settings, if every value is valid.

@@ -6,6 +6,7 @@ use anyhow::{Result, bail};
 use clap::Args;
 use delamesh::{Error, FeatureSettings, MeshSettings, Meshed, Mesher, WriteOptions};
 use delamesh_core::refine::Progress;
+use delamesh_formats::image::is_image_path;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 use std::io::IsTerminal;
@@ -14,7 +15,8 @@ use std::time::Duration;
 
 #[derive(Args, Debug)]
 pub struct MeshArgs {
-    /// Closed triangle surface bounding the volume (STL, OFF, OBJ, PLY, glTF...).
+    /// Closed triangle surface bounding the volume (STL, OFF, OBJ, PLY, glTF...), or a segmented
+    /// 3D image (.inr .nii .vti .nrrd .nhdr, optionally .gz): one subdomain per label.
     #[arg(required_unless_present = "plugin", conflicts_with = "plugin")]
     pub input: Option<PathBuf>,
     /// Output tet mesh; the format follows the extension (.vtu .vtk .mesh .msh, or a surface format
@@ -69,12 +71,15 @@ pub struct MeshArgs {
     /// Mesh the domain of an oracle plugin instead of a surface file.
     #[command(flatten)]
     pub plugin: crate::cli::plugins::PluginArgs,
+    /// Options of segmented and gray-level 3D images (.inr .nii .vti .nrrd .nhdr, optionally .gz).
+    #[command(flatten)]
+    pub image: crate::cli::image::ImageArgs,
 }
 
 impl MeshArgs {
     /// The library's settings for these flags (one line per option).
-    fn settings(&self) -> MeshSettings {
-        MeshSettings {
+    fn settings(&self) -> Result<MeshSettings> {
+        Ok(MeshSettings {
             edge_size: self.edge_size,
             facet_angle: self.facet_angle,
             facet_size: self.facet_size,
@@ -88,7 +93,8 @@ impl MeshArgs {
                 angle_deg: self.feature_angle,
                 polylines: self.features.clone(),
             },
-        }
+            image: self.image.settings()?,
+        })
     }
 }
 
@@ -98,7 +104,11 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             "--report compares the mesh with an input surface and is not available with --plugin"
         );
     }
-    let settings = args.settings();
+    let image = args.input.as_deref().is_some_and(is_image_path);
+    if image && args.report.is_some() {
+        bail!("--report compares the mesh with an input surface and is not available for images");
+    }
+    let settings = args.settings()?;
     settings.validate()?;
     for warning in settings.warnings() {
         eprintln!("warning: {warning}");
