@@ -69,7 +69,7 @@ pub fn run(args: &Args) -> Result<()> {
         &out.segment_origins,
     );
     delamesh_formats::write_tet_mesh(&args.output, &mesh, &WriteOptions::default())?;
-    println!(
+    outln!(
         "{} points ({} added), {} constraint edges, {} steps, {} triangles -> {}",
         out.points.len(),
         out.points.len() - pslg.points.len(),
@@ -77,6 +77,6 @@ pub fn run(args: &Args) -> Result<()> {
         out.iterations,
         triangles.len(),
         args.output.display()
-    );
+    )?;
     Ok(())
 }

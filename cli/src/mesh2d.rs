@@ -51,7 +51,7 @@ pub fn run(args: &Args) -> Result<()> {
         &m.segment_origins,
     );
     delamesh_formats::write_tet_mesh(&args.output, &out, &WriteOptions::default())?;
-    println!(
+    outln!(
         "{} vertices, {} triangles, {} sub-segments, smallest angle {:.2}°, {:.6} s -> {}",
         m.points.len(),
         m.triangles.len(),
@@ -59,7 +59,7 @@ pub fn run(args: &Args) -> Result<()> {
         worst,
         elapsed.as_secs_f64(),
         args.output.display()
-    );
+    )?;
     Ok(())
 }
 

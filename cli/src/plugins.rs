@@ -181,10 +181,7 @@ fn resolve(spec: &str) -> Result<PathBuf> {
 pub fn run(args: &PluginsArgs) -> Result<()> {
     match &args.check.plugin {
         Some(spec) => check(spec, &args.check.plugin_config),
-        None => {
-            list();
-            Ok(())
-        }
+        None => Ok(list()?),
     }
 }
 
@@ -197,45 +194,46 @@ fn check(spec: &str, config: &str) -> Result<()> {
         oracle.corners().len(),
     ];
     oracle.check()?;
-    println!("ok: plugin `{spec}` passed its self-check");
-    println!("  bounding box   [{}, {}]", bbox.min, bbox.max);
-    println!(
+    outln!("ok: plugin `{spec}` passed its self-check")?;
+    outln!("  bounding box   [{}, {}]", bbox.min, bbox.max)?;
+    outln!(
         "  initial points {}, feature curves {}, corners {}",
         counts[0], counts[1], counts[2]
-    );
+    )?;
     Ok(())
 }
 
-fn list() {
+fn list() -> std::io::Result<()> {
     let version = env!("CARGO_PKG_VERSION");
-    println!("built-in plugins (linked into this binary):");
+    outln!("built-in plugins (linked into this binary):")?;
     for (name, kind, what) in BUILT_IN {
-        println!("  {name:<16} {version:<10} {kind:<16} {what}");
+        outln!("  {name:<16} {version:<10} {kind:<16} {what}")?;
     }
     let dirs = search_dirs();
     if dirs.is_empty() {
-        println!("{PLUGIN_PATH_VAR} is not set: no installed plugins searched");
-        return;
+        outln!("{PLUGIN_PATH_VAR} is not set: no installed plugins searched")?;
+        return Ok(());
     }
-    println!("plugins in {PLUGIN_PATH_VAR}:");
+    outln!("plugins in {PLUGIN_PATH_VAR}:")?;
     let libraries = installed_libraries();
     if libraries.is_empty() {
-        println!("  (none)");
+        outln!("  (none)")?;
     }
     for path in libraries {
         match PluginLibrary::open(&path) {
             Ok(library) => {
                 let info = library.info();
-                println!(
+                outln!(
                     "  {:<16} {:<10} {:<16} ABI v{}  {}",
                     info.name,
                     info.version,
                     info.kind,
                     info.abi_version,
                     path.display()
-                );
+                )?;
             }
-            Err(error) => println!("  (unusable) {error}"),
+            Err(error) => outln!("  (unusable) {error}")?,
         }
     }
+    Ok(())
 }

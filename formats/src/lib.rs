@@ -100,11 +100,21 @@ pub fn read_bytes(bytes: &[u8], format: Format, dir: Option<&Path>) -> Result<Me
     if bytes.is_empty() {
         return Err(Problem::bad("the file is empty"));
     }
+    // A byte-order mark is text's business; STL decides for itself (a binary header is free-form).
+    let bytes = if format == Format::Stl {
+        bytes
+    } else {
+        text::strip_bom(bytes)
+    };
     let mut warnings = Vec::new();
     let (mesh, soup) = match format {
         Format::Stl => (AnyMesh::Surface(stl::read(bytes)?), true),
         Format::Off => (AnyMesh::Surface(off::read(bytes)?), false),
-        Format::Obj => (AnyMesh::Surface(obj::read(bytes)?), true),
+        Format::Obj => {
+            let (m, w) = obj::read(bytes)?;
+            warnings = w;
+            (AnyMesh::Surface(m), true)
+        }
         Format::Gltf => {
             let (m, w) = gltf::read(bytes, dir)?;
             warnings = w;

@@ -9,7 +9,8 @@ use std::io::Write;
 
 /// Reads a `.mesh` file; returns the mesh and warnings about sections that were skipped.
 pub(crate) fn read(bytes: &[u8]) -> Result<(TetMesh, Vec<String>), Problem> {
-    let mut t = Tokens::new(as_text(bytes)?);
+    let text = as_text(bytes)?;
+    let mut t = Tokens::new(&text);
     let mut m = TetMesh::default();
     let mut warnings = Vec::new();
     let mut seen_version = false;
@@ -20,7 +21,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<(TetMesh, Vec<String>), Problem> {
                 return Err(Problem::at_line(
                     line,
                     format!(
-                        "expected MeshVersionFormatted, found {keyword:?} (not a MEDIT .mesh file)"
+                        "expected MeshVersionFormatted, found {} (not a MEDIT .mesh file)", crate::text::quote(keyword)
                     ),
                 ));
             }
@@ -121,7 +122,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<(TetMesh, Vec<String>), Problem> {
                     _ => {
                         return Err(Problem::at_line(
                             line,
-                            format!("unknown keyword {keyword:?}"),
+                            format!("unknown keyword {}", crate::text::quote(keyword)),
                         ));
                     }
                 };

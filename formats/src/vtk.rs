@@ -48,6 +48,10 @@ pub(crate) fn read_cells(
         _ => raw_appended_to_base64(bytes)?,
     };
     let bytes = reencoded.as_deref().unwrap_or(bytes);
+    // With raw appended data re-encoded, an XML file is text: a Latin-1 byte in a comment or a
+    // name should not sink it.
+    let text = (format != Format::Vtk).then(|| String::from_utf8_lossy(bytes));
+    let bytes = text.as_deref().map_or(bytes, str::as_bytes);
     let parsed = contain_panics(|| match format {
         Format::Vtk => vtkio::Vtk::parse_legacy_be(bytes),
         _ => vtkio::Vtk::parse_xml(bytes),
@@ -186,17 +190,19 @@ fn raw_appended_to_base64(bytes: &[u8]) -> Result<Option<Vec<u8>>, Problem> {
     };
     let tag_len = find(&bytes[tag..], b">")
         .ok_or_else(|| Problem::at_byte(tag as u64, "unterminated AppendedData tag"))?;
-    if find(&bytes[tag..tag + tag_len], b"\"raw\"").is_none() {
+    // XML allows either quote around attribute values.
+    let quoted = |hay: &[u8], value: &str| {
+        find(hay, format!("\"{value}\"").as_bytes())
+            .or_else(|| find(hay, format!("'{value}'").as_bytes()))
+            .is_some()
+    };
+    if !quoted(&bytes[tag..tag + tag_len], "raw") {
         return Ok(None);
     }
     let head = &bytes[..tag];
     let layout = BlockLayout {
-        header_bytes: if find(head, b"\"UInt64\"").is_some() {
-            8
-        } else {
-            4
-        },
-        big_endian: find(head, b"\"BigEndian\"").is_some(),
+        header_bytes: if quoted(head, "UInt64") { 8 } else { 4 },
+        big_endian: quoted(head, "BigEndian"),
         compressed: find(head, b"compressor=").is_some(),
     };
     let underscore = find(&bytes[tag + tag_len..], b"_")
@@ -215,9 +221,17 @@ fn raw_appended_to_base64(bytes: &[u8]) -> Result<Option<Vec<u8>>, Problem> {
     // Offsets of the DataArrays, in file order.
     let mut marks = Vec::new();
     let mut at = 0;
-    while let Some(i) = find(&head[at..], b" offset=\"") {
-        let value_start = at + i + b" offset=\"".len();
-        let len = find(&head[value_start..], b"\"")
+    while let Some(i) = find(&head[at..], b" offset=") {
+        let quote_at = at + i + b" offset=".len();
+        let quote = head.get(quote_at).copied().filter(|&q| q == b'"' || q == b'\'');
+        let Some(quote) = quote else {
+            at = quote_at;
+            continue;
+        };
+        let value_start = quote_at + 1;
+        let len = head[value_start..]
+            .iter()
+            .position(|&b| b == quote)
             .ok_or_else(|| Problem::at_byte(value_start as u64, "unterminated offset attribute"))?;
         let value = std::str::from_utf8(&head[value_start..value_start + len])
             .ok()
@@ -262,6 +276,9 @@ fn raw_appended_to_base64(bytes: &[u8]) -> Result<Option<Vec<u8>>, Problem> {
     out.extend_from_slice(&bytes[end..]);
     Ok(Some(out))
 }
+
+/// The most deflate can expand data (RFC 1951: a 258-byte match costs at least 2 bits), rounded up.
+const MAX_INFLATE_RATIO: usize = 1100;
 
 /// How the blocks of raw appended data are framed (VTKFile attributes `header_type`, `byte_order`,
 /// `compressor`).
@@ -317,6 +334,25 @@ impl BlockLayout {
             .checked_add(data_len)
             .filter(|&e| e <= block.len())
             .ok_or_else(overrun)?;
+        // The decompressor reserves what the header announces: refuse more than zlib can make of
+        // the compressed bytes (deflate expands at most 1032:1).
+        let (block_size, last) = (
+            self.uint(block, h).ok_or_else(overrun)?,
+            self.uint(block, 2 * h).ok_or_else(overrun)?,
+        );
+        let most = data_len.saturating_mul(MAX_INFLATE_RATIO).saturating_add(count * 64);
+        let announced = block_size
+            .saturating_mul(count.saturating_sub(1))
+            .saturating_add(if last == 0 { block_size } else { last });
+        if block_size > most || announced > most {
+            return Err(Problem::at_byte(
+                file_offset as u64,
+                format!(
+                    "the compression header announces {announced} bytes from {data_len} compressed: \
+                     corrupt"
+                ),
+            ));
+        }
         Ok(vec![&block[..header_len], &block[header_len..end]])
     }
 }

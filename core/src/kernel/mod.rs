@@ -6,6 +6,7 @@
 //! triangulation is unique whatever the insertion order.
 
 mod double_double;
+mod exact;
 pub mod perturbation;
 pub mod power;
 pub mod predicates;
