@@ -38,6 +38,7 @@ pub struct Args {
 }
 
 pub fn run(args: &Args) -> Result<()> {
+    delamesh_formats::check_mesh_output(&args.output, None)?;
     let pslg = delamesh_formats::pslg::read_pslg(&args.input)?;
     let options = ConformOptions {
         algorithm: match args.algorithm {

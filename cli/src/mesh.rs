@@ -77,6 +77,11 @@ pub struct MeshArgs {
 }
 
 pub fn run(args: &MeshArgs) -> Result<()> {
+    // Every output is checked before any work: a typo in a folder name costs nothing.
+    delamesh_formats::check_mesh_output(&args.output, None)?;
+    if let Some(report) = &args.report {
+        delamesh_formats::check_document_output(report)?;
+    }
     let input = match (&args.input, &args.plugin.plugin) {
         (_, Some(spec)) => return crate::plugins::mesh(args, spec),
         (Some(input), None) => input,
@@ -174,7 +179,11 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         times.quality = t.elapsed();
         times.total = started.elapsed();
         report.times_s = times.seconds();
-        write_json_atomically(path, &report)?;
+        if let Err(e) = write_json_atomically(path, &report) {
+            // One run, one result: a mesh without the report asked for is not left behind.
+            let _ = std::fs::remove_file(&args.output);
+            return Err(e.context(format!("{} was not kept", args.output.display())));
+        }
     }
     match partial_error {
         Some(e) => Err(anyhow::Error::new(e).context(format!(
@@ -186,48 +195,34 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     }
 }
 
-/// The CGAL-style criteria: defaults from the bounding box, overridden by the options.
+/// The CGAL-style criteria: defaults from the bounding box, overridden by the options, then
+/// checked by [`MeshCriteria::validate`] (the rules live in core).
 pub(crate) fn criteria(args: &MeshArgs, oracle: &dyn Oracle) -> Result<MeshCriteria> {
-    let mut c = MeshCriteria::default_for(&oracle.bounding_box());
-    let positive = |name: &str, v: f64| -> Result<f64> {
-        if v.is_finite() && v > 0.0 {
-            Ok(v)
-        } else {
-            bail!("--{name} must be a positive number, got {v}")
-        }
-    };
-    let non_negative = |name: &str, v: f64| -> Result<f64> {
-        if v.is_finite() && v >= 0.0 {
-            Ok(v)
-        } else {
-            bail!("--{name} must be a number ≥ 0, got {v}")
-        }
-    };
+    let bbox = oracle.bounding_box();
+    let mut c = MeshCriteria::default_for(&bbox);
     if let Some(v) = args.edge_size {
-        c.edge_size = Sizing::Constant(positive("edge-size", v)?);
+        c.edge_size = Sizing::Constant(v);
     }
     if let Some(v) = args.facet_angle {
-        c.facet.angle_deg = non_negative("facet-angle", v)?;
-        if v > 30.0 {
-            eprintln!("warning: --facet-angle above 30° may not terminate before --max-vertices");
-        }
+        c.facet.angle_deg = v;
     }
     if let Some(v) = args.facet_size {
-        c.facet.size = Sizing::Constant(positive("facet-size", v)?);
+        c.facet.size = Sizing::Constant(v);
     }
     if let Some(v) = args.facet_distance {
-        c.facet.distance = Sizing::Constant(positive("facet-distance", v)?);
+        c.facet.distance = Sizing::Constant(v);
     }
     if let Some(v) = args.cell_radius_edge_ratio {
-        c.cell.radius_edge_ratio = non_negative("cell-radius-edge-ratio", v)?;
-        if v > 0.0 && v < 2.0 {
-            eprintln!(
-                "warning: --cell-radius-edge-ratio below 2 may not terminate before --max-vertices"
-            );
-        }
+        c.cell.radius_edge_ratio = v;
     }
     if let Some(v) = args.cell_size {
-        c.cell.size = Sizing::Constant(positive("cell-size", v)?);
+        c.cell.size = Sizing::Constant(v);
+    }
+    let warnings = c
+        .validate(&bbox, args.max_vertices)
+        .map_err(|e| anyhow::anyhow!("--{e}"))?;
+    for w in warnings {
+        eprintln!("warning: --{w}");
     }
     Ok(c)
 }

@@ -32,6 +32,7 @@ pub struct Args {
 }
 
 pub fn run(args: &Args) -> Result<()> {
+    delamesh_formats::check_mesh_output(&args.output, None)?;
     let mut pslg = delamesh_formats::pslg::read_pslg(&args.input)?;
     pslg.holes.extend(&args.holes);
     let start = std::time::Instant::now();

@@ -200,6 +200,26 @@ pub fn read_tet_mesh(path: &Path, format: Option<Format>) -> Result<TetMesh> {
     }
 }
 
+/// Checks, before any work, that a mesh could be written at `path`: the format is known (from
+/// the extension unless given) and writable, and the folder exists and accepts a new file.
+pub fn check_mesh_output(path: &Path, format: Option<Format>) -> Result<()> {
+    let run = || -> Result<(), Problem> {
+        let format = resolve(path, format)?;
+        if matches!(format, Format::Gltf | Format::Vtp) {
+            return Err(Problem::Unsupported(format!(
+                "writing {format} files is not supported"
+            )));
+        }
+        atomic::check_writable(path)
+    };
+    run().map_err(|p| Error::new(path, p))
+}
+
+/// Checks, before any work, that a document (a report) could be written at `path`.
+pub fn check_document_output(path: &Path) -> Result<()> {
+    atomic::check_writable(path).map_err(|p| Error::new(path, p))
+}
+
 /// Writes any other output (a JSON report, say) the way meshes are written: atomically, with the
 /// permissions of an ordinary document, errors naming the file.
 pub fn write_document(

@@ -142,7 +142,7 @@ pub struct RefineStats {
 pub enum RefineError {
     #[error("refinement needs more than {limit} vertices; raise the limit or coarsen the criteria")]
     TooManyVertices { limit: usize },
-    #[error("a refinement point was refused by the triangulation: {0}")]
+    #[error("a refinement point was refused by the triangulation")]
     Triangulation(#[from] TriangulationError),
 }
 

@@ -72,12 +72,13 @@ pub fn parse_polylines(text: &str) -> Result<Vec<Polyline>, (usize, String)> {
                     .ok_or_else(|| (line, format!("{w:?} is not a finite number")))
             })
             .collect::<Result<Vec<f64>, _>>()?;
-        if numbers.len() != 3 * count {
+        // Compared as `numbers / 3` so that a huge announced count cannot wrap `3 * count`.
+        if numbers.len() % 3 != 0 || numbers.len() / 3 != count {
             return Err((
                 line,
                 format!(
                     "{count} points need {} coordinates, found {}",
-                    3 * count,
+                    count.saturating_mul(3),
                     numbers.len()
                 ),
             ));
@@ -94,6 +95,13 @@ pub fn parse_polylines(text: &str) -> Result<Vec<Polyline>, (usize, String)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_count_whose_triple_wraps_is_refused() {
+        // 3 · 6148914691236517206 wraps to 2 on 64 bits.
+        let text = "6148914691236517206 0 0\n";
+        assert!(parse_polylines(text).is_err());
+    }
 
     #[test]
     fn parses_polylines_and_skips_blank_lines() {
