@@ -218,9 +218,14 @@ pub(crate) fn criteria(args: &MeshArgs, oracle: &dyn Oracle) -> Result<MeshCrite
     if let Some(v) = args.cell_size {
         c.cell.size = Sizing::Constant(v);
     }
+    let subject = match (&args.input, &args.plugin.plugin) {
+        (_, Some(spec)) => format!("plugin `{spec}`"),
+        (Some(input), None) => input.display().to_string(),
+        (None, None) => String::new(),
+    };
     let warnings = c
         .validate(&bbox, args.max_vertices)
-        .map_err(|e| anyhow::anyhow!("--{e}"))?;
+        .map_err(|e| anyhow::anyhow!("{subject}: --{e}"))?;
     for w in warnings {
         eprintln!("warning: --{w}");
     }

@@ -40,10 +40,13 @@ pub fn read_poly(path: &Path) -> Result<Pslg, PolyError> {
 }
 
 fn read_text(path: &Path) -> Result<String, PolyError> {
-    std::fs::read_to_string(path).map_err(|source| PolyError::Io {
+    let bytes = std::fs::read(path).map_err(|source| PolyError::Io {
         path: path.to_owned(),
         source,
-    })
+    })?;
+    Ok(crate::text::as_text(&bytes)
+        .map(std::borrow::Cow::into_owned)
+        .unwrap_or_default())
 }
 
 /// The non-empty, comment-stripped lines of a file, with their line numbers.

@@ -152,9 +152,68 @@ pub(crate) fn insphere_big(p: [[f64; 3]; 5]) -> Sign {
     det_of(&relative_rows(&p, true))
 }
 
+/// The four predicates on big integers only: slow, exact for any finite doubles. The oracle the
+/// tests and the fuzz target compare the filtered predicates with.
+pub mod exact_oracle {
+    use super::super::{Point2, Point3, Sign};
+
+    /// Exact [`orient2d`](crate::kernel::orient2d).
+    pub fn orient2d(a: Point2, b: Point2, c: Point2) -> Sign {
+        super::orient2d_big([a, b, c].map(|p| p.to_array()))
+    }
+
+    /// Exact [`orient3d`](crate::kernel::orient3d).
+    pub fn orient3d(a: Point3, b: Point3, c: Point3, d: Point3) -> Sign {
+        super::orient3d_big([a, b, c, d].map(|p| p.to_array()))
+    }
+
+    /// Exact [`incircle`](crate::kernel::incircle).
+    pub fn incircle(a: Point2, b: Point2, c: Point2, d: Point2) -> Sign {
+        super::incircle_big([a, b, c, d].map(|p| p.to_array()))
+    }
+
+    /// Exact [`insphere`](crate::kernel::insphere).
+    pub fn insphere(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> Sign {
+        super::insphere_big([a, b, c, d, e].map(|p| p.to_array()))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Points mixing unit, subnormal and tiny coordinates, nudged by ulps: the filtered
+    /// predicates must agree with the big-integer oracle everywhere.
+    #[test]
+    fn filtered_predicates_match_the_oracle_across_magnitudes() {
+        use super::super::{Point2, Point3, incircle, insphere, orient2d, orient3d};
+        let mut state = 0x51a7_e5c0_ffee_1234u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            state
+        };
+        let scales = [1.0, 1e-320, 1e-200, 1e-30, 1e150, 0.0];
+        for _ in 0..4000 {
+            let mut coord = || {
+                let r = next();
+                let base = (r % 3) as f64 * scales[(r >> 8) as usize % scales.len()];
+                f64::from_bits(base.to_bits() + (r >> 40 & 1))
+            };
+            let p: [Point3; 5] = std::array::from_fn(|_| Point3::new(coord(), coord(), coord()));
+            let [a, b, c, d, e] = p;
+            assert_eq!(orient3d(a, b, c, d), exact_oracle::orient3d(a, b, c, d), "{p:?}");
+            assert_eq!(insphere(a, b, c, d, e), exact_oracle::insphere(a, b, c, d, e), "{p:?}");
+            let q = p.map(|p| Point2::new(p.x, p.y));
+            assert_eq!(orient2d(q[0], q[1], q[2]), exact_oracle::orient2d(q[0], q[1], q[2]));
+            assert_eq!(
+                incircle(q[0], q[1], q[2], q[3]),
+                exact_oracle::incircle(q[0], q[1], q[2], q[3]),
+                "{q:?}"
+            );
+        }
+    }
 
     #[test]
     fn subnormal_and_huge_values_leave_the_expansion_range() {

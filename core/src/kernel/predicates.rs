@@ -119,7 +119,7 @@ fn orient3d_refined(a: Point3, b: Point3, c: Point3, d: Point3, det: f64) -> Sig
 const ORIENT2D_ERROR: f64 = (3.0 + 16.0 * UNIT_ROUNDOFF) * UNIT_ROUNDOFF;
 /// Smallest permanent a first-stage filter decides with: above it, what underflow can lose is
 /// far below the error bound.
-pub(crate) const MIN_FILTER_PERMANENT: f64 = 1e-280;
+const MIN_FILTER_PERMANENT: f64 = 1e-280;
 /// Relative error bound of the orientation determinant (see [`orient3d`]).
 const ORIENT3D_ERROR: f64 = 1e-14;
 /// Relative error bound of the in-sphere determinant (see [`insphere`]).

@@ -6,7 +6,6 @@
 use super::double_double::{dd_add, dd_mul, dd_neg, fast_two_sum, two_diff, two_product, two_sum};
 use super::Sign;
 use super::exact::{expansions_are_exact, incircle_big};
-use super::predicates::MIN_FILTER_PERMANENT;
 use glam::DVec2;
 use std::cmp::Ordering;
 
@@ -43,7 +42,13 @@ pub fn incircle(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Ordering {
     let permanent = la * ((bd.x * cd.y).abs() + (cd.x * bd.y).abs())
         + lb * ((cd.x * ad.y).abs() + (ad.x * cd.y).abs())
         + lc * ((ad.x * bd.y).abs() + (bd.x * ad.y).abs());
-    if det.abs() > INCIRCLE_ERROR * permanent && permanent > MIN_FILTER_PERMANENT {
+    // Shewchuk's bound holds without underflow or overflow: differences inside the expansion
+    // range make every product exact up to rounding (a subnormal product times a huge lift
+    // would not be).
+    let in_range = |x: f64| x == 0.0 || (EXPANSION_RANGE.0..=EXPANSION_RANGE.1).contains(&x.abs());
+    if det.abs() > INCIRCLE_ERROR * permanent
+        && [ad.x, ad.y, bd.x, bd.y, cd.x, cd.y].into_iter().all(in_range)
+    {
         return sign(det);
     }
     incircle_exact(a, b, c, d, permanent)

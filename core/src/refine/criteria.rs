@@ -193,7 +193,7 @@ impl MeshCriteria {
                         v,
                         format!(
                             "needs at least {needed:.1e} vertices across the {span:.3e} box, \
-                             more than the limit of {max_vertices}"
+                             more than max-vertices {max_vertices}"
                         ),
                     ));
                 }

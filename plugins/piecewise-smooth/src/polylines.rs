@@ -30,15 +30,26 @@ pub enum PolylineError {
 
 /// Reads a `.polylines.txt` file. Blank lines and lines starting with `#` are skipped.
 pub fn read_polylines(path: &Path) -> Result<Vec<Polyline>, PolylineError> {
-    let text = std::fs::read_to_string(path).map_err(|source| PolylineError::Io {
+    let bytes = std::fs::read(path).map_err(|source| PolylineError::Io {
         path: path.to_owned(),
         source,
     })?;
+    // Text with a byte-order mark or a Latin-1 comment is still text.
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(&bytes);
+    let text = String::from_utf8_lossy(bytes);
     parse_polylines(&text).map_err(|(line, problem)| PolylineError::Syntax {
         path: path.to_owned(),
         line,
         problem,
     })
+}
+
+/// A word of the file quoted for a message, cut to a few dozen characters.
+fn quote(word: &str) -> String {
+    match word.char_indices().nth(40) {
+        Some((cut, _)) => format!("{:?}…", &word[..cut]),
+        None => format!("{word:?}"),
+    }
 }
 
 /// Parses the text of a `.polylines.txt` file; an error is `(line, problem)`.
@@ -55,7 +66,7 @@ pub fn parse_polylines(text: &str) -> Result<Vec<Polyline>, (usize, String)> {
         let count: usize = count_word.parse().map_err(|_| {
             (
                 line,
-                format!("expected the number of points, found {count_word:?}"),
+                format!("expected the number of points, found {}", quote(count_word)),
             )
         })?;
         if count < 2 {
@@ -69,7 +80,7 @@ pub fn parse_polylines(text: &str) -> Result<Vec<Polyline>, (usize, String)> {
                 w.parse::<f64>()
                     .ok()
                     .filter(|x| x.is_finite())
-                    .ok_or_else(|| (line, format!("{w:?} is not a finite number")))
+                    .ok_or_else(|| (line, format!("{} is not a finite number", quote(w))))
             })
             .collect::<Result<Vec<f64>, _>>()?;
         // Compared as `numbers / 3` so that a huge announced count cannot wrap `3 * count`.

@@ -94,12 +94,12 @@ pub enum MeshError {
 pub fn mesh(pslg: &Pslg, options: &MeshOptions) -> Result<Mesh, MeshError> {
     if !(0.0..=MAX_MIN_ANGLE_DEG).contains(&options.min_angle_deg) {
         return Err(MeshError::Option(format!(
-            "minimum angle {}° is outside [0°, {MAX_MIN_ANGLE_DEG}°]",
+            "min-angle {}° is outside [0°, {MAX_MIN_ANGLE_DEG}°]",
             options.min_angle_deg
         )));
     }
     if options.max_area.is_some_and(|a| a.is_nan() || a <= 0.0) {
-        return Err(MeshError::Option("maximum area must be positive".into()));
+        return Err(MeshError::Option("max-area must be positive".into()));
     }
     pslg.validate()?;
     if pslg.points.len() > options.max_vertices {
@@ -222,12 +222,13 @@ fn check_reachable(
     }
     if !inside {
         return Err(MeshError::Option(
-            "the holes leave no domain to mesh (is every hole point inside a hole?)".into(),
+            "the holes leave no domain to mesh (is every --hole point inside a hole?)".into(),
         ));
     }
     if needed > 2.0 * options.max_vertices as f64 {
         return Err(MeshError::Option(format!(
-            "the area bounds need about {needed:.3e} triangles, more than {} vertices can make",
+            "the area bounds (max-area) need about {needed:.3e} triangles, more than \
+             max-vertices {} can make",
             options.max_vertices
         )));
     }
