@@ -108,15 +108,19 @@ fn cube() -> (Vec<[f64; 3]>, Vec<[usize; 3]>) {
 
 fn off(v: &[[f64; 3]], f: &[[usize; 3]]) -> String {
     let mut s = format!("OFF\n{} {} 0\n", v.len(), f.len());
-    v.iter().for_each(|p| s += &format!("{:?} {:?} {:?}\n", p[0], p[1], p[2]));
-    f.iter().for_each(|t| s += &format!("3 {} {} {}\n", t[0], t[1], t[2]));
+    v.iter()
+        .for_each(|p| s += &format!("{:?} {:?} {:?}\n", p[0], p[1], p[2]));
+    f.iter()
+        .for_each(|t| s += &format!("3 {} {} {}\n", t[0], t[1], t[2]));
     s
 }
 
 fn obj(v: &[[f64; 3]], f: &[[usize; 3]]) -> String {
     let mut s = String::from("# cube\n");
-    v.iter().for_each(|p| s += &format!("v {:?} {:?} {:?}\n", p[0], p[1], p[2]));
-    f.iter().for_each(|t| s += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1));
+    v.iter()
+        .for_each(|p| s += &format!("v {:?} {:?} {:?}\n", p[0], p[1], p[2]));
+    f.iter()
+        .for_each(|t| s += &format!("f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1));
     s
 }
 
@@ -140,16 +144,23 @@ fn ply(v: &[[f64; 3]], f: &[[usize; 3]]) -> String {
         v.len(),
         f.len()
     );
-    v.iter().for_each(|p| s += &format!("{:?} {:?} {:?}\n", p[0], p[1], p[2]));
-    f.iter().for_each(|t| s += &format!("3 {} {} {}\n", t[0], t[1], t[2]));
+    v.iter()
+        .for_each(|p| s += &format!("{:?} {:?} {:?}\n", p[0], p[1], p[2]));
+    f.iter()
+        .for_each(|t| s += &format!("3 {} {} {}\n", t[0], t[1], t[2]));
     s
 }
 
 fn medit(v: &[[f64; 3]], f: &[[usize; 3]]) -> String {
-    let mut s = format!("MeshVersionFormatted 2\nDimension 3\nVertices\n{}\n", v.len());
-    v.iter().for_each(|p| s += &format!("{:?} {:?} {:?} 0\n", p[0], p[1], p[2]));
+    let mut s = format!(
+        "MeshVersionFormatted 2\nDimension 3\nVertices\n{}\n",
+        v.len()
+    );
+    v.iter()
+        .for_each(|p| s += &format!("{:?} {:?} {:?} 0\n", p[0], p[1], p[2]));
     s += &format!("Triangles\n{}\n", f.len());
-    f.iter().for_each(|t| s += &format!("{} {} {} 1\n", t[0] + 1, t[1] + 1, t[2] + 1));
+    f.iter()
+        .for_each(|t| s += &format!("{} {} {} 1\n", t[0] + 1, t[1] + 1, t[2] + 1));
     s + "End\n"
 }
 
@@ -158,19 +169,33 @@ fn vtk(v: &[[f64; 3]], f: &[[usize; 3]]) -> String {
         "# vtk DataFile Version 4.2\ncube\nASCII\nDATASET POLYDATA\nPOINTS {} double\n",
         v.len()
     );
-    v.iter().for_each(|p| s += &format!("{:?} {:?} {:?}\n", p[0], p[1], p[2]));
+    v.iter()
+        .for_each(|p| s += &format!("{:?} {:?} {:?}\n", p[0], p[1], p[2]));
     s += &format!("POLYGONS {} {}\n", f.len(), 4 * f.len());
-    f.iter().for_each(|t| s += &format!("3 {} {} {}\n", t[0], t[1], t[2]));
+    f.iter()
+        .for_each(|t| s += &format!("3 {} {} {}\n", t[0], t[1], t[2]));
     s
 }
 
 /// A glTF with its buffer in a data URI.
 fn gltf(v: &[[f64; 3]], f: &[[usize; 3]]) -> String {
     let mut bytes = Vec::new();
-    v.iter().flatten().for_each(|&x| bytes.extend((x as f32).to_le_bytes()));
+    v.iter()
+        .flatten()
+        .for_each(|&x| bytes.extend((x as f32).to_le_bytes()));
     let vlen = bytes.len();
-    f.iter().flatten().for_each(|&i| bytes.extend((i as u32).to_le_bytes()));
-    gltf_json(&bytes, vlen, v.len(), 3 * f.len(), &base64(&bytes), "[0]", "[{\"mesh\":0}]")
+    f.iter()
+        .flatten()
+        .for_each(|&i| bytes.extend((i as u32).to_le_bytes()));
+    gltf_json(
+        &bytes,
+        vlen,
+        v.len(),
+        3 * f.len(),
+        &base64(&bytes),
+        "[0]",
+        "[{\"mesh\":0}]",
+    )
 }
 
 fn gltf_json(
@@ -198,7 +223,10 @@ fn base64(bytes: &[u8]) -> String {
     const A: &[u8] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     let mut s = String::from("data:application/octet-stream;base64,");
     for c in bytes.chunks(3) {
-        let n = c.iter().enumerate().fold(0u32, |n, (i, &b)| n | u32::from(b) << (16 - 8 * i));
+        let n = c
+            .iter()
+            .enumerate()
+            .fold(0u32, |n, (i, &b)| n | u32::from(b) << (16 - 8 * i));
         for k in 0..4 {
             s.push(if k <= c.len() {
                 A[(n >> (18 - 6 * k) & 63) as usize] as char
@@ -210,7 +238,8 @@ fn base64(bytes: &[u8]) -> String {
     s
 }
 
-const SQUARE_POLY: &str = "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n";
+const SQUARE_POLY: &str =
+    "4 2 0 0\n1 0 0\n2 1 0\n3 1 1\n4 0 1\n4 0\n1 1 2\n2 2 3\n3 3 4\n4 4 1\n0\n";
 
 /// A raw-appended VTU whose zlib header announces 2^40 bytes from a few compressed ones.
 fn vtu_zlib_bomb() -> Vec<u8> {
@@ -276,7 +305,10 @@ fn mutations(name: &str, valid: &[u8], rng: &mut Rng, flips: usize) -> Vec<Case>
                 break;
             }
             let (s, e) = numbers[rng.below(numbers.len().min(12))];
-            add(what, format!("{}{replacement}{}", &text[..s], &text[e..]).into_bytes());
+            add(
+                what,
+                format!("{}{replacement}{}", &text[..s], &text[e..]).into_bytes(),
+            );
         }
     }
     add("bom", [b"\xEF\xBB\xBF".as_slice(), valid].concat());
@@ -340,10 +372,22 @@ fn bad_input_never_crashes_and_fails_cleanly() {
     files.push(("sub.mesh".into(), medit(&sub, &f).into_bytes()));
     files.push(("tiny.off".into(), off(&tiny, &f).into_bytes()));
     files.push(("tiny.vtk".into(), vtk(&tiny, &f).into_bytes()));
-    files.push(("bom_ascii.stl".into(), [b"\xEF\xBB\xBF".as_slice(), stl(&v, &f).as_bytes()].concat()));
-    files.push(("cafe.obj".into(), [b"# caf\xE9\n".as_slice(), obj(&v, &f).as_bytes()].concat()));
-    files.push(("polyline.obj".into(), b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nl 1 2 3 4 1\n".to_vec()));
-    files.push(("two.obj".into(), b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n".to_vec()));
+    files.push((
+        "bom_ascii.stl".into(),
+        [b"\xEF\xBB\xBF".as_slice(), stl(&v, &f).as_bytes()].concat(),
+    ));
+    files.push((
+        "cafe.obj".into(),
+        [b"# caf\xE9\n".as_slice(), obj(&v, &f).as_bytes()].concat(),
+    ));
+    files.push((
+        "polyline.obj".into(),
+        b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nl 1 2 3 4 1\n".to_vec(),
+    ));
+    files.push((
+        "two.obj".into(),
+        b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n".to_vec(),
+    ));
     files.push(("zlib_bomb.vtu".into(), vtu_zlib_bomb()));
     let dag: Vec<String> = (0..60)
         .map(|i| match i {
@@ -353,14 +397,25 @@ fn bad_input_never_crashes_and_fails_cleanly() {
         })
         .collect();
     let mut bytes = Vec::new();
-    v.iter().flatten().for_each(|&x| bytes.extend((x as f32).to_le_bytes()));
+    v.iter()
+        .flatten()
+        .for_each(|&x| bytes.extend((x as f32).to_le_bytes()));
     let vlen = bytes.len();
-    f.iter().flatten().for_each(|&i| bytes.extend((i as u32).to_le_bytes()));
+    f.iter()
+        .flatten()
+        .for_each(|&i| bytes.extend((i as u32).to_le_bytes()));
     let nodes = format!("[{}]", dag.join(","));
-    files.push(("dag.gltf".into(), gltf_json(&bytes, vlen, 8, 36, &base64(&bytes), "[0]", &nodes).into_bytes()));
-    for (k, uri) in ["../../../../etc/passwd", "%2e%2e/%2e%2e/etc/passwd", "../../../../dev/zero"]
-        .iter()
-        .enumerate()
+    files.push((
+        "dag.gltf".into(),
+        gltf_json(&bytes, vlen, 8, 36, &base64(&bytes), "[0]", &nodes).into_bytes(),
+    ));
+    for (k, uri) in [
+        "../../../../etc/passwd",
+        "%2e%2e/%2e%2e/etc/passwd",
+        "../../../../dev/zero",
+    ]
+    .iter()
+    .enumerate()
     {
         let json = gltf_json(&bytes, vlen, 8, 36, uri, "[0]", "[{\"mesh\":0}]");
         files.push((format!("escape{k}.gltf"), json.into_bytes()));
@@ -373,14 +428,29 @@ fn bad_input_never_crashes_and_fails_cleanly() {
         std::fs::write(&path, data).expect("write case");
         let p = s(&path);
         runs.push((vec!["info".into(), p.clone()], vec![], vec![name.clone()]));
-        runs.push((vec!["info".into(), "--json".into(), p.clone()], vec![], vec![name.clone()]));
+        runs.push((
+            vec!["info".into(), "--json".into(), p.clone()],
+            vec![],
+            vec![name.clone()],
+        ));
         let out = d.join(format!("{name}.out.off"));
-        runs.push((vec!["convert".into(), p.clone(), s(&out)], vec![out], vec![name.clone()]));
+        runs.push((
+            vec!["convert".into(), p.clone(), s(&out)],
+            vec![out],
+            vec![name.clone()],
+        ));
     }
     // Meshing: the valid cube with every absurd option, then each subnormal or tiny cube.
     let cube_off = d.join("cube.off");
     std::fs::write(&cube_off, off(&v, &f)).expect("write cube");
-    let coarse = ["--facet-size", "0.5", "--cell-size", "0.6", "--facet-distance", "0.05"];
+    let coarse = [
+        "--facet-size",
+        "0.5",
+        "--cell-size",
+        "0.6",
+        "--facet-distance",
+        "0.05",
+    ];
     for (flag, value) in [
         ("--facet-size", "1e-300"),
         ("--facet-angle", "90"),
@@ -399,23 +469,46 @@ fn bad_input_never_crashes_and_fails_cleanly() {
         let name = flag.trim_start_matches('-').to_string();
         runs.push((args, vec![out], vec![name]));
     }
-    for name in ["sub.off", "sub.obj", "tiny.off", "cube_huge.off", "cube_subnormal.obj"] {
+    for name in [
+        "sub.off",
+        "sub.obj",
+        "tiny.off",
+        "cube_huge.off",
+        "cube_subnormal.obj",
+    ] {
         let out = d.join(format!("{name}.vtu"));
         let mut args: Vec<String> = vec!["mesh".into(), s(&d.join(name)), "-o".into(), s(&out)];
         args.extend(coarse.iter().map(|a| a.to_string()));
         runs.push((args, vec![out], vec![name.to_string()]));
     }
-    let report = vec!["mesh".into(), s(&cube_off), "-o".into(), s(&d.join("r.vtu")), "--report".into(), s(&d.join("missing/r.json"))];
+    let report = vec![
+        "mesh".into(),
+        s(&cube_off),
+        "-o".into(),
+        s(&d.join("r.vtu")),
+        "--report".into(),
+        s(&d.join("missing/r.json")),
+    ];
     runs.push((report, vec![d.join("r.vtu")], vec!["missing".into()]));
     // Feature polylines: a count whose triple wraps, and mutations.
     let polylines = "2 0 0 0 1 0 0\n";
     let mut line_cases = mutations("f.polylines.txt", polylines.as_bytes(), &mut rng, 3);
-    line_cases.push(("wrap.polylines.txt".into(), b"6148914691236517206 0 0\n".to_vec()));
+    line_cases.push((
+        "wrap.polylines.txt".into(),
+        b"6148914691236517206 0 0\n".to_vec(),
+    ));
     for (name, data) in &line_cases {
         let path = d.join(name);
         std::fs::write(&path, data).expect("write polylines");
         let out = d.join("feat.vtu");
-        let mut args: Vec<String> = vec!["mesh".into(), s(&cube_off), "-o".into(), s(&out), "--features".into(), s(&path)];
+        let mut args: Vec<String> = vec![
+            "mesh".into(),
+            s(&cube_off),
+            "-o".into(),
+            s(&out),
+            "--features".into(),
+            s(&path),
+        ];
         args.extend(coarse.iter().map(|a| a.to_string()));
         runs.push((args, vec![out], vec![name.clone()]));
     }
@@ -429,20 +522,44 @@ fn bad_input_never_crashes_and_fails_cleanly() {
         std::fs::write(&path, data).expect("write poly");
         for cmd in ["mesh2d", "conform2d"] {
             let out = d.join(format!("{name}.{cmd}.vtu"));
-            runs.push((vec![cmd.into(), s(&path), "-o".into(), s(&out)], vec![out], vec![name.clone()]));
+            runs.push((
+                vec![cmd.into(), s(&path), "-o".into(), s(&out)],
+                vec![out],
+                vec![name.clone()],
+            ));
         }
     }
-    for (flag, value) in [("--max-vertices", "0"), ("--max-area", "1e-300"), ("--hole", "1e308,1e308"), ("--min-angle", "60")] {
+    for (flag, value) in [
+        ("--max-vertices", "0"),
+        ("--max-area", "1e-300"),
+        ("--hole", "1e308,1e308"),
+        ("--min-angle", "60"),
+    ] {
         let out = d.join("sq.vtu");
-        let args = vec!["mesh2d".into(), s(&square), "-o".into(), s(&out), flag.into(), value.into()];
-        runs.push((args, vec![out], vec![flag.trim_start_matches('-').to_string()]));
+        let args = vec![
+            "mesh2d".into(),
+            s(&square),
+            "-o".into(),
+            s(&out),
+            flag.into(),
+            value.into(),
+        ];
+        runs.push((
+            args,
+            vec![out],
+            vec![flag.trim_start_matches('-').to_string()],
+        ));
     }
     let xyz = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
     for (name, data) in mutations("p.xyz", xyz.as_bytes(), &mut rng, 4) {
         let path = d.join(&name);
         std::fs::write(&path, &data).expect("write xyz");
         let out = d.join(format!("{name}.vtu"));
-        runs.push((vec!["delaunay".into(), s(&path), "-o".into(), s(&out)], vec![out], vec![name]));
+        runs.push((
+            vec!["delaunay".into(), s(&path), "-o".into(), s(&out)],
+            vec![out],
+            vec![name],
+        ));
     }
 
     // An existing output must survive a failed run that targets it.
@@ -498,7 +615,12 @@ fn bad_input_never_crashes_and_fails_cleanly() {
          {signals} signals, {hangs} hangs",
         runs.len()
     );
-    assert!(failures.is_empty(), "{} bad runs:\n{}", failures.len(), failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{} bad runs:\n{}",
+        failures.len(),
+        failures.join("\n")
+    );
     // The generator must keep producing failures to check, and valid files must still read.
     assert!(codes.get(&Some(1)).copied().unwrap_or(0) > runs.len() / 3);
     let cube = model("torus.off");
@@ -511,7 +633,10 @@ fn latin1_comment(ext: &str, text: &str) -> Vec<u8> {
         "off" | "obj" => (text.find('\n').map_or(0, |i| i + 1), b"# caf\xE9\n"),
         "vtk" => {
             let marked = text.replacen("\ncube\n", "\ncaf\u{1}\n", 1).into_bytes();
-            return marked.into_iter().map(|b| if b == 1 { 0xE9 } else { b }).collect();
+            return marked
+                .into_iter()
+                .map(|b| if b == 1 { 0xE9 } else { b })
+                .collect();
         }
         "ply" => (text.find("comment").unwrap_or(0), b"comment caf\xE9\n"),
         "mesh" => (0, b"# caf\xE9\n"),
@@ -520,7 +645,11 @@ fn latin1_comment(ext: &str, text: &str) -> Vec<u8> {
     };
     let mut out = text.as_bytes()[..at].to_vec();
     out.extend(line);
-    let rest = if ext == "stl" { &text[text.find('\n').map_or(0, |i| i + 1)..] } else { &text[at..] };
+    let rest = if ext == "stl" {
+        &text[text.find('\n').map_or(0, |i| i + 1)..]
+    } else {
+        &text[at..]
+    };
     out.extend(rest.as_bytes());
     out
 }

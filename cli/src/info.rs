@@ -149,19 +149,23 @@ fn print_text(r: &Value, t: &Topology) -> std::io::Result<()> {
     )?;
     outln!(
         "  vertices: {} (welded {})",
-        r["vertices"], r["welded_vertices"]
+        r["vertices"],
+        r["welded_vertices"]
     )?;
     outln!("  triangles: {}", r["triangles"])?;
     if let Some(v) = r["volume_mesh"].as_object() {
         outln!(
             "  tetrahedra: {} ({} inverted)",
-            v["tetrahedra"], v["inverted_tetrahedra"]
+            v["tetrahedra"],
+            v["inverted_tetrahedra"]
         )?;
         outln!("  feature edges: {}", v["feature_edges"])?;
         for s in v["subdomains"].as_array().into_iter().flatten() {
             outln!(
                 "    subdomain {}: {} tetrahedra, volume {}",
-                s["id"], s["tetrahedra"], s["volume"]
+                s["id"],
+                s["tetrahedra"],
+                s["volume"]
             )?;
         }
     }
@@ -171,7 +175,9 @@ fn print_text(r: &Value, t: &Topology) -> std::io::Result<()> {
     for p in r["patches"].as_array().into_iter().flatten() {
         outln!(
             "    patch {} {}: {} triangles",
-            p["id"], p["name"], p["triangles"]
+            p["id"],
+            p["name"],
+            p["triangles"]
         )?;
     }
     outln!(
@@ -190,16 +196,22 @@ fn print_text(r: &Value, t: &Topology) -> std::io::Result<()> {
         });
     outln!(
         "  components: {}   Euler characteristic: {}   genus: {genus}",
-        t.components, t.euler_characteristic
+        t.components,
+        t.euler_characteristic
     )?;
     outln!(
         "  signed volume: {}   degenerate triangles: {}",
-        t.signed_volume, t.degenerate_triangles
+        t.signed_volume,
+        t.degenerate_triangles
     )?;
     if let Some(f) = r["features"].as_object() {
         outln!(
             "  features at {}°: {} curves ({} closed), {} corners, {} patches",
-            f["angle_deg"], f["curves"], f["closed_curves"], f["corners"], f["patches"]
+            f["angle_deg"],
+            f["curves"],
+            f["closed_curves"],
+            f["corners"],
+            f["patches"]
         )?;
     }
     for w in r["warnings"].as_array().into_iter().flatten() {

@@ -198,7 +198,9 @@ fn check(spec: &str, config: &str) -> Result<()> {
     outln!("  bounding box   [{}, {}]", bbox.min, bbox.max)?;
     outln!(
         "  initial points {}, feature curves {}, corners {}",
-        counts[0], counts[1], counts[2]
+        counts[0],
+        counts[1],
+        counts[2]
     )?;
     Ok(())
 }

@@ -174,9 +174,12 @@ fn inside_folder(dir: &Path, uri: &str) -> Result<std::path::PathBuf, Problem> {
     if decoded.contains("://") || decoded.contains('\\') || decoded.contains('\0') {
         return Err(refuse("not a relative file name"));
     }
-    let plain = relative
-        .components()
-        .all(|c| matches!(c, std::path::Component::Normal(_) | std::path::Component::CurDir));
+    let plain = relative.components().all(|c| {
+        matches!(
+            c,
+            std::path::Component::Normal(_) | std::path::Component::CurDir
+        )
+    });
     if !plain {
         return Err(refuse("it leaves the folder"));
     }

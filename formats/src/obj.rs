@@ -13,7 +13,9 @@ pub(crate) fn read(bytes: &[u8]) -> Result<(SurfaceMesh, Vec<String>), Problem> 
     let (text, skipped) = faces_only(&text)?;
     let mut warnings = Vec::new();
     if skipped > 0 {
-        warnings.push(format!("skipped {skipped} point and line elements (`p`, `l`)"));
+        warnings.push(format!(
+            "skipped {skipped} point and line elements (`p`, `l`)"
+        ));
     }
     let options = tobj::LoadOptions {
         triangulate: true,
@@ -22,10 +24,11 @@ pub(crate) fn read(bytes: &[u8]) -> Result<(SurfaceMesh, Vec<String>), Problem> 
         ignore_lines: true,
     };
     // Materials are irrelevant to meshing: never open .mtl files.
-    let (models, _materials) = tobj::load_obj_buf(&mut Cursor::new(text.as_bytes()), &options, |_| {
-        Err(tobj::LoadError::OpenFileFailed)
-    })
-    .map_err(|e| Problem::bad(format!("not a readable OBJ file: {e}")))?;
+    let (models, _materials) =
+        tobj::load_obj_buf(&mut Cursor::new(text.as_bytes()), &options, |_| {
+            Err(tobj::LoadError::OpenFileFailed)
+        })
+        .map_err(|e| Problem::bad(format!("not a readable OBJ file: {e}")))?;
     let mut m = SurfaceMesh::default();
     for model in models {
         let mesh = &model.mesh;

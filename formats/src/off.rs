@@ -18,7 +18,10 @@ pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
     if variant.is_none() {
         return Err(Problem::at_line(
             t.line(),
-            format!("expected an OFF header, found {}", crate::text::quote(header)),
+            format!(
+                "expected an OFF header, found {}",
+                crate::text::quote(header)
+            ),
         ));
     }
     let nv: usize = t.parse("the vertex count")?;

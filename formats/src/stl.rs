@@ -16,8 +16,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
     let binary_size = bytes.get(80..84).map(|c| {
         HEADER as u64 + FACET as u64 * u64::from(u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
     });
-    let looks_ascii =
-        text_start.starts_with(b"solid") && binary_size != Some(bytes.len() as u64);
+    let looks_ascii = text_start.starts_with(b"solid") && binary_size != Some(bytes.len() as u64);
     if !looks_ascii {
         match binary_size {
             None => {

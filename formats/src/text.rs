@@ -85,8 +85,9 @@ impl<'a> Tokens<'a> {
 
     pub(crate) fn parse<T: FromStr>(&mut self, what: &str) -> Result<T, Problem> {
         let tok = self.expect(what)?;
-        tok.parse()
-            .map_err(|_| Problem::at_line(self.line, format!("expected {what}, found {}", quote(tok))))
+        tok.parse().map_err(|_| {
+            Problem::at_line(self.line, format!("expected {what}, found {}", quote(tok)))
+        })
     }
 
     /// A finite coordinate: NaN and infinities are rejected where they are read.

@@ -56,8 +56,18 @@ pub(crate) fn read_cells(
         Format::Vtk => vtkio::Vtk::parse_legacy_be(bytes),
         _ => vtkio::Vtk::parse_xml(bytes),
     })
-    .map_err(|why| Problem::bad(format!("malformed VTK file (vtkio gave up: {why})")))?;
-    let vtk = parsed.map_err(|e| Problem::bad(format!("not a readable VTK file: {e}")))?;
+    .map_err(|why| {
+        Problem::bad(format!(
+            "malformed VTK file (vtkio gave up: {})",
+            plain(&why)
+        ))
+    })?;
+    let vtk = parsed.map_err(|e| {
+        Problem::bad(format!(
+            "not a readable VTK file: {}",
+            plain(&e.to_string())
+        ))
+    })?;
     let mut b = Builder::default();
     let poly = matches!(vtk.data, DataSet::PolyData { .. });
     match vtk.data {
@@ -109,6 +119,41 @@ pub(crate) fn read_cells(
         warnings.push(format!("skipped {n} cells of VTK type {ty}"));
     }
     Ok((mesh, warnings, poly))
+}
+
+/// vtkio's messages in plain words: its errors end in `Debug` dumps of nested library errors
+/// (`InvalidInt(ParseIntError { kind: PosOverflow })`); keep the words before the first dump,
+/// spell its variant name out (`invalid int`) and cut the result to one short line.
+fn plain(message: &str) -> String {
+    let line = message.lines().next().unwrap_or_default();
+    let dump = line.char_indices().find(|&(i, c)| {
+        (c == '(' || c == '{') && line[..i].ends_with(|p: char| p.is_alphanumeric())
+    });
+    let (words, variant) = match dump {
+        Some((i, _)) => {
+            let head = &line[..i];
+            let cut = head
+                .rfind(|c: char| !c.is_alphanumeric())
+                .map_or(0, |k| k + 1);
+            (&head[..cut], &head[cut..])
+        }
+        None => (line, ""),
+    };
+    let mut out = words.trim_end().to_string();
+    if !variant.is_empty() {
+        let mut spelled = String::new();
+        for (k, c) in variant.chars().enumerate() {
+            if c.is_uppercase() && k > 0 {
+                spelled.push(' ');
+            }
+            spelled.extend(c.to_lowercase());
+        }
+        out = format!("{} {spelled}", out.trim_end()).trim().to_string();
+    }
+    match out.char_indices().nth(160) {
+        Some((cut, _)) => format!("{}…", &out[..cut]),
+        None => out,
+    }
 }
 
 /// vtkio's ASCII number parser rejects `nan`, which VTK writes (and we write for the cells a per-tet
@@ -223,7 +268,10 @@ fn raw_appended_to_base64(bytes: &[u8]) -> Result<Option<Vec<u8>>, Problem> {
     let mut at = 0;
     while let Some(i) = find(&head[at..], b" offset=") {
         let quote_at = at + i + b" offset=".len();
-        let quote = head.get(quote_at).copied().filter(|&q| q == b'"' || q == b'\'');
+        let quote = head
+            .get(quote_at)
+            .copied()
+            .filter(|&q| q == b'"' || q == b'\'');
         let Some(quote) = quote else {
             at = quote_at;
             continue;
@@ -340,11 +388,15 @@ impl BlockLayout {
             self.uint(block, h).ok_or_else(overrun)?,
             self.uint(block, 2 * h).ok_or_else(overrun)?,
         );
-        let most = data_len.saturating_mul(MAX_INFLATE_RATIO).saturating_add(count * 64);
+        let most = data_len
+            .saturating_mul(MAX_INFLATE_RATIO)
+            .saturating_add(count * 64);
         let announced = block_size
             .saturating_mul(count.saturating_sub(1))
             .saturating_add(if last == 0 { block_size } else { last });
-        if block_size > most || announced > most {
+        // VTK announces its 32 KiB block size even for one short block: allow a block size of up
+        // to a mebibyte whatever the data.
+        if block_size > most.max(1 << 20) || announced > most {
             return Err(Problem::at_byte(
                 file_offset as u64,
                 format!(
@@ -438,6 +490,13 @@ impl Builder {
         cells: impl Iterator<Item = (&'a Vec<u64>, u8)>,
         cell_data: &[Attribute],
     ) -> Result<(), Problem> {
+        let (base, n) = self.add_points(points)?;
+        let slots = self.add_cells(cells, base, n)?;
+        self.add_cell_data(&slots, cell_data)
+    }
+
+    /// Appends the piece's points; returns the index of its first point and its point count.
+    fn add_points(&mut self, points: &IOBuffer) -> Result<(usize, usize), Problem> {
         let coords: Vec<f64> = points
             .cast_into()
             .ok_or_else(|| Problem::bad("points are not numbers"))?;
@@ -448,10 +507,20 @@ impl Builder {
             )));
         }
         let base = self.mesh.positions.len();
-        let n = coords.len() / 3;
         self.mesh
             .positions
             .extend(coords.chunks_exact(3).map(|c| DVec3::new(c[0], c[1], c[2])));
+        Ok((base, coords.len() / 3))
+    }
+
+    /// Appends the piece's cells (tets, triangulated faces, edges), vertices numbered from `base`
+    /// among its `n` points; returns where each file cell went.
+    fn add_cells<'a>(
+        &mut self,
+        cells: impl Iterator<Item = (&'a Vec<u64>, u8)>,
+        base: usize,
+        n: usize,
+    ) -> Result<Vec<Slot>, Problem> {
         let index = |cell: usize, v: u64| -> Result<u32, Problem> {
             if v >= n as u64 {
                 return Err(Problem::bad(format!(
@@ -511,6 +580,13 @@ impl Builder {
             };
             slots.push(slot);
         }
+        Ok(slots)
+    }
+
+    /// Distributes the piece's one-component cell arrays: labels (`subdomain`, `patch`, `curve`)
+    /// and per-tet fields, resized for the cells just added.
+    fn add_cell_data(&mut self, slots: &[Slot], cell_data: &[Attribute]) -> Result<(), Problem> {
+        let m = &mut self.mesh;
         let tets_before = m.subdomains.len();
         m.subdomains.resize(m.tets.len(), SubdomainId(0));
         m.boundary_patches.resize(m.boundary.len(), PatchId(0));
@@ -584,5 +660,19 @@ impl Builder {
                 .push("a cell field is missing from some pieces (filled with NaN)".into());
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::plain;
+
+    #[test]
+    fn vtkio_debug_dumps_become_words() {
+        let m = plain(
+            "XML error: Deserialization error: InvalidInt(ParseIntError { kind: PosOverflow })",
+        );
+        assert_eq!(m, "XML error: Deserialization error: invalid int");
+        assert_eq!(plain("plain words\nsecond line"), "plain words");
     }
 }

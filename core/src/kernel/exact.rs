@@ -203,10 +203,21 @@ mod tests {
             };
             let p: [Point3; 5] = std::array::from_fn(|_| Point3::new(coord(), coord(), coord()));
             let [a, b, c, d, e] = p;
-            assert_eq!(orient3d(a, b, c, d), exact_oracle::orient3d(a, b, c, d), "{p:?}");
-            assert_eq!(insphere(a, b, c, d, e), exact_oracle::insphere(a, b, c, d, e), "{p:?}");
+            assert_eq!(
+                orient3d(a, b, c, d),
+                exact_oracle::orient3d(a, b, c, d),
+                "{p:?}"
+            );
+            assert_eq!(
+                insphere(a, b, c, d, e),
+                exact_oracle::insphere(a, b, c, d, e),
+                "{p:?}"
+            );
             let q = p.map(|p| Point2::new(p.x, p.y));
-            assert_eq!(orient2d(q[0], q[1], q[2]), exact_oracle::orient2d(q[0], q[1], q[2]));
+            assert_eq!(
+                orient2d(q[0], q[1], q[2]),
+                exact_oracle::orient2d(q[0], q[1], q[2])
+            );
             assert_eq!(
                 incircle(q[0], q[1], q[2], q[3]),
                 exact_oracle::incircle(q[0], q[1], q[2], q[3]),
@@ -233,8 +244,16 @@ mod tests {
             orient2d_big([[0.0, 0.3], [t, 0.0], [1.0, 0.0]]),
             Sign::Positive
         );
-        assert_eq!(orient2d_big([[t, 0.0], [2.0 * t, 0.0], [0.0, 0.0]]), Sign::Zero);
-        let tet = [[t, 0.0, 0.0], [0.0, 0.3, 0.0], [0.0, 0.0, 0.7], [0.0, 0.0, 0.0]];
+        assert_eq!(
+            orient2d_big([[t, 0.0], [2.0 * t, 0.0], [0.0, 0.0]]),
+            Sign::Zero
+        );
+        let tet = [
+            [t, 0.0, 0.0],
+            [0.0, 0.3, 0.0],
+            [0.0, 0.0, 0.7],
+            [0.0, 0.0, 0.0],
+        ];
         assert_eq!(orient3d_big(tet), Sign::Positive);
         // The centre of the unit square's circumcircle is inside; a point beyond it is not.
         let sq = |x: f64, y: f64| [x, y];
@@ -243,8 +262,16 @@ mod tests {
             incircle_big([c[0], c[1], c[2], sq(0.5, 0.5)]),
             Sign::Positive
         );
-        assert_eq!(incircle_big([c[0], c[1], c[2], sq(3.0, 3.0)]), Sign::Negative);
-        let s = [[t, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [0.0, 0.0, 0.0]];
+        assert_eq!(
+            incircle_big([c[0], c[1], c[2], sq(3.0, 3.0)]),
+            Sign::Negative
+        );
+        let s = [
+            [t, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, 0.0],
+        ];
         assert_eq!(
             insphere_big([s[0], s[1], s[2], s[3], [0.2, 0.2, 0.2]]),
             Sign::Positive

@@ -12,9 +12,9 @@ pub mod power;
 pub mod predicates;
 pub mod predicates2d;
 
+pub use exact::exact_oracle;
 pub use glam::DVec2 as Point2;
 pub use glam::DVec3 as Point3;
-pub use exact::exact_oracle;
 pub use power::{WeightedPoint3, coplanar_power_test, power_test};
 pub use predicates::{Sign, StaticFilter, incircle, insphere, orient2d, orient3d};
 

@@ -6,8 +6,8 @@
 //! convention. A semi-static floating-point filter decides almost every call; the rest are
 //! evaluated exactly on the doubles' exact dyadic values with big integers.
 
-use super::{Point2, Point3, Sign, orient2d, orient3d};
 use super::exact::{det, dyadic, scaled, sign_of};
+use super::{Point2, Point3, Sign, orient2d, orient3d};
 use num_bigint::BigInt;
 
 /// A point with a weight (a squared radius): the vertex type of a regular triangulation.

@@ -3,8 +3,8 @@
 //! perturbation that makes a planar Delaunay triangulation unique, and the exact diametral-disk
 //! test (angle sign) that constraint meshing needs.
 
-use super::double_double::{dd_add, dd_mul, dd_neg, fast_two_sum, two_diff, two_product, two_sum};
 use super::Sign;
+use super::double_double::{dd_add, dd_mul, dd_neg, fast_two_sum, two_diff, two_product, two_sum};
 use super::exact::{expansions_are_exact, incircle_big};
 use glam::DVec2;
 use std::cmp::Ordering;
@@ -47,7 +47,9 @@ pub fn incircle(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Ordering {
     // would not be).
     let in_range = |x: f64| x == 0.0 || (EXPANSION_RANGE.0..=EXPANSION_RANGE.1).contains(&x.abs());
     if det.abs() > INCIRCLE_ERROR * permanent
-        && [ad.x, ad.y, bd.x, bd.y, cd.x, cd.y].into_iter().all(in_range)
+        && [ad.x, ad.y, bd.x, bd.y, cd.x, cd.y]
+            .into_iter()
+            .all(in_range)
     {
         return sign(det);
     }

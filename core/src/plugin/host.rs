@@ -14,7 +14,6 @@ use std::ffi::{CStr, CString, c_char, c_void};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, OnceLock};
 
-
 /// Longest error message fetched from a plugin, in bytes.
 const MAX_MESSAGE_BYTES: usize = 1 << 16;
 /// Most items a plugin may ask room for in one answer (hits, points, curves): far beyond any

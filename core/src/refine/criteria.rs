@@ -176,9 +176,9 @@ impl MeshCriteria {
         for (criterion, sizing) in sizes {
             let values: Vec<f64> = match sizing {
                 Sizing::Constant(v) => vec![*v],
-                Sizing::PerLabel { default, values } => {
-                    std::iter::once(*default).chain(values.values().copied()).collect()
-                }
+                Sizing::PerLabel { default, values } => std::iter::once(*default)
+                    .chain(values.values().copied())
+                    .collect(),
                 Sizing::Unbounded | Sizing::Function(_) => Vec::new(),
             };
             for v in values {
@@ -220,7 +220,10 @@ mod tests {
         assert!(ok.validate(&unit_box(), 1000).is_ok());
         let mut c = ok.clone();
         c.facet.angle_deg = 90.0;
-        assert_eq!(c.validate(&unit_box(), 1000).err().map(|e| e.criterion), Some("facet-angle"));
+        assert_eq!(
+            c.validate(&unit_box(), 1000).err().map(|e| e.criterion),
+            Some("facet-angle")
+        );
         let mut c = ok.clone();
         c.cell.radius_edge_ratio = 0.5;
         assert!(c.validate(&unit_box(), 1000).is_err());
@@ -228,7 +231,10 @@ mod tests {
         assert_eq!(c.validate(&unit_box(), 1000).map(|w| w.len()).ok(), Some(1));
         let mut c = ok.clone();
         c.facet.size = Sizing::Constant(1e-300);
-        assert_eq!(c.validate(&unit_box(), 1000).err().map(|e| e.criterion), Some("facet-size"));
+        assert_eq!(
+            c.validate(&unit_box(), 1000).err().map(|e| e.criterion),
+            Some("facet-size")
+        );
         let mut c = ok;
         c.cell.size = Sizing::Constant(f64::NAN);
         assert!(c.validate(&unit_box(), 1000).is_err());
