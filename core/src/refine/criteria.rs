@@ -119,6 +119,16 @@ pub const SAFE_RADIUS_EDGE_RATIO: f64 = 2.0;
 /// slivers next to the surface keep the ratio near 1 without optimisation.
 pub const MIN_RADIUS_EDGE_RATIO: f64 = 1.0;
 
+/// The warning for a radius-edge bound that is reachable but not proven to terminate.
+pub fn radius_edge_warning(ratio: f64) -> Option<String> {
+    (MIN_RADIUS_EDGE_RATIO..SAFE_RADIUS_EDGE_RATIO).contains(&ratio).then(|| {
+        format!(
+            "cell-radius-edge-ratio below {SAFE_RADIUS_EDGE_RATIO} may not terminate before the \
+             vertex limit"
+        )
+    })
+}
+
 impl MeshCriteria {
     /// The one place the criteria are checked before meshing: refuses what cannot terminate
     /// (facet angle above 30°, radius-edge bound below 1), non-positive or non-finite sizes, and
@@ -160,12 +170,7 @@ impl MeshCriteria {
                 ),
             ));
         }
-        if ratio > 0.0 && ratio < SAFE_RADIUS_EDGE_RATIO {
-            warnings.push(format!(
-                "cell-radius-edge-ratio below {SAFE_RADIUS_EDGE_RATIO} may not terminate before \
-                 the vertex limit"
-            ));
-        }
+        warnings.extend(radius_edge_warning(ratio));
         let span = (bbox.max - bbox.min).max_element();
         let sizes = [
             ("edge-size", &self.edge_size),
