@@ -3,6 +3,7 @@
 
 use crate::settings::SettingsError;
 use delamesh_core::plugin::PluginError;
+use delamesh_core::refine::criteria::CriteriaError;
 use delamesh_core::refine::{MeshError, RefineError};
 use delamesh_piecewise_smooth::PolylineError;
 
@@ -86,6 +87,14 @@ pub enum Error {
         /// Which guard.
         #[source]
         source: RefineError,
+    },
+    /// The criteria cannot be met (see [`MeshCriteria::validate`](delamesh_core::refine::criteria::MeshCriteria::validate)).
+    #[error("{name}: --{problem}")]
+    Criteria {
+        /// The domain: the input file, or the plugin.
+        name: String,
+        /// Which criterion, and why.
+        problem: CriteriaError,
     },
     /// Refinement ended without a tetrahedron inside the domain.
     #[error("{name}: the mesh has no tetrahedron inside the {what} (criteria too coarse?)")]

@@ -152,11 +152,20 @@ impl<'p> Mesher<'p> {
         mut times: Times,
     ) -> Result<Meshed, Error> {
         let oracle = domain.oracle();
-        let mut options = self.settings.mesh_options(&oracle.bounding_box());
+        let bbox = oracle.bounding_box();
+        let mut options = self.settings.mesh_options(&bbox);
         if let (Domain::Image(image), None) = (&domain, self.settings.facet_distance) {
             // Finer than the voxels, the facet distance would chase their staircase.
             options.criteria.facet.distance = image.default_criteria().facet.distance;
         }
+        // Warnings were given from the settings before meshing (`MeshSettings::warnings`).
+        options
+            .criteria
+            .validate(&bbox, options.limits.max_vertices)
+            .map_err(|problem| Error::Criteria {
+                name: name.clone(),
+                problem,
+            })?;
         let mut silent = |_: &Progress| {};
         let progress: &mut dyn FnMut(&Progress) = match self.progress.as_mut() {
             Some(f) => f,

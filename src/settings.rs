@@ -162,19 +162,13 @@ impl MeshSettings {
 
     /// Values that are valid but may keep refinement from terminating before `max_vertices`.
     pub fn warnings(&self) -> Vec<String> {
-        let mut warnings = Vec::new();
-        if self.facet_angle.is_some_and(|v| v > 30.0) {
-            warnings.push("--facet-angle above 30° may not terminate before --max-vertices".into());
-        }
-        if self
-            .cell_radius_edge_ratio
-            .is_some_and(|v| v > 0.0 && v < 2.0)
-        {
-            warnings.push(
-                "--cell-radius-edge-ratio below 2 may not terminate before --max-vertices".into(),
-            );
-        }
-        warnings
+        // What cannot terminate at all is refused by `MeshCriteria::validate`; the rule for what
+        // may not lives there too.
+        self.cell_radius_edge_ratio
+            .and_then(delamesh_core::refine::criteria::radius_edge_warning)
+            .map(|w| format!("--{w}"))
+            .into_iter()
+            .collect()
     }
 
     /// The CGAL-style criteria for a domain in `bbox`: defaults scaled by the box, overridden by

@@ -11,6 +11,7 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 use gltf::{Accessor, Node, Semantic};
 use std::borrow::Cow;
+use std::io::Read;
 use std::path::Path;
 
 pub(crate) fn read(
@@ -18,7 +19,10 @@ pub(crate) fn read(
     dir: Option<&Path>,
 ) -> Result<(SurfaceMesh, Vec<String>), Problem> {
     let not_gltf = |e: gltf::Error| Problem::bad(format!("not a readable glTF file: {e}"));
-    let raw = gltf::Gltf::from_slice_without_validation(bytes).map_err(not_gltf)?;
+    // JSON glTF is text (a Latin-1 byte in a name should not sink it); `.glb` starts with a magic.
+    let text = (!bytes.starts_with(b"glTF")).then(|| String::from_utf8_lossy(bytes));
+    let json = text.as_deref().map_or(bytes, str::as_bytes);
+    let raw = gltf::Gltf::from_slice_without_validation(json).map_err(not_gltf)?;
     // gltf-json's validation indexes the POSITION accessor without a bounds check: check it first.
     let json = raw.document.into_json();
     for (m, mesh) in json.meshes.iter().enumerate() {
@@ -44,7 +48,7 @@ pub(crate) fn read(
             gltf::buffer::Source::Bin => Cow::Borrowed(gltf.blob.as_deref().ok_or_else(|| {
                 Problem::bad("buffer 0 refers to the GLB binary chunk, which is missing")
             })?),
-            gltf::buffer::Source::Uri(uri) => Cow::Owned(load_uri(uri, dir)?),
+            gltf::buffer::Source::Uri(uri) => Cow::Owned(load_uri(uri, dir, buffer.length())?),
         };
         if data.len() < buffer.length() {
             return Err(Problem::bad(format!(
@@ -76,6 +80,19 @@ pub(crate) fn read(
         mesh: SurfaceMesh::default(),
         warnings: Vec::new(),
     };
+    // glTF node hierarchies are disjoint trees: a node reached twice would make the number of
+    // instances exponential in the number of nodes (60 nodes, each the child of the two before).
+    let mut parents = vec![0u8; gltf.nodes().len()];
+    for child in gltf.nodes().flat_map(|n| n.children()) {
+        let count = &mut parents[child.index()];
+        *count = count.saturating_add(1);
+        if *count > 1 {
+            return Err(Problem::bad(format!(
+                "node {} has more than one parent (glTF node hierarchies are trees)",
+                child.index()
+            )));
+        }
+    }
     let max_depth = gltf.nodes().len();
     let mut stack: Vec<(Node, DMat4, usize)> = roots
         .into_iter()
@@ -110,7 +127,7 @@ pub(crate) fn read(
 }
 
 /// A buffer's bytes: a base64 data URI, or a file next to the glTF.
-fn load_uri(uri: &str, dir: Option<&Path>) -> Result<Vec<u8>, Problem> {
+fn load_uri(uri: &str, dir: Option<&Path>, length: usize) -> Result<Vec<u8>, Problem> {
     if let Some(rest) = uri.strip_prefix("data:") {
         let (_, data) = rest
             .split_once(";base64,")
@@ -119,19 +136,61 @@ fn load_uri(uri: &str, dir: Option<&Path>) -> Result<Vec<u8>, Problem> {
             .decode(data)
             .map_err(|e| Problem::bad(format!("bad base64 in a data URI: {e}")));
     }
-    if uri.contains("://") || uri.starts_with('/') {
-        return Err(Problem::Unsupported(format!(
-            "buffer URI {uri:?}: only relative file names are supported"
-        )));
-    }
     let dir = dir.ok_or_else(|| {
         Problem::Unsupported(format!(
-            "external buffer {uri:?} cannot be resolved without a file location"
+            "external buffer {} cannot be resolved without a file location",
+            crate::text::quote(uri)
         ))
     })?;
-    let path = dir.join(percent_decode(uri));
-    std::fs::read(&path)
-        .map_err(|e| Problem::bad(format!("external buffer {}: {e}", path.display())))
+    let path = inside_folder(dir, uri)?;
+    let file = std::fs::File::open(&path)
+        .map_err(|e| Problem::bad(format!("external buffer {}: {e}", path.display())))?;
+    if !file.metadata().is_ok_and(|m| m.is_file()) {
+        return Err(Problem::Unsupported(format!(
+            "external buffer {}: not a regular file",
+            path.display()
+        )));
+    }
+    // Never read more than the buffer declares (a FIFO or a huge file next to the glTF).
+    let mut data = Vec::new();
+    file.take(length as u64)
+        .read_to_end(&mut data)
+        .map_err(|e| Problem::bad(format!("external buffer {}: {e}", path.display())))?;
+    Ok(data)
+}
+
+/// The file a relative buffer URI names in the glTF's folder `dir`; anything that could leave
+/// that folder (absolute paths, schemes, `..` even percent-encoded, symbolic links pointing out)
+/// is refused.
+fn inside_folder(dir: &Path, uri: &str) -> Result<std::path::PathBuf, Problem> {
+    let refuse = |why: &str| {
+        Problem::Unsupported(format!(
+            "buffer URI {}: {why}; only files in the glTF's folder are read",
+            crate::text::quote(uri)
+        ))
+    };
+    let decoded = percent_decode(uri);
+    let relative = Path::new(&decoded);
+    if decoded.contains("://") || decoded.contains('\\') || decoded.contains('\0') {
+        return Err(refuse("not a relative file name"));
+    }
+    let plain = relative.components().all(|c| {
+        matches!(
+            c,
+            std::path::Component::Normal(_) | std::path::Component::CurDir
+        )
+    });
+    if !plain {
+        return Err(refuse("it leaves the folder"));
+    }
+    let path = dir.join(relative);
+    // Symbolic links are followed only where they stay inside the folder.
+    if let (Ok(real), Ok(base)) = (path.canonicalize(), dir.canonicalize()) {
+        if !real.starts_with(&base) {
+            return Err(refuse("it links out of the folder"));
+        }
+    }
+    Ok(path)
 }
 
 /// URIs escape spaces and other bytes as `%XX`.

@@ -20,6 +20,13 @@ pub(crate) fn write(w: &mut dyn Write, m: &TetMesh, ascii: bool) -> Result<(), P
 
     writeln!(w, "# vtk DataFile Version 4.2\ndelamesh tetrahedral mesh")?;
     writeln!(w, "{}", if ascii { "ASCII" } else { "BINARY" })?;
+    write_points(w, m, ascii)?;
+    write_cells(w, &cells, n, list_size, ascii)?;
+    write_cell_data(w, &cells, n, ascii)
+}
+
+/// The `POINTS` section.
+fn write_points(w: &mut dyn Write, m: &TetMesh, ascii: bool) -> Result<(), Problem> {
     writeln!(
         w,
         "DATASET UNSTRUCTURED_GRID\nPOINTS {} double",
@@ -37,7 +44,17 @@ pub(crate) fn write(w: &mut dyn Write, m: &TetMesh, ascii: bool) -> Result<(), P
         }
         writeln!(w)?;
     }
+    Ok(())
+}
 
+/// The `CELLS` and `CELL_TYPES` sections.
+fn write_cells(
+    w: &mut dyn Write,
+    cells: &CellTable,
+    n: i32,
+    list_size: i32,
+    ascii: bool,
+) -> Result<(), Problem> {
     writeln!(w, "CELLS {n} {list_size}")?;
     let mut start = 0usize;
     for &end in &cells.offsets {
@@ -68,9 +85,17 @@ pub(crate) fn write(w: &mut dyn Write, m: &TetMesh, ascii: bool) -> Result<(), P
         }
         writeln!(w)?;
     }
+    Ok(())
+}
 
-    // One active SCALARS array (what every VTK reader keeps), the rest as FIELD arrays, which VTK's
-    // reader keeps all of (it drops extra SCALARS unless told to read them).
+/// The `CELL_DATA` section: one active SCALARS array (what every VTK reader keeps), the rest as
+/// FIELD arrays, which VTK's reader keeps all of (it drops extra SCALARS unless told to read them).
+fn write_cell_data(
+    w: &mut dyn Write,
+    cells: &CellTable,
+    n: i32,
+    ascii: bool,
+) -> Result<(), Problem> {
     writeln!(w, "CELL_DATA {n}")?;
     let (first, rest) = cells
         .ints

@@ -101,11 +101,21 @@ pub fn read_bytes(bytes: &[u8], format: Format, dir: Option<&Path>) -> Result<Me
     if bytes.is_empty() {
         return Err(Problem::bad("the file is empty"));
     }
+    // A byte-order mark is text's business; STL decides for itself (a binary header is free-form).
+    let bytes = if format == Format::Stl {
+        bytes
+    } else {
+        text::strip_bom(bytes)
+    };
     let mut warnings = Vec::new();
     let (mesh, soup) = match format {
         Format::Stl => (AnyMesh::Surface(stl::read(bytes)?), true),
         Format::Off => (AnyMesh::Surface(off::read(bytes)?), false),
-        Format::Obj => (AnyMesh::Surface(obj::read(bytes)?), true),
+        Format::Obj => {
+            let (m, w) = obj::read(bytes)?;
+            warnings = w;
+            (AnyMesh::Surface(m), true)
+        }
         Format::Gltf => {
             let (m, w) = gltf::read(bytes, dir)?;
             warnings = w;
@@ -189,6 +199,26 @@ pub fn read_tet_mesh(path: &Path, format: Option<Format>) -> Result<TetMesh> {
             Problem::Unsupported("the file holds no tetrahedra".into()),
         )),
     }
+}
+
+/// Checks, before any work, that a mesh could be written at `path`: the format is known (from
+/// the extension unless given) and writable, and the folder exists and accepts a new file.
+pub fn check_mesh_output(path: &Path, format: Option<Format>) -> Result<()> {
+    let run = || -> Result<(), Problem> {
+        let format = resolve(path, format)?;
+        if matches!(format, Format::Gltf | Format::Vtp) {
+            return Err(Problem::Unsupported(format!(
+                "writing {format} files is not supported"
+            )));
+        }
+        atomic::check_writable(path)
+    };
+    run().map_err(|p| Error::new(path, p))
+}
+
+/// Checks, before any work, that a document (a report) could be written at `path`.
+pub fn check_document_output(path: &Path) -> Result<()> {
+    atomic::check_writable(path).map_err(|p| Error::new(path, p))
 }
 
 /// Writes any other output (a JSON report, say) the way meshes are written: atomically, with the

@@ -9,136 +9,149 @@ use std::io::Write;
 
 /// Reads a `.mesh` file; returns the mesh and warnings about sections that were skipped.
 pub(crate) fn read(bytes: &[u8]) -> Result<(TetMesh, Vec<String>), Problem> {
-    let mut t = Tokens::new(as_text(bytes)?);
+    let text = as_text(bytes)?;
+    let mut t = Tokens::new(&text);
     let mut m = TetMesh::default();
     let mut warnings = Vec::new();
-    let mut seen_version = false;
-    while let Some(keyword) = t.next_token() {
-        let line = t.line();
-        if !seen_version {
-            if !keyword.eq_ignore_ascii_case("MeshVersionFormatted") {
-                return Err(Problem::at_line(
-                    line,
-                    format!(
-                        "expected MeshVersionFormatted, found {keyword:?} (not a MEDIT .mesh file)"
-                    ),
-                ));
-            }
-            let v: u32 = t.parse("the format version")?;
-            if !(1..=4).contains(&v) {
-                return Err(Problem::at_line(
-                    line,
-                    format!("unknown format version {v}"),
-                ));
-            }
-            seen_version = true;
-            continue;
-        }
-        let count = |t: &mut Tokens| -> Result<usize, Problem> { t.parse("an element count") };
-        let nv = m.positions.len();
-        match keyword.to_ascii_lowercase().as_str() {
-            "end" => break,
-            "dimension" => {
-                let d: u32 = t.parse("the dimension")?;
-                if d != 3 {
-                    return Err(Problem::at_line(
-                        line,
-                        format!("dimension {d} meshes are not supported (only 3)"),
-                    ));
-                }
-            }
-            "vertices" => {
-                let n = count(&mut t)?;
-                m.positions.reserve(capped(n, bytes.len()));
-                for _ in 0..n {
-                    m.positions.push(DVec3::new(
-                        t.coordinate()?,
-                        t.coordinate()?,
-                        t.coordinate()?,
-                    ));
-                    let _ref: i64 = t.parse("a vertex reference")?;
-                }
-            }
-            "edges" => {
-                let n = count(&mut t)?;
-                for _ in 0..n {
-                    m.feature_edges
-                        .push([t.index_1based(nv)?, t.index_1based(nv)?]);
-                    m.feature_curves
-                        .push(CurveId(t.parse("an edge reference")?));
-                }
-            }
-            "triangles" => {
-                let n = count(&mut t)?;
-                for _ in 0..n {
-                    m.boundary.push([
-                        t.index_1based(nv)?,
-                        t.index_1based(nv)?,
-                        t.index_1based(nv)?,
-                    ]);
-                    m.boundary_patches
-                        .push(PatchId(t.parse("a triangle reference")?));
-                }
-            }
-            "quadrilaterals" => {
-                let n = count(&mut t)?;
-                for _ in 0..n {
-                    let q = [
-                        t.index_1based(nv)?,
-                        t.index_1based(nv)?,
-                        t.index_1based(nv)?,
-                        t.index_1based(nv)?,
-                    ];
-                    let patch = PatchId(t.parse("a quadrilateral reference")?);
-                    m.boundary.extend([[q[0], q[1], q[2]], [q[0], q[2], q[3]]]);
-                    m.boundary_patches.extend([patch, patch]);
-                }
-            }
-            "tetrahedra" => {
-                let n = count(&mut t)?;
-                m.tets.reserve(capped(n, bytes.len()));
-                for _ in 0..n {
-                    m.tets.push([
-                        t.index_1based(nv)?,
-                        t.index_1based(nv)?,
-                        t.index_1based(nv)?,
-                        t.index_1based(nv)?,
-                    ]);
-                    m.subdomains
-                        .push(SubdomainId(t.parse("a tetrahedron reference")?));
-                }
-            }
-            other => {
-                // Sections we do not keep, with the number of tokens per entry.
-                let width = match other {
-                    "corners" | "requiredvertices" | "ridges" | "requirededges"
-                    | "requiredtriangles" => 1,
-                    "normalatvertices" | "tangentatvertices" => 2,
-                    "normals" | "tangents" | "normalattrianglevertices" => 3,
-                    "pyramids" => 6,
-                    "prisms" => 7,
-                    "hexahedra" => 9,
-                    _ => {
-                        return Err(Problem::at_line(
-                            line,
-                            format!("unknown keyword {keyword:?}"),
-                        ));
-                    }
-                };
-                let n = count(&mut t)?;
-                for _ in 0..n.saturating_mul(width) {
-                    t.expect(&format!("{keyword} data"))?;
-                }
-                if n > 0 {
-                    warnings.push(format!("skipped {n} {keyword} (line {line})"));
-                }
-            }
-        }
-    }
-    if !seen_version {
+    let Some(keyword) = t.next_token() else {
         return Err(Problem::bad("empty file (expected MeshVersionFormatted)"));
+    };
+    read_version(&mut t, keyword)?;
+    while let Some(keyword) = t.next_token() {
+        if keyword.eq_ignore_ascii_case("end") {
+            break;
+        }
+        if let Some(warning) = read_section(&mut t, &mut m, keyword, bytes.len())? {
+            warnings.push(warning);
+        }
     }
     Ok((m, warnings))
+}
+
+/// The `MeshVersionFormatted` header, which must come first.
+fn read_version(t: &mut Tokens, keyword: &str) -> Result<(), Problem> {
+    let line = t.line();
+    if !keyword.eq_ignore_ascii_case("MeshVersionFormatted") {
+        return Err(Problem::at_line(
+            line,
+            format!(
+                "expected MeshVersionFormatted, found {} (not a MEDIT .mesh file)",
+                crate::text::quote(keyword)
+            ),
+        ));
+    }
+    let v: u32 = t.parse("the format version")?;
+    if !(1..=4).contains(&v) {
+        return Err(Problem::at_line(
+            line,
+            format!("unknown format version {v}"),
+        ));
+    }
+    Ok(())
+}
+
+/// One section after its keyword; returns a warning for a section read but not kept.
+fn read_section(
+    t: &mut Tokens,
+    m: &mut TetMesh,
+    keyword: &str,
+    file_len: usize,
+) -> Result<Option<String>, Problem> {
+    let line = t.line();
+    let nv = m.positions.len();
+    let lower = keyword.to_ascii_lowercase();
+    if lower == "dimension" {
+        let d: u32 = t.parse("the dimension")?;
+        if d != 3 {
+            return Err(Problem::at_line(
+                line,
+                format!("dimension {d} meshes are not supported (only 3)"),
+            ));
+        }
+        return Ok(None);
+    }
+    let skipped_width = match lower.as_str() {
+        "vertices" | "edges" | "triangles" | "quadrilaterals" | "tetrahedra" => None,
+        // Sections we do not keep, with the number of tokens per entry.
+        "corners" | "requiredvertices" | "ridges" | "requirededges" | "requiredtriangles" => {
+            Some(1)
+        }
+        "normalatvertices" | "tangentatvertices" => Some(2),
+        "normals" | "tangents" | "normalattrianglevertices" => Some(3),
+        "pyramids" => Some(6),
+        "prisms" => Some(7),
+        "hexahedra" => Some(9),
+        _ => {
+            return Err(Problem::at_line(
+                line,
+                format!("unknown keyword {}", crate::text::quote(keyword)),
+            ));
+        }
+    };
+    let n: usize = t.parse("an element count")?;
+    if let Some(width) = skipped_width {
+        for _ in 0..n.saturating_mul(width) {
+            t.expect(&format!("{keyword} data"))?;
+        }
+        return Ok((n > 0).then(|| format!("skipped {n} {keyword} (line {line})")));
+    }
+    let reserve = capped(n, file_len);
+    match lower.as_str() {
+        "vertices" => {
+            m.positions.reserve(reserve);
+            for _ in 0..n {
+                m.positions.push(DVec3::new(
+                    t.coordinate()?,
+                    t.coordinate()?,
+                    t.coordinate()?,
+                ));
+                let _ref: i64 = t.parse("a vertex reference")?;
+            }
+        }
+        "edges" => {
+            for _ in 0..n {
+                let ([a, b], curve) = element::<2>(t, nv, "an edge reference")?;
+                m.feature_edges.push([a, b]);
+                m.feature_curves.push(CurveId(curve));
+            }
+        }
+        "triangles" => {
+            for _ in 0..n {
+                let (tri, patch) = element::<3>(t, nv, "a triangle reference")?;
+                m.boundary.push(tri);
+                m.boundary_patches.push(PatchId(patch));
+            }
+        }
+        "quadrilaterals" => {
+            for _ in 0..n {
+                let (q, patch) = element::<4>(t, nv, "a quadrilateral reference")?;
+                m.boundary.extend([[q[0], q[1], q[2]], [q[0], q[2], q[3]]]);
+                m.boundary_patches.extend([PatchId(patch); 2]);
+            }
+        }
+        _ => {
+            m.tets.reserve(reserve);
+            for _ in 0..n {
+                let (tet, subdomain) = element::<4>(t, nv, "a tetrahedron reference")?;
+                m.tets.push(tet);
+                m.subdomains.push(SubdomainId(subdomain));
+            }
+        }
+    }
+    Ok(None)
+}
+
+/// One element: `K` 1-based vertex indices among `nv` vertices, then its reference.
+fn element<const K: usize>(
+    t: &mut Tokens,
+    nv: usize,
+    reference: &str,
+) -> Result<([u32; K], u32), Problem> {
+    let mut ids = [0; K];
+    for id in &mut ids {
+        *id = t.index_1based(nv)?;
+    }
+    Ok((ids, t.parse(reference)?))
 }
 
 pub(crate) fn write(w: &mut dyn Write, m: &TetMesh) -> Result<(), Problem> {

@@ -8,7 +8,15 @@ use delamesh_core::mesh::{PatchId, SurfaceMesh};
 use glam::DVec3;
 use std::io::{Cursor, Write};
 
-pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
+pub(crate) fn read(bytes: &[u8]) -> Result<(SurfaceMesh, Vec<String>), Problem> {
+    let text = crate::text::as_text(bytes)?;
+    let (text, skipped) = faces_only(&text)?;
+    let mut warnings = Vec::new();
+    if skipped > 0 {
+        warnings.push(format!(
+            "skipped {skipped} point and line elements (`p`, `l`)"
+        ));
+    }
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: false,
@@ -16,10 +24,11 @@ pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
         ignore_lines: true,
     };
     // Materials are irrelevant to meshing: never open .mtl files.
-    let (models, _materials) = tobj::load_obj_buf(&mut Cursor::new(bytes), &options, |_| {
-        Err(tobj::LoadError::OpenFileFailed)
-    })
-    .map_err(|e| Problem::bad(format!("not a readable OBJ file: {e}")))?;
+    let (models, _materials) =
+        tobj::load_obj_buf(&mut Cursor::new(text.as_bytes()), &options, |_| {
+            Err(tobj::LoadError::OpenFileFailed)
+        })
+        .map_err(|e| Problem::bad(format!("not a readable OBJ file: {e}")))?;
     let mut m = SurfaceMesh::default();
     for model in models {
         let mesh = &model.mesh;
@@ -54,7 +63,35 @@ pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
             m.patches.push(PatchId(patch as u32));
         }
     }
-    Ok(m)
+    Ok((m, warnings))
+}
+
+/// The text with point and line elements blanked (tobj's `ignore_lines` still hands polylines
+/// over as polygons, which `info` then counted as triangle fans), and how many there were; a face
+/// of fewer than three vertices (which tobj drops silently) is an error at its line.
+fn faces_only(text: &str) -> Result<(String, usize), Problem> {
+    let mut out = String::with_capacity(text.len());
+    let mut skipped = 0;
+    for (i, line) in text.lines().enumerate() {
+        let content = line.split('#').next().unwrap_or("");
+        let mut words = content.split_whitespace();
+        match words.next() {
+            Some("p" | "l") => skipped += 1,
+            Some("f") => {
+                let corners = words.count();
+                if corners < 3 {
+                    return Err(Problem::at_line(
+                        i + 1,
+                        format!("face with {corners} vertices (a face needs 3 or more)"),
+                    ));
+                }
+                out.push_str(line);
+            }
+            _ => out.push_str(line),
+        }
+        out.push('\n');
+    }
+    Ok((out, skipped))
 }
 
 /// Number of `v` lines: what the file holds before tobj splits it into groups.

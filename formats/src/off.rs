@@ -9,7 +9,7 @@ use std::io::Write;
 
 pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
     let text = as_text(bytes)?;
-    let mut t = Tokens::new(text);
+    let mut t = Tokens::new(&text);
     let header = t.expect("the OFF header")?;
     let variant = header.strip_suffix("OFF").filter(|p| {
         let p = p.strip_prefix("ST").unwrap_or(p);
@@ -18,7 +18,10 @@ pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
     if variant.is_none() {
         return Err(Problem::at_line(
             t.line(),
-            format!("expected an OFF header, found {header:?}"),
+            format!(
+                "expected an OFF header, found {}",
+                crate::text::quote(header)
+            ),
         ));
     }
     let nv: usize = t.parse("the vertex count")?;

@@ -13,6 +13,21 @@ use ply_rs_bw::ply::{
 use ply_rs_bw::writer::Writer;
 use std::io::{Cursor, Write};
 
+/// The file with its header read as text (a Latin-1 byte in a comment would make the parser give
+/// up), the body untouched (it may be binary).
+fn text_header(bytes: &[u8]) -> std::borrow::Cow<'_, [u8]> {
+    const END: &[u8] = b"end_header";
+    let Some(end) = bytes.windows(END.len()).position(|w| w == END) else {
+        return bytes.into();
+    };
+    let header = &bytes[..end];
+    if std::str::from_utf8(header).is_ok() {
+        return bytes.into();
+    }
+    let text = String::from_utf8_lossy(header);
+    [text.as_bytes(), &bytes[end..]].concat().into()
+}
+
 fn number(p: &Property) -> Option<f64> {
     Some(match *p {
         Property::Char(x) => x.into(),
@@ -40,8 +55,9 @@ fn index_list(p: &Property) -> Option<Vec<i64>> {
 }
 
 pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
+    let bytes = text_header(bytes);
     let ply = Parser::<DefaultElement>::new()
-        .read_ply(&mut Cursor::new(bytes))
+        .read_ply(&mut Cursor::new(bytes.as_ref()))
         .map_err(|e| {
             // ply-rs-bw's messages run over several lines; the first says what and where.
             let msg = e.to_string();

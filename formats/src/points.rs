@@ -44,9 +44,12 @@ pub fn parse_xyz(bytes: &[u8]) -> Result<Vec<DVec3>, Problem> {
         let Some(first) = words.next() else { continue };
         let mut xyz = [0.0; 3];
         for (k, word) in std::iter::once(first).chain(words).take(3).enumerate() {
-            xyz[k] = word
-                .parse::<f64>()
-                .map_err(|_| Problem::at_line(i + 1, format!("{word:?} is not a number")))?;
+            xyz[k] = word.parse::<f64>().map_err(|_| {
+                Problem::at_line(
+                    i + 1,
+                    format!("{} is not a number", crate::text::quote(word)),
+                )
+            })?;
             if !xyz[k].is_finite() {
                 return Err(Problem::at_line(
                     i + 1,

@@ -40,10 +40,13 @@ pub fn read_poly(path: &Path) -> Result<Pslg, PolyError> {
 }
 
 fn read_text(path: &Path) -> Result<String, PolyError> {
-    std::fs::read_to_string(path).map_err(|source| PolyError::Io {
+    let bytes = std::fs::read(path).map_err(|source| PolyError::Io {
         path: path.to_owned(),
         source,
-    })
+    })?;
+    Ok(crate::text::as_text(&bytes)
+        .map(std::borrow::Cow::into_owned)
+        .unwrap_or_default())
 }
 
 /// The non-empty, comment-stripped lines of a file, with their line numbers.
@@ -51,6 +54,8 @@ struct Lines<'a> {
     path: &'a Path,
     inner: std::iter::Enumerate<std::str::Lines<'a>>,
     last: usize,
+    /// Length of the text, which bounds how many items it can hold.
+    len: usize,
 }
 
 impl<'a> Lines<'a> {
@@ -59,6 +64,7 @@ impl<'a> Lines<'a> {
             path,
             inner: text.lines().enumerate(),
             last: 0,
+            len: text.len(),
         }
     }
 
@@ -83,7 +89,7 @@ impl<'a> Lines<'a> {
                 .iter()
                 .map(|w| {
                     w.parse::<f64>()
-                        .map_err(|_| format!("{w:?} is not a number"))
+                        .map_err(|_| format!("{} is not a number", crate::text::quote(w)))
                 })
                 .collect::<Result<Vec<f64>, String>>()
                 .map_err(|m| self.error(m))?;
@@ -101,6 +107,11 @@ impl<'a> Lines<'a> {
             ))),
             None => Err(self.error(format!("file ends before {what}"))),
         }
+    }
+
+    /// Capacity to reserve for `n` announced items: never more than the text can hold.
+    fn capacity(&self, n: usize) -> usize {
+        crate::text::capped(n, self.len)
     }
 
     fn count(&self, v: f64, what: &str) -> Result<usize, PolyError> {
@@ -124,7 +135,7 @@ fn parse_vertices(lines: &mut Lines) -> Result<(Vec<Point2>, i64), PolyError> {
         header.get(2).copied().unwrap_or(0.0),
         "the number of attributes",
     )?;
-    let mut points = Vec::with_capacity(n);
+    let mut points = Vec::with_capacity(lines.capacity(n));
     let mut first = 0;
     for k in 0..n {
         let row = lines.expect_numbers("a vertex", 3)?;
@@ -165,8 +176,8 @@ pub fn parse_poly(
     let header = lines.expect_numbers("the segment header", 1)?;
     let m = lines.count(header[0], "the number of segments")?;
     let markers = header.get(1).is_some_and(|&b| b != 0.0);
-    let mut segments = Vec::with_capacity(m);
-    let mut segment_markers = Vec::with_capacity(m);
+    let mut segments = Vec::with_capacity(lines.capacity(m));
+    let mut segment_markers = Vec::with_capacity(lines.capacity(m));
     for _ in 0..m {
         let row = lines.expect_numbers("a segment", 3)?;
         let mut ends = [0u32; 2];
@@ -186,7 +197,7 @@ pub fn parse_poly(
     }
     let header = lines.expect_numbers("the hole header", 1)?;
     let h = lines.count(header[0], "the number of holes")?;
-    let mut holes = Vec::with_capacity(h);
+    let mut holes = Vec::with_capacity(lines.capacity(h));
     for _ in 0..h {
         let row = lines.expect_numbers("a hole", 3)?;
         holes.push(Point2::new(row[1], row[2]));

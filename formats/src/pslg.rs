@@ -154,7 +154,7 @@ fn obj_index(word: &str, count: usize) -> Result<u32, String> {
     let head = word.split('/').next().unwrap_or("");
     let k: i64 = head
         .parse()
-        .map_err(|_| format!("bad vertex index {word:?}"))?;
+        .map_err(|_| format!("bad vertex index {}", crate::text::quote(word)))?;
     let index = if k > 0 { k - 1 } else { count as i64 + k };
     if k == 0 || index < 0 || index >= count as i64 {
         return Err(format!(

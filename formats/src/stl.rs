@@ -10,11 +10,13 @@ const HEADER: usize = 84;
 const FACET: usize = 50;
 
 pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
+    // A byte-order mark before `solid` makes an ASCII file (a binary header just starting with
+    // those bytes keeps them: its size says so).
+    let text_start = crate::text::strip_bom(bytes).trim_ascii_start();
     let binary_size = bytes.get(80..84).map(|c| {
         HEADER as u64 + FACET as u64 * u64::from(u32::from_le_bytes([c[0], c[1], c[2], c[3]]))
     });
-    let looks_ascii =
-        bytes.trim_ascii_start().starts_with(b"solid") && binary_size != Some(bytes.len() as u64);
+    let looks_ascii = text_start.starts_with(b"solid") && binary_size != Some(bytes.len() as u64);
     if !looks_ascii {
         match binary_size {
             None => {
@@ -39,12 +41,12 @@ pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
     // stl_io decides ASCII by a first line starting with "solid ": give it a first line it reads the
     // way we decided (binary headers may start with "solid"; ASCII files may say just "solid").
     let input: Cow<[u8]> = if looks_ascii {
-        let text = bytes.trim_ascii_start();
-        let body = text
+        let body = text_start
             .iter()
             .position(|&b| b == b'\n')
-            .map_or(&[][..], |i| &text[i..]);
-        Cow::Owned([b"solid surface".as_slice(), body].concat())
+            .map_or(&[][..], |i| &text_start[i..]);
+        let body = String::from_utf8_lossy(body);
+        Cow::Owned([b"solid surface".as_slice(), body.as_bytes()].concat())
     } else if bytes.starts_with(b"solid") {
         let mut owned = bytes.to_vec();
         owned[..5].copy_from_slice(b"SOLID");

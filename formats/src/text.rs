@@ -1,12 +1,34 @@
 //! A whitespace tokenizer with line numbers and `#` comments, shared by the hand-written text readers.
 
 use crate::error::Problem;
+use std::borrow::Cow;
 use std::str::{FromStr, SplitWhitespace};
 
-/// The file as UTF-8, or an error at the first invalid byte.
-pub(crate) fn as_text(bytes: &[u8]) -> Result<&str, Problem> {
-    std::str::from_utf8(bytes)
-        .map_err(|e| Problem::at_byte(e.valid_up_to() as u64, "not a text file (invalid UTF-8)"))
+/// The UTF-8 byte-order mark some editors put at the start of text files.
+const BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// `bytes` without a leading UTF-8 byte-order mark.
+pub(crate) fn strip_bom(bytes: &[u8]) -> &[u8] {
+    bytes.strip_prefix(BOM).unwrap_or(bytes)
+}
+
+/// The file as text. The syntax of every text format is ASCII, so bytes that are not UTF-8 (a
+/// Latin-1 `é` in a comment or a name) become U+FFFD instead of failing the whole file: where they
+/// matter, the token holding them is refused with its line.
+pub(crate) fn as_text(bytes: &[u8]) -> Result<Cow<'_, str>, Problem> {
+    Ok(String::from_utf8_lossy(strip_bom(bytes)))
+}
+
+/// Longest piece of input quoted in a message, in characters.
+const QUOTE_CHARS: usize = 40;
+
+/// `s` quoted for a message (`Debug` escapes), cut to a few dozen characters so that a line of
+/// binary junk cannot flood the terminal.
+pub(crate) fn quote(s: &str) -> String {
+    match s.char_indices().nth(QUOTE_CHARS) {
+        Some((cut, _)) => format!("{:?}…", &s[..cut]),
+        None => format!("{s:?}"),
+    }
 }
 
 /// Capacity to reserve for `count` items announced by a file of `bytes` bytes: never more than the
@@ -63,8 +85,9 @@ impl<'a> Tokens<'a> {
 
     pub(crate) fn parse<T: FromStr>(&mut self, what: &str) -> Result<T, Problem> {
         let tok = self.expect(what)?;
-        tok.parse()
-            .map_err(|_| Problem::at_line(self.line, format!("expected {what}, found {tok:?}")))
+        tok.parse().map_err(|_| {
+            Problem::at_line(self.line, format!("expected {what}, found {}", quote(tok)))
+        })
     }
 
     /// A finite coordinate: NaN and infinities are rejected where they are read.
@@ -129,6 +152,18 @@ mod tests {
         assert_eq!(t.coordinate().ok(), Some(1.5));
         assert!(t.coordinate().is_err());
         assert!(t.expect("more").is_err());
+    }
+
+    #[test]
+    fn quotes_are_short_and_text_survives_latin1_and_a_bom() {
+        let junk = "\0".repeat(1000);
+        assert!(quote(&junk).chars().count() < 4 * QUOTE_CHARS);
+        assert_eq!(quote("abc"), "\"abc\"");
+        let text = as_text(b"\xEF\xBB\xBFOFF # caf\xE9\n1 2").map(Cow::into_owned);
+        let text = text.unwrap_or_default();
+        let mut t = Tokens::new(&text);
+        assert_eq!(t.next_token(), Some("OFF"));
+        assert_eq!(t.next_token(), Some("1"));
     }
 
     #[test]

@@ -48,12 +48,26 @@ pub(crate) fn read_cells(
         _ => raw_appended_to_base64(bytes)?,
     };
     let bytes = reencoded.as_deref().unwrap_or(bytes);
+    // With raw appended data re-encoded, an XML file is text: a Latin-1 byte in a comment or a
+    // name should not sink it.
+    let text = (format != Format::Vtk).then(|| String::from_utf8_lossy(bytes));
+    let bytes = text.as_deref().map_or(bytes, str::as_bytes);
     let parsed = contain_panics(|| match format {
         Format::Vtk => vtkio::Vtk::parse_legacy_be(bytes),
         _ => vtkio::Vtk::parse_xml(bytes),
     })
-    .map_err(|why| Problem::bad(format!("malformed VTK file (vtkio gave up: {why})")))?;
-    let vtk = parsed.map_err(|e| Problem::bad(format!("not a readable VTK file: {e}")))?;
+    .map_err(|why| {
+        Problem::bad(format!(
+            "malformed VTK file (vtkio gave up: {})",
+            plain(&why)
+        ))
+    })?;
+    let vtk = parsed.map_err(|e| {
+        Problem::bad(format!(
+            "not a readable VTK file: {}",
+            plain(&e.to_string())
+        ))
+    })?;
     let mut b = Builder::default();
     let poly = matches!(vtk.data, DataSet::PolyData { .. });
     match vtk.data {
@@ -105,6 +119,41 @@ pub(crate) fn read_cells(
         warnings.push(format!("skipped {n} cells of VTK type {ty}"));
     }
     Ok((mesh, warnings, poly))
+}
+
+/// vtkio's messages in plain words: its errors end in `Debug` dumps of nested library errors
+/// (`InvalidInt(ParseIntError { kind: PosOverflow })`); keep the words before the first dump,
+/// spell its variant name out (`invalid int`) and cut the result to one short line.
+fn plain(message: &str) -> String {
+    let line = message.lines().next().unwrap_or_default();
+    let dump = line.char_indices().find(|&(i, c)| {
+        (c == '(' || c == '{') && line[..i].ends_with(|p: char| p.is_alphanumeric())
+    });
+    let (words, variant) = match dump {
+        Some((i, _)) => {
+            let head = &line[..i];
+            let cut = head
+                .rfind(|c: char| !c.is_alphanumeric())
+                .map_or(0, |k| k + 1);
+            (&head[..cut], &head[cut..])
+        }
+        None => (line, ""),
+    };
+    let mut out = words.trim_end().to_string();
+    if !variant.is_empty() {
+        let mut spelled = String::new();
+        for (k, c) in variant.chars().enumerate() {
+            if c.is_uppercase() && k > 0 {
+                spelled.push(' ');
+            }
+            spelled.extend(c.to_lowercase());
+        }
+        out = format!("{} {spelled}", out.trim_end()).trim().to_string();
+    }
+    match out.char_indices().nth(160) {
+        Some((cut, _)) => format!("{}…", &out[..cut]),
+        None => out,
+    }
 }
 
 /// vtkio's ASCII number parser rejects `nan`, which VTK writes (and we write for the cells a per-tet
@@ -188,17 +237,19 @@ pub(crate) fn raw_appended_to_base64(bytes: &[u8]) -> Result<Option<Vec<u8>>, Pr
     };
     let tag_len = find(&bytes[tag..], b">")
         .ok_or_else(|| Problem::at_byte(tag as u64, "unterminated AppendedData tag"))?;
-    if find(&bytes[tag..tag + tag_len], b"\"raw\"").is_none() {
+    // XML allows either quote around attribute values.
+    let quoted = |hay: &[u8], value: &str| {
+        find(hay, format!("\"{value}\"").as_bytes())
+            .or_else(|| find(hay, format!("'{value}'").as_bytes()))
+            .is_some()
+    };
+    if !quoted(&bytes[tag..tag + tag_len], "raw") {
         return Ok(None);
     }
     let head = &bytes[..tag];
     let layout = BlockLayout {
-        header_bytes: if find(head, b"\"UInt64\"").is_some() {
-            8
-        } else {
-            4
-        },
-        big_endian: find(head, b"\"BigEndian\"").is_some(),
+        header_bytes: if quoted(head, "UInt64") { 8 } else { 4 },
+        big_endian: quoted(head, "BigEndian"),
         compressed: find(head, b"compressor=").is_some(),
     };
     let underscore = find(&bytes[tag + tag_len..], b"_")
@@ -217,9 +268,20 @@ pub(crate) fn raw_appended_to_base64(bytes: &[u8]) -> Result<Option<Vec<u8>>, Pr
     // Offsets of the DataArrays, in file order.
     let mut marks = Vec::new();
     let mut at = 0;
-    while let Some(i) = find(&head[at..], b" offset=\"") {
-        let value_start = at + i + b" offset=\"".len();
-        let len = find(&head[value_start..], b"\"")
+    while let Some(i) = find(&head[at..], b" offset=") {
+        let quote_at = at + i + b" offset=".len();
+        let quote = head
+            .get(quote_at)
+            .copied()
+            .filter(|&q| q == b'"' || q == b'\'');
+        let Some(quote) = quote else {
+            at = quote_at;
+            continue;
+        };
+        let value_start = quote_at + 1;
+        let len = head[value_start..]
+            .iter()
+            .position(|&b| b == quote)
             .ok_or_else(|| Problem::at_byte(value_start as u64, "unterminated offset attribute"))?;
         let value = std::str::from_utf8(&head[value_start..value_start + len])
             .ok()
@@ -264,6 +326,9 @@ pub(crate) fn raw_appended_to_base64(bytes: &[u8]) -> Result<Option<Vec<u8>>, Pr
     out.extend_from_slice(&bytes[end..]);
     Ok(Some(out))
 }
+
+/// The most deflate can expand data (RFC 1951: a 258-byte match costs at least 2 bits), rounded up.
+const MAX_INFLATE_RATIO: usize = 1100;
 
 /// How the blocks of raw appended data are framed (VTKFile attributes `header_type`, `byte_order`,
 /// `compressor`).
@@ -319,6 +384,29 @@ impl BlockLayout {
             .checked_add(data_len)
             .filter(|&e| e <= block.len())
             .ok_or_else(overrun)?;
+        // The decompressor reserves what the header announces: refuse more than zlib can make of
+        // the compressed bytes (deflate expands at most 1032:1).
+        let (block_size, last) = (
+            self.uint(block, h).ok_or_else(overrun)?,
+            self.uint(block, 2 * h).ok_or_else(overrun)?,
+        );
+        let most = data_len
+            .saturating_mul(MAX_INFLATE_RATIO)
+            .saturating_add(count * 64);
+        let announced = block_size
+            .saturating_mul(count.saturating_sub(1))
+            .saturating_add(if last == 0 { block_size } else { last });
+        // VTK announces its 32 KiB block size even for one short block: allow a block size of up
+        // to a mebibyte whatever the data.
+        if block_size > most.max(1 << 20) || announced > most {
+            return Err(Problem::at_byte(
+                file_offset as u64,
+                format!(
+                    "the compression header announces {announced} bytes from {data_len} compressed: \
+                     corrupt"
+                ),
+            ));
+        }
         Ok(vec![&block[..header_len], &block[header_len..end]])
     }
 }
@@ -404,6 +492,13 @@ impl Builder {
         cells: impl Iterator<Item = (&'a Vec<u64>, u8)>,
         cell_data: &[Attribute],
     ) -> Result<(), Problem> {
+        let (base, n) = self.add_points(points)?;
+        let slots = self.add_cells(cells, base, n)?;
+        self.add_cell_data(&slots, cell_data)
+    }
+
+    /// Appends the piece's points; returns the index of its first point and its point count.
+    fn add_points(&mut self, points: &IOBuffer) -> Result<(usize, usize), Problem> {
         let coords: Vec<f64> = points
             .cast_into()
             .ok_or_else(|| Problem::bad("points are not numbers"))?;
@@ -414,10 +509,20 @@ impl Builder {
             )));
         }
         let base = self.mesh.positions.len();
-        let n = coords.len() / 3;
         self.mesh
             .positions
             .extend(coords.chunks_exact(3).map(|c| DVec3::new(c[0], c[1], c[2])));
+        Ok((base, coords.len() / 3))
+    }
+
+    /// Appends the piece's cells (tets, triangulated faces, edges), vertices numbered from `base`
+    /// among its `n` points; returns where each file cell went.
+    fn add_cells<'a>(
+        &mut self,
+        cells: impl Iterator<Item = (&'a Vec<u64>, u8)>,
+        base: usize,
+        n: usize,
+    ) -> Result<Vec<Slot>, Problem> {
         let index = |cell: usize, v: u64| -> Result<u32, Problem> {
             if v >= n as u64 {
                 return Err(Problem::bad(format!(
@@ -477,6 +582,13 @@ impl Builder {
             };
             slots.push(slot);
         }
+        Ok(slots)
+    }
+
+    /// Distributes the piece's one-component cell arrays: labels (`subdomain`, `patch`, `curve`)
+    /// and per-tet fields, resized for the cells just added.
+    fn add_cell_data(&mut self, slots: &[Slot], cell_data: &[Attribute]) -> Result<(), Problem> {
+        let m = &mut self.mesh;
         let tets_before = m.subdomains.len();
         m.subdomains.resize(m.tets.len(), SubdomainId(0));
         m.boundary_patches.resize(m.boundary.len(), PatchId(0));
@@ -550,5 +662,19 @@ impl Builder {
                 .push("a cell field is missing from some pieces (filled with NaN)".into());
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::plain;
+
+    #[test]
+    fn vtkio_debug_dumps_become_words() {
+        let m = plain(
+            "XML error: Deserialization error: InvalidInt(ParseIntError { kind: PosOverflow })",
+        );
+        assert_eq!(m, "XML error: Deserialization error: invalid int");
+        assert_eq!(plain("plain words\nsecond line"), "plain words");
     }
 }

@@ -38,6 +38,7 @@ pub struct Args {
 }
 
 pub fn run(args: &Args) -> Result<()> {
+    delamesh_formats::check_mesh_output(&args.output, None)?;
     let pslg = delamesh_formats::pslg::read_pslg(&args.input)?;
     let options = ConformOptions {
         algorithm: match args.algorithm {
@@ -69,7 +70,7 @@ pub fn run(args: &Args) -> Result<()> {
         &out.segment_origins,
     );
     delamesh_formats::write_tet_mesh(&args.output, &mesh, &WriteOptions::default())?;
-    println!(
+    outln!(
         "{} points ({} added), {} constraint edges, {} steps, {} triangles -> {}",
         out.points.len(),
         out.points.len() - pslg.points.len(),
@@ -77,6 +78,6 @@ pub fn run(args: &Args) -> Result<()> {
         out.iterations,
         triangles.len(),
         args.output.display()
-    );
+    )?;
     Ok(())
 }

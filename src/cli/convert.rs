@@ -25,6 +25,7 @@ pub struct ConvertArgs {
 }
 
 pub fn run(args: ConvertArgs) -> Result<()> {
+    delamesh_formats::check_mesh_output(&args.output, args.format)?;
     let read = delamesh_formats::read(&args.input, args.input_format)?;
     for w in &read.warnings {
         eprintln!("warning: {}: {w}", args.input.display());

@@ -24,6 +24,7 @@ pub struct DelaunayArgs {
 }
 
 pub fn run(args: &DelaunayArgs) -> Result<()> {
+    delamesh_formats::check_mesh_output(&args.output, None)?;
     let points = delamesh_formats::read_points(&args.input, args.format)?;
     let start = Instant::now();
     let dt = Delaunay3::from_points(&points)

@@ -133,76 +133,89 @@ pub fn run(args: InfoArgs) -> Result<()> {
         "warnings": read.warnings,
     });
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+        outln!("{}", serde_json::to_string_pretty(&report)?)?;
     } else {
-        print_text(&report, &topo);
+        print_text(&report, &topo)?;
     }
     Ok(())
 }
 
-fn print_text(r: &Value, t: &Topology) {
+fn print_text(r: &Value, t: &Topology) -> std::io::Result<()> {
     let yes = |b: bool| if b { "yes" } else { "no" };
-    println!(
+    outln!(
         "{} ({})",
         r["file"].as_str().unwrap_or_default(),
         r["kind"].as_str().unwrap_or_default()
-    );
-    println!(
+    )?;
+    outln!(
         "  vertices: {} (welded {})",
-        r["vertices"], r["welded_vertices"]
-    );
-    println!("  triangles: {}", r["triangles"]);
+        r["vertices"],
+        r["welded_vertices"]
+    )?;
+    outln!("  triangles: {}", r["triangles"])?;
     if let Some(v) = r["volume_mesh"].as_object() {
-        println!(
+        outln!(
             "  tetrahedra: {} ({} inverted)",
-            v["tetrahedra"], v["inverted_tetrahedra"]
-        );
-        println!("  feature edges: {}", v["feature_edges"]);
+            v["tetrahedra"],
+            v["inverted_tetrahedra"]
+        )?;
+        outln!("  feature edges: {}", v["feature_edges"])?;
         for s in v["subdomains"].as_array().into_iter().flatten() {
-            println!(
+            outln!(
                 "    subdomain {}: {} tetrahedra, volume {}",
-                s["id"], s["tetrahedra"], s["volume"]
-            );
+                s["id"],
+                s["tetrahedra"],
+                s["volume"]
+            )?;
         }
     }
     if let Some(b) = r["bounding_box"].as_object() {
-        println!("  bounding box: {} .. {}", b["min"], b["max"]);
+        outln!("  bounding box: {} .. {}", b["min"], b["max"])?;
     }
     for p in r["patches"].as_array().into_iter().flatten() {
-        println!(
+        outln!(
             "    patch {} {}: {} triangles",
-            p["id"], p["name"], p["triangles"]
-        );
+            p["id"],
+            p["name"],
+            p["triangles"]
+        )?;
     }
-    println!(
+    outln!(
         "  closed: {}   manifold: {}   consistently oriented: {}",
         yes(t.closed),
         yes(t.manifold),
         yes(t.orientation_consistent)
-    );
+    )?;
     for d in t.defects() {
-        println!("    {d}");
+        outln!("    {d}")?;
     }
     let genus = t
         .genus
         .map_or("undefined (not a closed oriented manifold)".into(), |g| {
             g.to_string()
         });
-    println!(
+    outln!(
         "  components: {}   Euler characteristic: {}   genus: {genus}",
-        t.components, t.euler_characteristic
-    );
-    println!(
+        t.components,
+        t.euler_characteristic
+    )?;
+    outln!(
         "  signed volume: {}   degenerate triangles: {}",
-        t.signed_volume, t.degenerate_triangles
-    );
+        t.signed_volume,
+        t.degenerate_triangles
+    )?;
     if let Some(f) = r["features"].as_object() {
-        println!(
+        outln!(
             "  features at {}°: {} curves ({} closed), {} corners, {} patches",
-            f["angle_deg"], f["curves"], f["closed_curves"], f["corners"], f["patches"]
-        );
+            f["angle_deg"],
+            f["curves"],
+            f["closed_curves"],
+            f["corners"],
+            f["patches"]
+        )?;
     }
     for w in r["warnings"].as_array().into_iter().flatten() {
-        println!("  warning: {}", w.as_str().unwrap_or_default());
+        outln!("  warning: {}", w.as_str().unwrap_or_default())?;
     }
+    Ok(())
 }

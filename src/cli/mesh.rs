@@ -108,6 +108,11 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     if image && args.report.is_some() {
         bail!("--report compares the mesh with an input surface and is not available for images");
     }
+    // Every output is checked before any work: a typo in a folder name costs nothing.
+    delamesh_formats::check_mesh_output(&args.output, None)?;
+    if let Some(report) = &args.report {
+        delamesh_formats::check_document_output(report)?;
+    }
     let settings = args.settings()?;
     settings.validate()?;
     for warning in settings.warnings() {
@@ -127,8 +132,12 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         ..WriteOptions::default()
     };
     meshed.write(&args.output, &write_options)?;
-    if let Some(path) = &args.report {
-        write_report(path, &mut meshed)?;
+    if let Some(path) = &args.report
+        && let Err(e) = write_report(path, &mut meshed)
+    {
+        // One run, one result: a mesh without the report asked for is not left behind.
+        let _ = std::fs::remove_file(&args.output);
+        return Err(e.context(format!("{} was not kept", args.output.display())));
     }
     match meshed.stopped.take() {
         Some(e) => Err(anyhow::Error::new(e).context(format!(

@@ -32,6 +32,7 @@ pub struct Args {
 }
 
 pub fn run(args: &Args) -> Result<()> {
+    delamesh_formats::check_mesh_output(&args.output, None)?;
     let mut pslg = delamesh_formats::pslg::read_pslg(&args.input)?;
     pslg.holes.extend(&args.holes);
     let start = std::time::Instant::now();
@@ -51,7 +52,7 @@ pub fn run(args: &Args) -> Result<()> {
         &m.segment_origins,
     );
     delamesh_formats::write_tet_mesh(&args.output, &out, &WriteOptions::default())?;
-    println!(
+    outln!(
         "{} vertices, {} triangles, {} sub-segments, smallest angle {:.2}°, {:.6} s -> {}",
         m.points.len(),
         m.triangles.len(),
@@ -59,7 +60,7 @@ pub fn run(args: &Args) -> Result<()> {
         worst,
         elapsed.as_secs_f64(),
         args.output.display()
-    );
+    )?;
     Ok(())
 }
 

@@ -31,10 +31,7 @@ pub struct PluginsArgs {
 pub fn run(args: &PluginsArgs) -> Result<()> {
     match &args.check.plugin {
         Some(spec) => check(spec, &args.check.plugin_config),
-        None => {
-            list();
-            Ok(())
-        }
+        None => Ok(list()?),
     }
 }
 
@@ -47,48 +44,53 @@ fn check(spec: &str, config: &str) -> Result<()> {
         oracle.corners().len(),
     ];
     oracle.check()?;
-    println!("ok: plugin `{spec}` passed its self-check");
-    println!("  bounding box   [{}, {}]", bbox.min, bbox.max);
-    println!(
+    outln!("ok: plugin `{spec}` passed its self-check")?;
+    outln!("  bounding box   [{}, {}]", bbox.min, bbox.max)?;
+    outln!(
         "  initial points {}, feature curves {}, corners {}",
-        counts[0], counts[1], counts[2]
-    );
+        counts[0],
+        counts[1],
+        counts[2]
+    )?;
     Ok(())
 }
 
-fn list() {
+fn list() -> std::io::Result<()> {
     let version = env!("CARGO_PKG_VERSION");
-    println!("built-in plugins (linked into this binary):");
+    outln!("built-in plugins (linked into this binary):")?;
     for b in BUILT_IN {
-        println!(
+        outln!(
             "  {:<16} {version:<10} {:<16} {}",
-            b.name, b.kind, b.description
-        );
+            b.name,
+            b.kind,
+            b.description
+        )?;
     }
     let dirs = search_dirs();
     if dirs.is_empty() {
-        println!("{PLUGIN_PATH_VAR} is not set: no installed plugins searched");
-        return;
+        outln!("{PLUGIN_PATH_VAR} is not set: no installed plugins searched")?;
+        return Ok(());
     }
-    println!("plugins in {PLUGIN_PATH_VAR}:");
+    outln!("plugins in {PLUGIN_PATH_VAR}:")?;
     let libraries = installed_libraries();
     if libraries.is_empty() {
-        println!("  (none)");
+        outln!("  (none)")?;
     }
     for path in libraries {
         match PluginLibrary::open(&path) {
             Ok(library) => {
                 let info = library.info();
-                println!(
+                outln!(
                     "  {:<16} {:<10} {:<16} ABI v{}  {}",
                     info.name,
                     info.version,
                     info.kind,
                     info.abi_version,
                     path.display()
-                );
+                )?;
             }
-            Err(error) => println!("  (unusable) {error}"),
+            Err(error) => outln!("  (unusable) {error}")?,
         }
     }
+    Ok(())
 }

@@ -6,11 +6,13 @@
 //! triangulation is unique whatever the insertion order.
 
 mod double_double;
+mod exact;
 pub mod perturbation;
 pub mod power;
 pub mod predicates;
 pub mod predicates2d;
 
+pub use exact::exact_oracle;
 pub use glam::DVec2 as Point2;
 pub use glam::DVec3 as Point3;
 pub use power::{WeightedPoint3, coplanar_power_test, power_test};

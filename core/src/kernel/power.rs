@@ -6,6 +6,7 @@
 //! convention. A semi-static floating-point filter decides almost every call; the rest are
 //! evaluated exactly on the doubles' exact dyadic values with big integers.
 
+use super::exact::{det, dyadic, scaled, sign_of};
 use super::{Point2, Point3, Sign, orient2d, orient3d};
 use num_bigint::BigInt;
 
@@ -123,26 +124,6 @@ pub(crate) fn off_plane_point(tri: [Point3; 3]) -> (Point3, Sign) {
     unreachable!("a non-collinear triangle has a non-zero normal component")
 }
 
-/// `x = mantissa · 2^exponent` exactly (zero has mantissa 0).
-pub(super) fn dyadic(x: f64) -> (i64, i32) {
-    let bits = x.to_bits();
-    let sign = if bits >> 63 == 1 { -1 } else { 1 };
-    let biased = ((bits >> 52) & 0x7ff) as i32;
-    let frac = (bits & ((1u64 << 52) - 1)) as i64;
-    let (m, e) = if biased == 0 {
-        (frac, -1074)
-    } else {
-        (frac | (1i64 << 52), biased - 1075)
-    };
-    (sign * m, e)
-}
-
-/// `x · 2^-unit` as an exact integer; `unit` must not exceed the exponent of `x`.
-pub(super) fn scaled(x: f64, unit: i32) -> BigInt {
-    let (m, e) = dyadic(x);
-    BigInt::from(m) << ((e - unit) as usize)
-}
-
 /// The exact sign of the lifted 5×5 determinant, rows `[x y z |p|²−w 1]`.
 #[cold]
 fn power_test_exact(p: [WeightedPoint3; 5]) -> Sign {
@@ -173,37 +154,9 @@ fn power_test_exact(p: [WeightedPoint3; 5]) -> Sign {
         .iter()
         .map(|r| std::array::from_fn(|j| &r[j] - &rows[4][j]))
         .collect();
-    let det = det4(&m);
+    let refs: Vec<Vec<&BigInt>> = m.iter().map(|r| r.iter().collect()).collect();
     // det[rows - e] is the 5×5 determinant up to the sign (-1)^(4) of expanding along the ones.
-    match det.sign() {
-        num_bigint::Sign::Plus => Sign::Positive,
-        num_bigint::Sign::Minus => Sign::Negative,
-        num_bigint::Sign::NoSign => Sign::Zero,
-    }
-}
-
-fn det3(m: [[&BigInt; 3]; 3]) -> BigInt {
-    m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
-        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-}
-
-fn det4(m: &[[BigInt; 4]]) -> BigInt {
-    let mut total = BigInt::from(0);
-    for col in 0..4 {
-        let minor: [[&BigInt; 3]; 3] = std::array::from_fn(|r| {
-            let row = &m[r + 1];
-            let cols: Vec<usize> = (0..4).filter(|&c| c != col).collect();
-            [&row[cols[0]], &row[cols[1]], &row[cols[2]]]
-        });
-        let term = &m[0][col] * det3(minor);
-        if col % 2 == 0 {
-            total += term;
-        } else {
-            total -= term;
-        }
-    }
-    total
+    sign_of(&det(&refs))
 }
 
 #[cfg(test)]

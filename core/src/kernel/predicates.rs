@@ -4,6 +4,7 @@
 //! evaluation with an error bound, refined exactly only when the bound cannot decide the sign).
 
 use super::double_double::{dd_add, dd_mul, dd_neg, dd_sub, two_diff};
+use super::exact::{expansions_are_exact, insphere_big, orient2d_big, orient3d_big};
 use super::{Point2, Point3};
 use robust::{Coord, Coord3D};
 
@@ -56,7 +57,25 @@ fn c3(p: Point3) -> Coord3D<f64> {
 /// Positive when `a, b, c` turn counter-clockwise.
 #[inline]
 pub fn orient2d(a: Point2, b: Point2, c: Point2) -> Sign {
-    Sign::of(robust::orient2d(c2(a), c2(b), c2(c)))
+    let (ac, bc) = (a - c, b - c);
+    let (left, right) = (ac.x * bc.y, ac.y * bc.x);
+    let det = left - right;
+    let permanent = left.abs() + right.abs();
+    // Shewchuk's first bound; above the range guard, underflow cannot have mattered.
+    if det.abs() > ORIENT2D_ERROR * permanent && permanent > MIN_FILTER_PERMANENT {
+        return Sign::of(det);
+    }
+    orient2d_exact(a, b, c)
+}
+
+#[cold]
+#[inline(never)]
+fn orient2d_exact(a: Point2, b: Point2, c: Point2) -> Sign {
+    if expansions_are_exact(&[a.x, a.y, b.x, b.y, c.x, c.y], 2) {
+        Sign::of(robust::orient2d(c2(a), c2(b), c2(c)))
+    } else {
+        orient2d_big([a, b, c].map(|p| p.to_array()))
+    }
 }
 
 /// Positive when `d` lies below the plane through `a, b, c`, seen counter-clockwise from above
@@ -96,6 +115,11 @@ fn orient3d_refined(a: Point3, b: Point3, c: Point3, d: Point3, det: f64) -> Sig
     orient3d_exact(a, b, c, d)
 }
 
+/// Shewchuk's first error bound of the planar orientation, relative to its permanent.
+const ORIENT2D_ERROR: f64 = (3.0 + 16.0 * UNIT_ROUNDOFF) * UNIT_ROUNDOFF;
+/// Smallest permanent a first-stage filter decides with: above it, what underflow can lose is
+/// far below the error bound.
+const MIN_FILTER_PERMANENT: f64 = 1e-280;
 /// Relative error bound of the orientation determinant (see [`orient3d`]).
 const ORIENT3D_ERROR: f64 = 1e-14;
 /// Relative error bound of the in-sphere determinant (see [`insphere`]).
@@ -213,14 +237,27 @@ fn orient3d_cold(a: Point3, b: Point3, c: Point3, d: Point3) -> Sign {
 
 #[cold]
 fn orient3d_exact(a: Point3, b: Point3, c: Point3, d: Point3) -> Sign {
-    Sign::of(robust::orient3d(c3(a), c3(b), c3(c), c3(d)))
+    if expansions_are_exact(&coordinates(&[a, b, c, d]), 3) {
+        Sign::of(robust::orient3d(c3(a), c3(b), c3(c), c3(d)))
+    } else {
+        orient3d_big([a, b, c, d].map(|p| p.to_array()))
+    }
+}
+
+/// The coordinates of `points`, for [`expansions_are_exact`].
+fn coordinates<const N: usize>(points: &[Point3; N]) -> Vec<f64> {
+    points.iter().flat_map(|p| p.to_array()).collect()
 }
 
 /// Positive when `d` lies inside the circle through `a, b, c`, given `orient2d(a, b, c)` positive
 /// (the sign is reversed for a negatively oriented triangle).
 #[inline]
 pub fn incircle(a: Point2, b: Point2, c: Point2, d: Point2) -> Sign {
-    Sign::of(robust::incircle(c2(a), c2(b), c2(c), c2(d)))
+    match super::predicates2d::incircle(a, b, c, d) {
+        std::cmp::Ordering::Less => Sign::Negative,
+        std::cmp::Ordering::Equal => Sign::Zero,
+        std::cmp::Ordering::Greater => Sign::Positive,
+    }
 }
 
 /// Positive when `e` lies inside the sphere through `a, b, c, d`, given `orient3d(a, b, c, d)`
@@ -307,7 +344,11 @@ fn insphere_exact(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> Sign
             return Sign::of(det);
         }
     }
-    Sign::of(robust::insphere(c3(a), c3(b), c3(c), c3(d), c3(e)))
+    if expansions_are_exact(&coordinates(&[a, b, c, d, e]), 5) {
+        Sign::of(robust::insphere(c3(a), c3(b), c3(c), c3(d), c3(e)))
+    } else {
+        insphere_big([a, b, c, d, e].map(|p| p.to_array()))
+    }
 }
 
 /// The in-sphere determinant of the exact differences `(hi, lo)` (rows a, b, c, d relative to

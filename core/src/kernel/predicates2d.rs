@@ -3,7 +3,9 @@
 //! perturbation that makes a planar Delaunay triangulation unique, and the exact diametral-disk
 //! test (angle sign) that constraint meshing needs.
 
+use super::Sign;
 use super::double_double::{dd_add, dd_mul, dd_neg, fast_two_sum, two_diff, two_product, two_sum};
+use super::exact::{expansions_are_exact, incircle_big};
 use glam::DVec2;
 use std::cmp::Ordering;
 
@@ -14,7 +16,7 @@ fn coord(p: DVec2) -> robust::Coord<f64> {
 /// Sign of the orientation of `(a, b, c)`: `Greater` when counter-clockwise, `Less` when clockwise,
 /// `Equal` when exactly collinear.
 pub fn orient2d(a: DVec2, b: DVec2, c: DVec2) -> Ordering {
-    sign(robust::orient2d(coord(a), coord(b), coord(c)))
+    super::predicates::orient2d(a, b, c).cmp(&Sign::Zero)
 }
 
 /// Exact in-circle sign: `Greater` when `d` is strictly inside the circle through the
@@ -40,7 +42,15 @@ pub fn incircle(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Ordering {
     let permanent = la * ((bd.x * cd.y).abs() + (cd.x * bd.y).abs())
         + lb * ((cd.x * ad.y).abs() + (ad.x * cd.y).abs())
         + lc * ((ad.x * bd.y).abs() + (bd.x * ad.y).abs());
-    if det.abs() > INCIRCLE_ERROR * permanent {
+    // Shewchuk's bound holds without underflow or overflow: differences inside the expansion
+    // range make every product exact up to rounding (a subnormal product times a huge lift
+    // would not be).
+    let in_range = |x: f64| x == 0.0 || (EXPANSION_RANGE.0..=EXPANSION_RANGE.1).contains(&x.abs());
+    if det.abs() > INCIRCLE_ERROR * permanent
+        && [ad.x, ad.y, bd.x, bd.y, cd.x, cd.y]
+            .into_iter()
+            .all(in_range)
+    {
         return sign(det);
     }
     incircle_exact(a, b, c, d, permanent)
@@ -128,7 +138,11 @@ fn incircle_exact(a: DVec2, b: DVec2, c: DVec2, d: DVec2, permanent: f64) -> Ord
             return sign(det);
         }
     }
-    sign(robust::incircle(coord(a), coord(b), coord(c), coord(d)))
+    if expansions_are_exact(&[a.x, a.y, b.x, b.y, c.x, c.y, d.x, d.y], 4) {
+        sign(robust::incircle(coord(a), coord(b), coord(c), coord(d)))
+    } else {
+        incircle_big([a, b, c, d].map(|p| p.to_array())).cmp(&Sign::Zero)
+    }
 }
 
 /// `a − d`, `b − d`, `c − d` coordinate by coordinate, each as an exact `(hi, lo)` pair.

@@ -52,7 +52,7 @@ impl Default for ConformOptions {
 /// Why [`conform`] failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ConformError {
-    #[error("invalid constraint: {0}")]
+    #[error("invalid constraint")]
     Invalid(#[from] PslgError),
     #[error("no Delaunay-admissible subdivision after {0} steps (iteration cap)")]
     IterationCap(usize),
@@ -60,7 +60,7 @@ pub enum ConformError {
         "a split of segment {segment} would create a sub-edge of length {length:e}, below the minimum"
     )]
     TooShort { segment: usize, length: f64 },
-    #[error("triangulation failed: {0}")]
+    #[error("triangulation failed")]
     Triangulation(#[from] TriangulationError),
 }
 

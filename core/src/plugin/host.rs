@@ -14,6 +14,24 @@ use std::ffi::{CStr, CString, c_char, c_void};
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, OnceLock};
 
+/// Longest error message fetched from a plugin, in bytes.
+const MAX_MESSAGE_BYTES: usize = 1 << 16;
+/// Most items a plugin may ask room for in one answer (hits, points, curves): far beyond any
+/// real oracle, far below an allocation that would abort the process.
+const MAX_ITEMS: usize = 1 << 24;
+/// Longest plugin message shown, in characters.
+const MAX_MESSAGE_CHARS: usize = 200;
+
+/// A plugin's message as one short line: whitespace runs folded, cut to a couple hundred
+/// characters.
+fn one_line(text: &str) -> String {
+    let folded = text.split_whitespace().collect::<Vec<_>>().join(" ");
+    match folded.char_indices().nth(MAX_MESSAGE_CHARS) {
+        Some((cut, _)) => format!("{}…", &folded[..cut]),
+        None => folded,
+    }
+}
+
 /// Everything that can go wrong with a plugin, always naming it.
 #[derive(Debug, Clone, thiserror::Error)]
 #[error("plugin {plugin}: {problem}")]
@@ -222,9 +240,7 @@ impl PluginLibrary {
                 *last = 0;
             }
             // SAFETY: `message` is NUL-terminated.
-            let text = unsafe { CStr::from_ptr(message.as_ptr()) }
-                .to_string_lossy()
-                .into_owned();
+            let text = one_line(&unsafe { CStr::from_ptr(message.as_ptr()) }.to_string_lossy());
             let text = if text.is_empty() {
                 "no message".to_string()
             } else {
@@ -318,7 +334,8 @@ impl DynOracle {
                     (self.functions.last_error)(self.handle, buf.as_mut_ptr(), buf.len())
                 };
                 if full >= buf.len() {
-                    buf = vec![0 as c_char; full + 1];
+                    // A plugin reporting `usize::MAX` must not make `full + 1` wrap.
+                    buf = vec![0 as c_char; full.min(MAX_MESSAGE_BYTES) + 1];
                     // SAFETY: as above.
                     unsafe {
                         (self.functions.last_error)(self.handle, buf.as_mut_ptr(), buf.len())
@@ -328,9 +345,8 @@ impl DynOracle {
                     *last = 0;
                 }
                 // SAFETY: `buf` is NUL-terminated.
-                let message = unsafe { CStr::from_ptr(buf.as_ptr()) }
-                    .to_string_lossy()
-                    .into_owned();
+                let message = unsafe { CStr::from_ptr(buf.as_ptr()) }.to_string_lossy();
+                let message = one_line(&message);
                 Err(self.error(PluginProblem::Query { query, message }))
             }
             other => Err(self.contract(query, format!("returned unknown status {other}"))),
@@ -389,6 +405,12 @@ impl DynOracle {
             let mut len = 0;
             let status = call(buffer.as_mut_ptr(), buffer.len(), &mut len);
             if status == DM_BUFFER_TOO_SMALL && len > buffer.len() {
+                if len > MAX_ITEMS {
+                    return Err(self.contract(
+                        query,
+                        format!("asked for room for {len} items (at most {MAX_ITEMS})"),
+                    ));
+                }
                 buffer.resize(len, T::default());
                 continue;
             }
@@ -579,6 +601,15 @@ impl DynOracle {
             };
             if status == DM_BUFFER_TOO_SMALL && (n_curves > curves.len() || n_points > points.len())
             {
+                if n_curves > MAX_ITEMS || n_points > MAX_ITEMS {
+                    return Err(self.contract(
+                        QUERY,
+                        format!(
+                            "asked for room for {n_curves} curves and {n_points} points \
+                             (at most {MAX_ITEMS} each)"
+                        ),
+                    ));
+                }
                 curves.resize(n_curves.max(curves.len()), DmFeatureCurve::default());
                 points.resize(n_points.max(points.len()), DmVec3::default());
                 continue;

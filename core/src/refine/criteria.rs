@@ -98,3 +98,150 @@ impl MeshCriteria {
         }
     }
 }
+
+/// Why a set of criteria was refused before meshing (see [`MeshCriteria::validate`]).
+#[derive(Debug, thiserror::Error)]
+#[error("{criterion} {value}: {problem}")]
+pub struct CriteriaError {
+    /// The criterion, named as the command line's option (`facet-angle`, `cell-size`...).
+    pub criterion: &'static str,
+    /// The value refused.
+    pub value: f64,
+    /// Why.
+    pub problem: String,
+}
+
+/// Largest facet angle bound for which refinement is proven to terminate (Boissonnat–Oudot).
+pub const MAX_FACET_ANGLE_DEG: f64 = 30.0;
+/// Radius-edge bound from which refinement is proven to terminate (Shewchuk).
+pub const SAFE_RADIUS_EDGE_RATIO: f64 = 2.0;
+/// No refinement reaches a radius-edge bound below this: even regular tetrahedra have √6/4, and
+/// slivers next to the surface keep the ratio near 1 without optimisation.
+pub const MIN_RADIUS_EDGE_RATIO: f64 = 1.0;
+
+/// The warning for a radius-edge bound that is reachable but not proven to terminate.
+pub fn radius_edge_warning(ratio: f64) -> Option<String> {
+    (MIN_RADIUS_EDGE_RATIO..SAFE_RADIUS_EDGE_RATIO).contains(&ratio).then(|| {
+        format!(
+            "cell-radius-edge-ratio below {SAFE_RADIUS_EDGE_RATIO} may not terminate before the \
+             vertex limit"
+        )
+    })
+}
+
+impl MeshCriteria {
+    /// The one place the criteria are checked before meshing: refuses what cannot terminate
+    /// (facet angle above 30°, radius-edge bound below 1), non-positive or non-finite sizes, and
+    /// sizes that need more than `max_vertices` vertices across the box `bbox` (a connected surface
+    /// spanning the longest side `L` needs at least `L / 2r` balls of radius `r`). Returns warnings
+    /// for what may not terminate before the vertex limit.
+    pub fn validate(&self, bbox: &Aabb, max_vertices: usize) -> Result<Vec<String>, CriteriaError> {
+        let refuse = |criterion, value, problem: String| CriteriaError {
+            criterion,
+            value,
+            problem,
+        };
+        let mut warnings = Vec::new();
+        let angle = self.facet.angle_deg;
+        if !(0.0..=MAX_FACET_ANGLE_DEG).contains(&angle) {
+            return Err(refuse(
+                "facet-angle",
+                angle,
+                format!(
+                    "must be in [0°, {MAX_FACET_ANGLE_DEG}°]: above, refinement may never terminate"
+                ),
+            ));
+        }
+        let ratio = self.cell.radius_edge_ratio;
+        if !(ratio.is_finite() && ratio >= 0.0) {
+            return Err(refuse(
+                "cell-radius-edge-ratio",
+                ratio,
+                "must be a number ≥ 0 (0 disables it)".into(),
+            ));
+        }
+        if ratio > 0.0 && ratio < MIN_RADIUS_EDGE_RATIO {
+            return Err(refuse(
+                "cell-radius-edge-ratio",
+                ratio,
+                format!(
+                    "refinement cannot reach a bound below {MIN_RADIUS_EDGE_RATIO} \
+                     ({SAFE_RADIUS_EDGE_RATIO} or more is guaranteed to terminate)"
+                ),
+            ));
+        }
+        warnings.extend(radius_edge_warning(ratio));
+        let span = (bbox.max - bbox.min).max_element();
+        let sizes = [
+            ("edge-size", &self.edge_size),
+            ("facet-size", &self.facet.size),
+            ("facet-distance", &self.facet.distance),
+            ("cell-size", &self.cell.size),
+        ];
+        for (criterion, sizing) in sizes {
+            let values: Vec<f64> = match sizing {
+                Sizing::Constant(v) => vec![*v],
+                Sizing::PerLabel { default, values } => std::iter::once(*default)
+                    .chain(values.values().copied())
+                    .collect(),
+                Sizing::Unbounded | Sizing::Function(_) => Vec::new(),
+            };
+            for v in values {
+                if !(v.is_finite() && v > 0.0) {
+                    return Err(refuse(criterion, v, "must be a positive number".into()));
+                }
+                // The distance bound says nothing about flat parts: no count follows from it.
+                let needed = span / (2.0 * v);
+                if criterion != "facet-distance" && needed > max_vertices as f64 {
+                    return Err(refuse(
+                        criterion,
+                        v,
+                        format!(
+                            "needs at least {needed:.1e} vertices across the {span:.3e} box, \
+                             more than max-vertices {max_vertices}"
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(warnings)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn unit_box() -> Aabb {
+        Aabb {
+            min: Point3::ZERO,
+            max: Point3::ONE,
+        }
+    }
+
+    #[test]
+    fn defaults_pass_and_what_cannot_terminate_is_refused() {
+        let ok = MeshCriteria::default_for(&unit_box());
+        assert!(ok.validate(&unit_box(), 1000).is_ok());
+        let mut c = ok.clone();
+        c.facet.angle_deg = 90.0;
+        assert_eq!(
+            c.validate(&unit_box(), 1000).err().map(|e| e.criterion),
+            Some("facet-angle")
+        );
+        let mut c = ok.clone();
+        c.cell.radius_edge_ratio = 0.5;
+        assert!(c.validate(&unit_box(), 1000).is_err());
+        c.cell.radius_edge_ratio = 1.5;
+        assert_eq!(c.validate(&unit_box(), 1000).map(|w| w.len()).ok(), Some(1));
+        let mut c = ok.clone();
+        c.facet.size = Sizing::Constant(1e-300);
+        assert_eq!(
+            c.validate(&unit_box(), 1000).err().map(|e| e.criterion),
+            Some("facet-size")
+        );
+        let mut c = ok;
+        c.cell.size = Sizing::Constant(f64::NAN);
+        assert!(c.validate(&unit_box(), 1000).is_err());
+    }
+}

@@ -140,9 +140,12 @@ pub struct RefineStats {
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum RefineError {
-    #[error("refinement needs more than {limit} vertices; raise the limit or coarsen the criteria")]
+    #[error(
+        "refinement needs more than {limit} vertices (max-vertices); raise the limit or coarsen \
+         the criteria"
+    )]
     TooManyVertices { limit: usize },
-    #[error("a refinement point was refused by the triangulation: {0}")]
+    #[error("a refinement point was refused by the triangulation")]
     Triangulation(#[from] TriangulationError),
 }
 

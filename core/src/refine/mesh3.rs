@@ -45,13 +45,13 @@ const MIN_BALL_FRACTION: f64 = 1e-6;
 
 #[derive(Debug, thiserror::Error)]
 pub enum MeshError {
-    #[error("cannot protect the sharp features: {0}")]
+    #[error("cannot protect the sharp features")]
     Protection(#[from] ProtectError),
     #[error("the domain gave no initial surface points (is the boundary empty?)")]
     NoInitialPoints,
     #[error("an initial surface point was refused by the triangulation: {0}")]
     InitialPoint(TriangulationError),
-    #[error("{source}")]
+    #[error("refinement stopped")]
     Refinement {
         source: RefineError,
         /// The mesh reached when the guard tripped, if it was asked for.

@@ -30,15 +30,26 @@ pub enum PolylineError {
 
 /// Reads a `.polylines.txt` file. Blank lines and lines starting with `#` are skipped.
 pub fn read_polylines(path: &Path) -> Result<Vec<Polyline>, PolylineError> {
-    let text = std::fs::read_to_string(path).map_err(|source| PolylineError::Io {
+    let bytes = std::fs::read(path).map_err(|source| PolylineError::Io {
         path: path.to_owned(),
         source,
     })?;
+    // Text with a byte-order mark or a Latin-1 comment is still text.
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(&bytes);
+    let text = String::from_utf8_lossy(bytes);
     parse_polylines(&text).map_err(|(line, problem)| PolylineError::Syntax {
         path: path.to_owned(),
         line,
         problem,
     })
+}
+
+/// A word of the file quoted for a message, cut to a few dozen characters.
+fn quote(word: &str) -> String {
+    match word.char_indices().nth(40) {
+        Some((cut, _)) => format!("{:?}…", &word[..cut]),
+        None => format!("{word:?}"),
+    }
 }
 
 /// Parses the text of a `.polylines.txt` file; an error is `(line, problem)`.
@@ -55,7 +66,7 @@ pub fn parse_polylines(text: &str) -> Result<Vec<Polyline>, (usize, String)> {
         let count: usize = count_word.parse().map_err(|_| {
             (
                 line,
-                format!("expected the number of points, found {count_word:?}"),
+                format!("expected the number of points, found {}", quote(count_word)),
             )
         })?;
         if count < 2 {
@@ -69,15 +80,16 @@ pub fn parse_polylines(text: &str) -> Result<Vec<Polyline>, (usize, String)> {
                 w.parse::<f64>()
                     .ok()
                     .filter(|x| x.is_finite())
-                    .ok_or_else(|| (line, format!("{w:?} is not a finite number")))
+                    .ok_or_else(|| (line, format!("{} is not a finite number", quote(w))))
             })
             .collect::<Result<Vec<f64>, _>>()?;
-        if numbers.len() != 3 * count {
+        // Compared as `numbers / 3` so that a huge announced count cannot wrap `3 * count`.
+        if numbers.len() % 3 != 0 || numbers.len() / 3 != count {
             return Err((
                 line,
                 format!(
                     "{count} points need {} coordinates, found {}",
-                    3 * count,
+                    count.saturating_mul(3),
                     numbers.len()
                 ),
             ));
@@ -94,6 +106,13 @@ pub fn parse_polylines(text: &str) -> Result<Vec<Polyline>, (usize, String)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_count_whose_triple_wraps_is_refused() {
+        // 3 · 6148914691236517206 wraps to 2 on 64 bits.
+        let text = "6148914691236517206 0 0\n";
+        assert!(parse_polylines(text).is_err());
+    }
 
     #[test]
     fn parses_polylines_and_skips_blank_lines() {

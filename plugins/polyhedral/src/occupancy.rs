@@ -54,11 +54,11 @@ impl Occupancy {
             .sum::<f64>()
             / triangles.len().max(1) as f64;
         let resolution = (2.0 * extent / mean_side).clamp(RESOLUTION.0, RESOLUTION.1);
-        let inv_cell = if extent > 0.0 && extent.is_finite() {
-            resolution / extent
-        } else {
-            1.0
-        };
+        // A subnormal extent makes `resolution / extent` infinite, which would ask for 1024³
+        // cells: such a box gets a single cell (still conservative).
+        let inv_cell = Some(resolution / extent)
+            .filter(|v| extent > 0.0 && v.is_finite())
+            .unwrap_or(1.0);
         let cells = |len: f64| ((len * inv_cell) as usize).saturating_add(1);
         let size = max - min;
         let dims = [cells(size.x), cells(size.y), cells(size.z)].map(|d| d.clamp(1, 1 << 10));
@@ -217,6 +217,14 @@ mod tests {
             let (u, v) = (t[k], t[(k + 1) % 3]);
             n.dot((v - u).cross(p - u)) >= -1e-12 * n.length_squared()
         })
+    }
+
+    #[test]
+    fn a_subnormal_box_gets_one_cell() {
+        let s = 1e-310;
+        let t = [[DVec3::ZERO, DVec3::new(s, 0.0, 0.0), DVec3::new(0.0, s, s)]];
+        let grid = Occupancy::new(DVec3::ZERO, DVec3::splat(s), &t);
+        assert_eq!(grid.dims, [1, 1, 1]);
     }
 
     #[test]

@@ -4,7 +4,7 @@
 //! first-order correction and the complete fallback).
 
 use super::{INCIRCLE_ERROR_DD, dot_sign, exact_differences, incircle, incircle_double_double};
-use crate::kernel::power::{dyadic, scaled};
+use crate::kernel::exact::{dyadic, scaled};
 use glam::DVec2;
 use num_bigint::BigInt;
 use rand::rngs::StdRng;

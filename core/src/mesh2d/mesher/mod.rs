@@ -80,13 +80,13 @@ impl Mesh {
 /// Why [`mesh`] failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum MeshError {
-    #[error("invalid input: {0}")]
+    #[error("invalid input")]
     Invalid(#[from] PslgError),
     #[error("invalid option: {0}")]
     Option(String),
     #[error(transparent)]
     Refine(#[from] RefineError),
-    #[error("triangulation failed: {0}")]
+    #[error("triangulation failed")]
     Triangulation(#[from] TriangulationError),
 }
 
@@ -94,14 +94,20 @@ pub enum MeshError {
 pub fn mesh(pslg: &Pslg, options: &MeshOptions) -> Result<Mesh, MeshError> {
     if !(0.0..=MAX_MIN_ANGLE_DEG).contains(&options.min_angle_deg) {
         return Err(MeshError::Option(format!(
-            "minimum angle {}° is outside [0°, {MAX_MIN_ANGLE_DEG}°]",
+            "min-angle {}° is outside [0°, {MAX_MIN_ANGLE_DEG}°]",
             options.min_angle_deg
         )));
     }
     if options.max_area.is_some_and(|a| a.is_nan() || a <= 0.0) {
-        return Err(MeshError::Option("maximum area must be positive".into()));
+        return Err(MeshError::Option("max-area must be positive".into()));
     }
     pslg.validate()?;
+    if pslg.points.len() > options.max_vertices {
+        return Err(RefineError::TooManyVertices {
+            limit: options.max_vertices,
+        }
+        .into());
+    }
     let (mut tr, outcomes) = Delaunay2::from_points(&pslg.points)?;
     let vid: Vec<VertexId> = outcomes.iter().map(|o| o.vertex()).collect();
     let segments = pslg
@@ -126,6 +132,7 @@ pub fn mesh(pslg: &Pslg, options: &MeshOptions) -> Result<Mesh, MeshError> {
         .sum();
     let labels = carve(&tr, &cons.borrow(), pslg);
     set_side_labels(&tr, &mut cons.borrow_mut(), &labels);
+    check_reachable(&tr, &labels, pslg, options)?;
 
     // Phase 2: quality refinement.
     seg_level.encroachment = Some(Encroachment::new(options.min_angle_deg));
@@ -185,6 +192,49 @@ pub fn mesh(pslg: &Pslg, options: &MeshOptions) -> Result<Mesh, MeshError> {
 /// Labels every cell: the outside (reachable from the infinite cells without crossing a
 /// sub-segment) and holes are `Outside`, region seeds flood their region, the rest of the domain is
 /// region 0. Requires every sub-segment to be an edge.
+/// Refuses, before any quality refinement, a carved domain that is empty (holes covering it all)
+/// or whose area bounds cannot be met within `max_vertices`: a domain of area `A` under an area
+/// bound `a` needs at least `A / a` triangles, about twice as many as vertices.
+fn check_reachable(
+    tr: &Delaunay2,
+    labels: &[Label],
+    pslg: &Pslg,
+    options: &MeshOptions,
+) -> Result<(), MeshError> {
+    let global = options.max_area.unwrap_or(f64::INFINITY);
+    let mut inside = false;
+    let mut needed = 0.0;
+    for c in tr.finite_cells() {
+        let Label::Region(r) = labels[c.0 as usize] else {
+            continue;
+        };
+        inside = true;
+        let bound = match r {
+            0 => global,
+            k => pslg
+                .regions
+                .get(k as usize - 1)
+                .and_then(|g| g.max_area)
+                .unwrap_or(global),
+        };
+        let [a, b, c] = tr.cell(c).map(|v| tr.point(v));
+        needed += 0.5 * (b - a).perp_dot(c - a).abs() / bound;
+    }
+    if !inside {
+        return Err(MeshError::Option(
+            "the holes leave no domain to mesh (is every --hole point inside a hole?)".into(),
+        ));
+    }
+    if needed > 2.0 * options.max_vertices as f64 {
+        return Err(MeshError::Option(format!(
+            "the area bounds (max-area) need about {needed:.3e} triangles, more than \
+             max-vertices {} can make",
+            options.max_vertices
+        )));
+    }
+    Ok(())
+}
+
 fn carve(tr: &Delaunay2, cons: &Constraints, pslg: &Pslg) -> Vec<Label> {
     let mut labels = vec![Label::Unknown; tr.cell_capacity()];
     let flood = |labels: &mut Vec<Label>, start: CellId, label: Label| {

@@ -219,10 +219,26 @@ fn bad_options_and_input_are_errors() {
 #[test]
 fn vertex_limit_stops_refinement() {
     let input = loops(&[square(0.0, 1.0)]);
+    // The area bound allows the 200 triangles the limit could make, but not with good angles.
     let opts = MeshOptions {
-        max_area: Some(1e-4),
+        max_area: Some(5e-3),
         max_vertices: 100,
         ..MeshOptions::default()
     };
     assert!(matches!(mesh(&input, &opts), Err(MeshError::Refine(_))));
+    // An area bound needing far more triangles than the limit allows is refused before work.
+    let impossible = MeshOptions {
+        max_area: Some(1e-4),
+        ..opts
+    };
+    assert!(matches!(
+        mesh(&input, &impossible),
+        Err(MeshError::Option(_))
+    ));
+    // Fewer allowed vertices than the input has: refused too.
+    let none = MeshOptions {
+        max_vertices: 0,
+        ..MeshOptions::default()
+    };
+    assert!(matches!(mesh(&input, &none), Err(MeshError::Refine(_))));
 }
