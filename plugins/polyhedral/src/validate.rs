@@ -76,21 +76,55 @@ fn first_intersection(
     geometry: &[[DVec3; 3]],
     tree: &TriangleTree,
 ) -> Option<(usize, usize)> {
+    let mut first = None;
+    crossing_pairs(triangles, geometry, tree, |i, j| {
+        first = Some((i, j));
+        false
+    });
+    first
+}
+
+/// Which triangles are crossed by another one.
+pub(crate) fn crossed_triangles(
+    triangles: &[[u32; 3]],
+    geometry: &[[DVec3; 3]],
+    tree: &TriangleTree,
+) -> Vec<bool> {
+    let mut crossed = vec![false; triangles.len()];
+    crossing_pairs(triangles, geometry, tree, |i, j| {
+        crossed[i] = true;
+        crossed[j] = true;
+        true
+    });
+    crossed
+}
+
+/// Calls `found(i, j)`, i < j, for the crossing pairs of triangles in order of `i`, while it
+/// returns true.
+fn crossing_pairs(
+    triangles: &[[u32; 3]],
+    geometry: &[[DVec3; 3]],
+    tree: &TriangleTree,
+    mut found: impl FnMut(usize, usize) -> bool,
+) {
+    let mut partners = Vec::new();
     for (i, t) in triangles.iter().enumerate() {
         let g = &geometry[i];
         let (min, max) = (g[0].min(g[1]).min(g[2]), g[0].max(g[1]).max(g[2]));
-        let mut found = None;
+        partners.clear();
         tree.for_each_near_box(min, max, |j| {
             let j = j as usize;
-            if j > i && found.is_none() && triangles_cross(t, g, &triangles[j], &geometry[j]) {
-                found = Some(j);
+            if j > i && triangles_cross(t, g, &triangles[j], &geometry[j]) {
+                partners.push(j);
             }
         });
-        if let Some(j) = found {
-            return Some((i, j));
+        partners.sort_unstable();
+        for &j in &partners {
+            if !found(i, j) {
+                return;
+            }
         }
     }
-    None
 }
 
 /// Do two triangles cross? Triangles sharing an edge never do (a fold onto itself is not
