@@ -1,6 +1,6 @@
 //! `delamesh mesh`: a quality tetrahedral mesh of the volume bounded by a closed surface.
 
-use crate::domain::{Domain, FeatureArgs};
+use crate::domain::{Domain, FeatureArgs, SurfaceArgs};
 use anyhow::{Result, bail};
 use clap::Args;
 use delamesh_core::complex::MeshComplex;
@@ -65,6 +65,11 @@ pub struct MeshArgs {
     /// Mesh the surface as smooth: no feature curves nor corners.
     #[arg(long)]
     pub no_features: bool,
+    /// Refuse a surface that does not bound a volume as given (open, non-manifold, inconsistently
+    /// oriented, self-intersecting, with degenerate triangles) instead of repairing it and meshing
+    /// the region where its winding number is at least one.
+    #[arg(long)]
+    pub strict: bool,
     /// ASCII instead of binary for .vtu / .vtk.
     #[arg(long)]
     pub ascii: bool,
@@ -95,7 +100,22 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         angle_deg: args.feature_angle,
         polylines: args.features.as_deref(),
     };
-    let domain = Domain::new(input, &surface, &features)?;
+    let domain = Domain::new(
+        input,
+        &surface,
+        &features,
+        &SurfaceArgs {
+            strict: args.strict,
+        },
+    )?;
+    let repairs = domain.repairs();
+    if !repairs.is_empty() {
+        eprintln!(
+            "warning: {}: repaired: {}",
+            input.display(),
+            repairs.join("; ")
+        );
+    }
     let oracle = domain.oracle();
     times.oracle = t.elapsed();
 
@@ -296,6 +316,8 @@ struct Report {
     quality: QualityReport,
     approximation: Approximation,
     boundary: BoundaryReport,
+    /// What was repaired or reinterpreted in the input surface (empty when nothing was).
+    repairs: Vec<String>,
     /// Sharp features: absent for smooth domains.
     #[serde(skip_serializing_if = "Option::is_none")]
     features: Option<FeaturesReport>,
@@ -507,6 +529,7 @@ impl Report {
                 input_components: input_topology.components,
                 unrestricted_facets: c.facet_patch.iter().filter(|&&p| p == 0).count(),
             },
+            repairs: oracle.repairs().describe(),
             features: FeaturesReport::new(domain, criteria, c),
         }
     }

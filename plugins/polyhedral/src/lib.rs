@@ -20,7 +20,7 @@ mod tree;
 mod union_find;
 mod validate;
 
-pub use oracle::{PolyhedralError, PolyhedralOptions, PolyhedralOracle, refuse_defects};
+pub use oracle::{PolyhedralError, PolyhedralOptions, PolyhedralOracle, diagnose, refuse_defects};
 pub use repair::Repairs;
 pub use tree::{TriangleTree, closest_point_on_triangle};
 pub use validate::{SurfaceDefects, surface_defects};

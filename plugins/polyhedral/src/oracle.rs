@@ -95,6 +95,20 @@ pub fn refuse_defects(defects: &SurfaceDefects) -> Result<(), PolyhedralError> {
     Ok(())
 }
 
+/// What [`PolyhedralOracle::new`] would repair or reinterpret in this surface (for `info`),
+/// without building the oracle. Indices must be in range.
+pub fn diagnose(points: &[DVec3], triangles: &[[u32; 3]]) -> Repairs {
+    let repaired = repair(points, triangles);
+    let geometry = geometry_of(&repaired.points, &repaired.triangles);
+    let tree = TriangleTree::new(&geometry);
+    let mut repairs = repaired.repairs;
+    repairs.crossing_triangles = crossed_triangles(&repaired.triangles, &geometry, &tree)
+        .iter()
+        .filter(|&&c| c)
+        .count();
+    repairs
+}
+
 fn geometry_of(points: &[DVec3], triangles: &[[u32; 3]]) -> Vec<[DVec3; 3]> {
     triangles
         .iter()
