@@ -554,17 +554,23 @@ impl PolyhedralOracle {
     }
 
     /// The winding number just behind triangle `t` at its point `x`, from a ray from `x` that
-    /// ignores `t` (`None` when no ray avoids every edge and vertex, or one runs in `t`'s plane).
+    /// ignores `t`. On an edge or a vertex of `t` every such ray starts on a neighbour: then from a
+    /// point a hair behind `t` (`None` if that fails too).
     fn winding_behind(&self, t: u32, x: DVec3) -> Option<i32> {
-        let (w, end) = self.windings(x, |s| s == t, self.depth.len());
+        let n = self.depth.len();
         let [a, b, c] = self.triangles[t as usize];
+        let (w, end) = self.windings(x, |s| s == t, n);
         let total: i32 = w.iter().sum();
         // Leaving through the front, the ray counted the winding number in front, one less.
-        match orient(a, b, c, end?) {
-            std::cmp::Ordering::Less => Some(total + 1),
-            std::cmp::Ordering::Greater => Some(total),
-            std::cmp::Ordering::Equal => None,
+        match end.map(|q| orient(a, b, c, q)) {
+            Some(std::cmp::Ordering::Less) => return Some(total + 1),
+            Some(std::cmp::Ordering::Greater) => return Some(total),
+            _ => {}
         }
+        let normal = (b - a).cross(c - a).normalize_or_zero();
+        let behind = x - 1e-9 * self.bbox.diagonal() * normal;
+        let (w, end) = self.windings(behind, |_| false, n);
+        end.map(|_| w.iter().sum())
     }
 
     /// Volume of `{w ≥ 1}`: the exact length inside along each of a grid of lines parallel to
@@ -583,9 +589,9 @@ impl PolyhedralOracle {
             for j in 0..LINES {
                 // A line through an edge or a vertex is moved a little (deterministically).
                 for attempt in 0..8 {
-                    let shift = 0.5 + 0.0731 * attempt as f64;
-                    let x = self.bbox.min.x + (i as f64 + shift) * dx;
-                    let y = self.bbox.min.y + (j as f64 + shift) * dy;
+                    // Unequal shifts, or a line on a diagonal would stay on it.
+                    let x = self.bbox.min.x + (i as f64 + 0.5 + 0.0731 * attempt as f64) * dx;
+                    let y = self.bbox.min.y + (j as f64 + 0.5 + 0.0419 * attempt as f64) * dy;
                     let (p, q) = (DVec3::new(x, y, z0), DVec3::new(x, y, z1));
                     crossings.clear();
                     let mut degenerate = false;
