@@ -45,9 +45,8 @@ def main():
           " | delamesh H/diag | fTetWild H/diag")
     for name in sys.argv[4:]:
         path = models / f"{name}.off"
-        m = meshio.read(path)
-        tris = np.concatenate([c.data for c in m.cells if c.type == "triangle"])
-        surface = trimesh.Trimesh(m.points[:, :3], tris, process=False)
+        surface = trimesh.load(path, process=False, force="mesh")
+        points, tris = np.asarray(surface.vertices, float), np.asarray(surface.faces)
         diagonal = float(np.linalg.norm(surface.bounds[1] - surface.bounds[0]))
 
         out = work / f"{name}.vtu"
@@ -59,7 +58,7 @@ def main():
         ours_tets = np.concatenate([c.data for c in ours.cells if c.type == "tetra"])
 
         t0 = time.perf_counter()
-        v, t = pytetwild.tetrahedralize(m.points[:, :3].astype(float), tris.astype(np.int32))
+        v, t = pytetwild.tetrahedralize(points, tris.astype(np.int32))
         t_peer = time.perf_counter() - t0
         v, t = np.asarray(v), np.asarray(t)
 
