@@ -52,7 +52,10 @@ fn assert_valid(c: &MeshComplex, chi: i64) {
     let topology = surface_topology(&c.facets);
     assert_eq!(topology.border_edges, 0, "boundary is closed");
     assert_eq!(topology.non_manifold_edges, 0, "boundary is edge-manifold");
-    assert_eq!(topology.non_manifold_vertices, 0, "boundary is vertex-manifold");
+    assert_eq!(
+        topology.non_manifold_vertices, 0,
+        "boundary is vertex-manifold"
+    );
     assert_eq!(topology.euler_characteristic, chi);
 }
 
@@ -190,7 +193,9 @@ fn strict_refuses_each_class_with_its_diagnosis() {
         strict(&shuffled),
         Err(PolyhedralError::Inconsistent(_))
     ));
-    let overlapping = cube.clone().merge(cuboid(DVec3::splat(0.5), DVec3::splat(1.5)));
+    let overlapping = cube
+        .clone()
+        .merge(cuboid(DVec3::splat(0.5), DVec3::splat(1.5)));
     assert!(matches!(
         strict(&overlapping),
         Err(PolyhedralError::SelfIntersecting(..))

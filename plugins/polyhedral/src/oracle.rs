@@ -2,9 +2,9 @@
 
 use crate::occupancy::{MAX_CANDIDATES, Near, Occupancy};
 use crate::predicates::{Crossing, orient, segment_crossing};
+use crate::repair::{Repairs, repair};
 use crate::tree::TriangleTree;
 use crate::union_find::UnionFind;
-use crate::repair::{Repairs, repair};
 use crate::validate::{SurfaceDefects, crossed_triangles, surface_defects_in};
 use delamesh_core::oracle::{
     Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
@@ -193,7 +193,15 @@ impl PolyhedralOracle {
             let geometry = geometry_of(points, triangles);
             let tree = TriangleTree::new(&geometry);
             refuse_defects(&surface_defects_in(triangles, &geometry, &tree))?;
-            return Self::build(points, triangles, patches, geometry, tree, Repairs::default(), None);
+            return Self::build(
+                points,
+                triangles,
+                patches,
+                geometry,
+                tree,
+                Repairs::default(),
+                None,
+            );
         }
         let repaired = repair(points, triangles);
         if repaired.triangles.is_empty() {
@@ -346,7 +354,12 @@ impl PolyhedralOracle {
     /// Winding number of each component around `p` (components numbered `0..n`), ignoring the
     /// triangles `skip` accepts (used for points lying on them), and the end of the ray that
     /// avoided every edge and vertex (`None` if none did). Exact: a ray through an edge or a vertex is replaced by another one.
-    fn windings(&self, p: DVec3, skip: impl Fn(u32) -> bool, n: usize) -> (Vec<i32>, Option<DVec3>) {
+    fn windings(
+        &self,
+        p: DVec3,
+        skip: impl Fn(u32) -> bool,
+        n: usize,
+    ) -> (Vec<i32>, Option<DVec3>) {
         let reach = 2.0 * (self.bbox.diagonal() + p.distance(self.bbox.center())) + 1.0;
         let mut w = vec![0i32; n];
         let mut resolved = None;
@@ -632,7 +645,11 @@ impl PolyhedralOracle {
     fn subdomain_by_windings(&self, p: DVec3) -> SubdomainId {
         let (w, _) = self.windings(p, |_| false, self.depth.len());
         if self.winding.is_some() {
-            return if w.iter().sum::<i32>() >= 1 { 1 } else { OUTSIDE };
+            return if w.iter().sum::<i32>() >= 1 {
+                1
+            } else {
+                OUTSIDE
+            };
         }
         w.iter()
             .enumerate()

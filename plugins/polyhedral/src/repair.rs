@@ -198,14 +198,11 @@ fn orient(points: &[DVec3], triangles: &mut [[u32; 3]]) -> usize {
             for &(u, differ) in &neighbours[t as usize] {
                 let want = f ^ differ;
                 needed |= differ;
-                match flip[u as usize] {
-                    None => {
-                        flip[u as usize] = Some(want);
-                        stack.push(u);
-                    }
-                    // A non-orientable component: the edge stays inconsistent, and its uses
-                    // do not cancel in the chain (it gets capped like a border).
-                    Some(_) => {}
+                // Already set: on a non-orientable component the edge stays inconsistent, and
+                // its uses do not cancel in the chain (it gets capped like a border).
+                if flip[u as usize].is_none() {
+                    flip[u as usize] = Some(want);
+                    stack.push(u);
                 }
             }
         }

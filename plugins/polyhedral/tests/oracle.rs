@@ -148,10 +148,7 @@ fn initial_points_lie_on_every_component() {
 }
 
 /// The oracle of `--strict`, which refuses what it would otherwise repair.
-fn strict(
-    p: &[DVec3],
-    t: &[[u32; 3]],
-) -> Result<PolyhedralOracle, PolyhedralError> {
+fn strict(p: &[DVec3], t: &[[u32; 3]]) -> Result<PolyhedralOracle, PolyhedralError> {
     PolyhedralOracle::with_options(p, t, None, &PolyhedralOptions { strict: true })
 }
 

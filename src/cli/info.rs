@@ -233,7 +233,10 @@ fn print_text(r: &Value, t: &Topology) {
             .filter_map(|x| x.as_str())
             .collect();
         if !summary.is_empty() {
-            println!("  mesh repairs (refused with --strict): {}", summary.join("; "));
+            println!(
+                "  mesh repairs (refused with --strict): {}",
+                summary.join("; ")
+            );
         }
     }
     for w in r["warnings"].as_array().into_iter().flatten() {
