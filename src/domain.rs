@@ -12,7 +12,7 @@ use delamesh_image_label::{ImageLabelOracle, ImageOptions};
 use delamesh_piecewise_smooth::{
     FeatureOptions, Features, PiecewiseSmoothOracle, Polyline, read_polylines,
 };
-use delamesh_polyhedral::PolyhedralOracle;
+use delamesh_polyhedral::{PolyhedralOptions, PolyhedralOracle};
 
 /// A domain ready to mesh, with the oracle that answers for it.
 pub enum Domain {
@@ -28,12 +28,17 @@ pub enum Domain {
 
 impl Domain {
     /// The domain bounded by `surface` (`name` says which input it is, in errors): piecewise
-    /// smooth when `features` finds sharp features on it, else smooth.
+    /// smooth when `features` finds sharp features on it, else smooth. A surface that does not
+    /// bound a volume as given is repaired and read by its winding number, or refused when
+    /// `strict`; a self-intersecting or non-manifold one is meshed as smooth, since curves along
+    /// its crossings may lie inside the volume.
     pub fn from_surface(
         name: &str,
         surface: &SurfaceMesh,
         features: &FeatureSettings,
+        strict: bool,
     ) -> Result<Domain, Error> {
+        let surface_options = PolyhedralOptions { strict };
         let unmeshable = |e: &dyn std::fmt::Display| Error::Unmeshable {
             name: name.to_string(),
             problem: e.to_string(),
@@ -57,15 +62,24 @@ impl Domain {
                 }
             })?;
             if !found.is_smooth() {
-                let oracle = PiecewiseSmoothOracle::new(found).map_err(|e| unmeshable(&e))?;
-                return Ok(Domain::PiecewiseSmooth(oracle));
+                let oracle = PiecewiseSmoothOracle::with_options(found, &surface_options)
+                    .map_err(|e| unmeshable(&e))?;
+                let r = oracle.polyhedral().repairs();
+                if r.crossing_triangles == 0 && r.non_manifold_edges == 0 {
+                    return Ok(Domain::PiecewiseSmooth(oracle));
+                }
             }
         }
         // The oracle numbers patches from 1 (0 marks facets of no patch in the output).
         let patches: Vec<PatchId> = surface.patches.iter().map(|p| p.0 + 1).collect();
-        PolyhedralOracle::new(&surface.positions, &surface.triangles, Some(&patches))
-            .map(Domain::Smooth)
-            .map_err(|e| unmeshable(&e))
+        PolyhedralOracle::with_options(
+            &surface.positions,
+            &surface.triangles,
+            Some(&patches),
+            &surface_options,
+        )
+        .map(Domain::Smooth)
+        .map_err(|e| unmeshable(&e))
     }
 
     /// The domain of the plugin `spec` (a library path, or a name looked up in
@@ -103,6 +117,13 @@ impl Domain {
             Domain::PiecewiseSmooth(o) => Some(o.polyhedral()),
             Domain::Plugin(_) | Domain::Image(_) => None,
         }
+    }
+
+    /// What was repaired or reinterpreted in the input surface, one phrase each (empty when it
+    /// bounded a volume as given, and for a plugin).
+    pub fn repairs(&self) -> Vec<String> {
+        self.polyhedral()
+            .map_or_else(Vec::new, |o| o.repairs().describe())
     }
 
     /// A fault a plugin recorded while answering: its answers since then cannot be trusted.

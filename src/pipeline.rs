@@ -133,7 +133,12 @@ impl<'p> Mesher<'p> {
         read: std::time::Duration,
     ) -> Result<Meshed, Error> {
         let t = Instant::now();
-        let domain = Domain::from_surface(&name, &surface, &self.settings.features)?;
+        let domain = Domain::from_surface(
+            &name,
+            &surface,
+            &self.settings.features,
+            self.settings.strict,
+        )?;
         let times = Times {
             read,
             oracle: t.elapsed(),

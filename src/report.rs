@@ -36,6 +36,8 @@ pub struct Report {
     pub approximation: Approximation,
     /// Topology of the mesh boundary and of the input.
     pub boundary: BoundaryReport,
+    /// What was repaired or reinterpreted in the input surface (empty when nothing was).
+    pub repairs: Vec<String>,
     /// Sharp features: absent for smooth domains.
     #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
     pub features: Option<FeaturesReport>,
@@ -347,6 +349,7 @@ impl Report {
                 input_components: input_topology.components,
                 unrestricted_facets: c.facet_patch.iter().filter(|&&p| p == 0).count(),
             },
+            repairs: oracle.repairs().describe(),
             features: FeaturesReport::new(r.domain, criteria, c),
         }
     }

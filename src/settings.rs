@@ -45,6 +45,10 @@ pub struct MeshSettings {
     pub features: FeatureSettings,
     /// How a 3D image becomes a domain, and its sizes per label.
     pub image: ImageSettings,
+    /// Refuse a surface that does not bound a volume as given (open, non-manifold,
+    /// inconsistently oriented, self-intersecting, with degenerate triangles) instead of
+    /// repairing it and meshing where its winding number is at least one.
+    pub strict: bool,
 }
 
 /// Options of segmented and gray-level 3D images (unused for surfaces and plugins).
@@ -90,6 +94,7 @@ impl Default for MeshSettings {
             keep_partial: false,
             features: FeatureSettings::default(),
             image: ImageSettings::default(),
+            strict: false,
         }
     }
 }
@@ -300,6 +305,11 @@ impl MeshSettingsBuilder {
     /// See [`ImageSettings::cell_size_per_label`].
     pub fn cell_size_for_label(mut self, label: u32, size: f64) -> Self {
         self.settings.image.cell_size_per_label.insert(label, size);
+        self
+    }
+    /// See [`MeshSettings::strict`].
+    pub fn strict(mut self, strict: bool) -> Self {
+        self.settings.strict = strict;
         self
     }
     /// The settings, if every value is valid.

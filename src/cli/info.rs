@@ -105,6 +105,24 @@ fn features_json(s: &SurfaceMesh) -> Value {
     }
 }
 
+/// What `mesh` would repair or reinterpret (the classes `--strict` refuses), for a surface.
+fn repairs_json(s: &SurfaceMesh) -> Value {
+    let n = s.positions.len();
+    if s.triangles.iter().flatten().any(|&v| v as usize >= n) {
+        return Value::Null;
+    }
+    let r = delamesh_polyhedral::diagnose(&s.positions, &s.triangles);
+    json!({
+        "zero_area_triangles": r.degenerate_dropped,
+        "duplicate_triangles": r.duplicates_dropped,
+        "triangles_to_reorient": r.flipped,
+        "border_edges": r.border_edges,
+        "non_manifold_edges": r.non_manifold_edges,
+        "self_intersecting_triangles": r.crossing_triangles,
+        "summary": r.describe(),
+    })
+}
+
 pub fn run(args: InfoArgs) -> Result<()> {
     let read = delamesh_formats::read(&args.input, args.format)?;
     let (surface, volume, kind) = match &read.mesh {
@@ -130,6 +148,7 @@ pub fn run(args: InfoArgs) -> Result<()> {
         "topology": topology_json(&topo),
         "volume_mesh": volume.map_or(Value::Null, volume_json),
         "features": if volume.is_none() { features_json(&surface) } else { Value::Null },
+        "repairs": if volume.is_none() { repairs_json(&surface) } else { Value::Null },
         "warnings": read.warnings,
     });
     if args.json {
@@ -213,6 +232,24 @@ fn print_text(r: &Value, t: &Topology) -> std::io::Result<()> {
             f["corners"],
             f["patches"]
         )?;
+    }
+    if let Some(rep) = r["repairs"].as_object() {
+        println!(
+            "  self-intersecting triangles: {}   duplicate triangles: {}",
+            rep["self_intersecting_triangles"], rep["duplicate_triangles"]
+        );
+        let summary: Vec<&str> = rep["summary"]
+            .as_array()
+            .into_iter()
+            .flatten()
+            .filter_map(|x| x.as_str())
+            .collect();
+        if !summary.is_empty() {
+            println!(
+                "  mesh repairs (refused with --strict): {}",
+                summary.join("; ")
+            );
+        }
     }
     for w in r["warnings"].as_array().into_iter().flatten() {
         outln!("  warning: {}", w.as_str().unwrap_or_default())?;

@@ -62,6 +62,11 @@ pub struct MeshArgs {
     /// Mesh the surface as smooth: no feature curves nor corners.
     #[arg(long)]
     pub no_features: bool,
+    /// Refuse a surface that does not bound a volume as given (open, non-manifold, inconsistently
+    /// oriented, self-intersecting, with degenerate triangles) instead of repairing it and meshing
+    /// the region where its winding number is at least one.
+    #[arg(long)]
+    pub strict: bool,
     /// ASCII instead of binary for .vtu / .vtk.
     #[arg(long)]
     pub ascii: bool,
@@ -94,6 +99,7 @@ impl MeshArgs {
                 polylines: self.features.clone(),
             },
             image: self.image.settings()?,
+            strict: self.strict,
         })
     }
 }
@@ -127,6 +133,14 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     };
     bar.finish_and_clear();
     let mut meshed = meshed.map_err(with_hint)?;
+    let repairs = meshed.domain().repairs();
+    if !repairs.is_empty() {
+        eprintln!(
+            "warning: {}: repaired: {}",
+            meshed.name(),
+            repairs.join("; ")
+        );
+    }
     let write_options = WriteOptions {
         ascii: args.ascii,
         ..WriteOptions::default()

@@ -4,6 +4,7 @@
 use glam::DVec3;
 
 /// A triangle surface: points and outward-oriented triangles.
+#[derive(Clone)]
 pub struct Surface {
     pub points: Vec<DVec3>,
     pub triangles: Vec<[u32; 3]>,

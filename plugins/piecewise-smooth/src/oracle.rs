@@ -6,7 +6,7 @@ use crate::interface::separate_components;
 use crate::polylines::Polyline;
 use delamesh_core::mesh::SurfaceMesh;
 use delamesh_core::oracle::{Aabb, FeatureCurve, Oracle, SubdomainId, SurfaceHit, SurfacePoint};
-use delamesh_polyhedral::{PolyhedralError, PolyhedralOracle};
+use delamesh_polyhedral::{PolyhedralError, PolyhedralOptions, PolyhedralOracle};
 use glam::DVec3;
 
 /// Why a piecewise-smooth domain cannot be built.
@@ -37,9 +37,21 @@ impl PiecewiseSmoothOracle {
 
     /// The oracle of the surface the features were extracted from.
     pub fn new(features: Features) -> Result<Self, PolyhedralError> {
+        Self::with_options(features, &PolyhedralOptions::default())
+    }
+
+    /// [`PiecewiseSmoothOracle::new`] with the polyhedral oracle's options (`strict`).
+    pub fn with_options(
+        features: Features,
+        options: &PolyhedralOptions,
+    ) -> Result<Self, PolyhedralError> {
         let (positions, triangles) = separate_components(&features);
-        let surface =
-            PolyhedralOracle::new(&positions, &triangles, Some(&features.triangle_patches))?;
+        let surface = PolyhedralOracle::with_options(
+            &positions,
+            &triangles,
+            Some(&features.triangle_patches),
+            options,
+        )?;
         Ok(PiecewiseSmoothOracle { surface, features })
     }
 

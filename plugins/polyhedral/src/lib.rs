@@ -4,15 +4,23 @@
 //! surface. Several closed components give several subdomains: a point belongs to the subdomain
 //! of the innermost component around it, so two nested spheres give a core and a shell, and an
 //! inner sphere oriented inwards makes a hollow (its inside has winding number zero).
+//!
+//! A surface that does not bound a volume as given (open, non-manifold, self-intersecting or
+//! overlapping, see [`Repairs`]) is closed as a chain and read by its total winding number
+//! instead: the domain is the one subdomain where it is at least one, bounded only by the
+//! triangles that separate winding number one from zero.
 
 mod occupancy;
 mod oracle;
 #[cfg(feature = "cdylib")]
 mod plugin_export;
 mod predicates;
+mod repair;
 mod tree;
+mod union_find;
 mod validate;
 
-pub use oracle::{PolyhedralError, PolyhedralOracle};
+pub use oracle::{PolyhedralError, PolyhedralOptions, PolyhedralOracle, diagnose, refuse_defects};
+pub use repair::Repairs;
 pub use tree::{TriangleTree, closest_point_on_triangle};
 pub use validate::{SurfaceDefects, surface_defects};

@@ -1,9 +1,11 @@
 //! `PolyhedralOracle`: the `Oracle` of a closed triangle surface.
 
 use crate::occupancy::{MAX_CANDIDATES, Near, Occupancy};
-use crate::predicates::{Crossing, segment_crossing};
+use crate::predicates::{Crossing, orient, segment_crossing};
+use crate::repair::{Repairs, repair};
 use crate::tree::TriangleTree;
-use crate::validate::surface_defects_in;
+use crate::union_find::UnionFind;
+use crate::validate::{SurfaceDefects, crossed_triangles, surface_defects_in};
 use delamesh_core::oracle::{
     Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
 };
@@ -38,6 +40,80 @@ pub enum PolyhedralError {
     PatchCount(usize, usize),
     #[error("connected component {0} encloses no volume")]
     FlatComponent(usize),
+    #[error("the surface encloses no volume (no point has a positive winding number)")]
+    NoVolume,
+}
+
+/// Indices in range, finite coordinates, one patch per triangle.
+fn check_input(
+    points: &[DVec3],
+    triangles: &[[u32; 3]],
+    patches: Option<&[PatchId]>,
+) -> Result<(), PolyhedralError> {
+    if triangles.is_empty() {
+        return Err(PolyhedralError::Empty);
+    }
+    if let Some(i) = points.iter().position(|p| !p.is_finite()) {
+        return Err(PolyhedralError::NonFinite(i));
+    }
+    for (t, tri) in triangles.iter().enumerate() {
+        if let Some(&index) = tri.iter().find(|&&v| v as usize >= points.len()) {
+            return Err(PolyhedralError::IndexOutOfRange {
+                triangle: t,
+                index,
+                count: points.len(),
+            });
+        }
+    }
+    if let Some(p) = patches
+        && p.len() != triangles.len()
+    {
+        return Err(PolyhedralError::PatchCount(p.len(), triangles.len()));
+    }
+    Ok(())
+}
+
+/// The refusal of `--strict`: the first defect that keeps the surface from bounding a volume.
+pub fn refuse_defects(defects: &SurfaceDefects) -> Result<(), PolyhedralError> {
+    if defects.degenerate_triangles > 0 {
+        return Err(PolyhedralError::DegenerateTriangles(
+            defects.degenerate_triangles,
+        ));
+    }
+    if defects.border_edges > 0 {
+        return Err(PolyhedralError::NotClosed(defects.border_edges));
+    }
+    if defects.non_manifold_edges > 0 {
+        return Err(PolyhedralError::NonManifold(defects.non_manifold_edges));
+    }
+    if defects.inconsistent_edges > 0 {
+        return Err(PolyhedralError::Inconsistent(defects.inconsistent_edges));
+    }
+    if let Some((a, b)) = defects.first_intersection {
+        return Err(PolyhedralError::SelfIntersecting(a, b));
+    }
+    Ok(())
+}
+
+/// What [`PolyhedralOracle::new`] would repair or reinterpret in this surface (for `info`),
+/// without building the oracle. Indices must be in range.
+pub fn diagnose(points: &[DVec3], triangles: &[[u32; 3]]) -> Repairs {
+    let repaired = repair(points, triangles);
+    let geometry = geometry_of(&repaired.points, &repaired.triangles);
+    let tree = TriangleTree::new(&geometry);
+    let mut repairs = repaired.repairs;
+    repairs.crossing_triangles = crossed_triangles(&repaired.triangles, &geometry, &tree)
+        .iter()
+        .filter(|&&c| c)
+        .count();
+    repairs
+}
+
+fn geometry_of(points: &[DVec3], triangles: &[[u32; 3]]) -> Vec<[DVec3; 3]> {
+    triangles
+        .iter()
+        .map(|t| t.map(|v| points[v as usize]))
+        .collect()
 }
 
 /// A domain bounded by a closed, consistently oriented, non-self-intersecting triangle surface.
@@ -60,6 +136,26 @@ pub struct PolyhedralOracle {
     inner_label: Vec<SubdomainId>,
     initial: Vec<SurfacePoint>,
     domain_volume: f64,
+    repairs: Repairs,
+    /// Set when the domain is where the winding number is at least one (see [`Repairs`]).
+    winding: Option<WindingDomain>,
+}
+
+/// How [`PolyhedralOracle::with_options`] treats a surface that does not bound a volume as given.
+#[derive(Clone, Debug, Default)]
+pub struct PolyhedralOptions {
+    /// Refuse it (with the first defect found) instead of repairing it.
+    pub strict: bool,
+}
+
+/// Which triangles bound the winding-number domain `{w ≥ 1}`: those with winding number one
+/// just behind them (and so zero just in front).
+struct WindingDomain {
+    /// Triangles crossed by another, on which the winding number behind changes from place to
+    /// place: decided at each hit.
+    crossed: Vec<bool>,
+    /// For the other triangles, decided once.
+    on_boundary: Vec<OnceLock<bool>>,
 }
 
 /// Directions tried in turn by the inside test until a ray misses every edge and vertex.
@@ -74,56 +170,78 @@ fn ray_direction(attempt: usize) -> DVec3 {
 }
 
 impl PolyhedralOracle {
-    /// Build the oracle; `patches` labels each triangle (default: one patch per component).
+    /// Build the oracle of whatever surface is given (see [`PolyhedralOptions`]); `patches` labels
+    /// each triangle (default: one patch per component).
     pub fn new(
         points: &[DVec3],
         triangles: &[[u32; 3]],
         patches: Option<&[PatchId]>,
     ) -> Result<Self, PolyhedralError> {
-        if triangles.is_empty() {
+        Self::with_options(points, triangles, patches, &PolyhedralOptions::default())
+    }
+
+    /// [`PolyhedralOracle::new`] with options: `strict` refuses a surface that does not bound a
+    /// volume as given, else it is repaired (see [`Repairs`]).
+    pub fn with_options(
+        points: &[DVec3],
+        triangles: &[[u32; 3]],
+        patches: Option<&[PatchId]>,
+        options: &PolyhedralOptions,
+    ) -> Result<Self, PolyhedralError> {
+        check_input(points, triangles, patches)?;
+        if options.strict {
+            let geometry = geometry_of(points, triangles);
+            let tree = TriangleTree::new(&geometry);
+            refuse_defects(&surface_defects_in(triangles, &geometry, &tree))?;
+            return Self::build(
+                points,
+                triangles,
+                patches,
+                geometry,
+                tree,
+                Repairs::default(),
+                None,
+            );
+        }
+        let repaired = repair(points, triangles);
+        if repaired.triangles.is_empty() {
             return Err(PolyhedralError::Empty);
         }
-        if let Some(i) = points.iter().position(|p| !p.is_finite()) {
-            return Err(PolyhedralError::NonFinite(i));
-        }
-        for (t, tri) in triangles.iter().enumerate() {
-            if let Some(&index) = tri.iter().find(|&&v| v as usize >= points.len()) {
-                return Err(PolyhedralError::IndexOutOfRange {
-                    triangle: t,
-                    index,
-                    count: points.len(),
-                });
-            }
-        }
-        if let Some(p) = patches
-            && p.len() != triangles.len()
-        {
-            return Err(PolyhedralError::PatchCount(p.len(), triangles.len()));
-        }
-        let geometry: Vec<[DVec3; 3]> = triangles
-            .iter()
-            .map(|t| t.map(|v| points[v as usize]))
-            .collect();
+        let mut repairs = repaired.repairs;
+        let geometry = geometry_of(&repaired.points, &repaired.triangles);
         let tree = TriangleTree::new(&geometry);
-        let defects = surface_defects_in(triangles, &geometry, &tree);
-        if defects.degenerate_triangles > 0 {
-            return Err(PolyhedralError::DegenerateTriangles(
-                defects.degenerate_triangles,
-            ));
-        }
-        if defects.border_edges > 0 {
-            return Err(PolyhedralError::NotClosed(defects.border_edges));
-        }
-        if defects.non_manifold_edges > 0 {
-            return Err(PolyhedralError::NonManifold(defects.non_manifold_edges));
-        }
-        if defects.inconsistent_edges > 0 {
-            return Err(PolyhedralError::Inconsistent(defects.inconsistent_edges));
-        }
-        if let Some((a, b)) = defects.first_intersection {
-            return Err(PolyhedralError::SelfIntersecting(a, b));
-        }
+        let crossed = crossed_triangles(&repaired.triangles, &geometry, &tree);
+        repairs.crossing_triangles = crossed.iter().filter(|&&c| c).count();
+        // Caps get a patch of their own, after the input's.
+        let patches: Option<Vec<PatchId>> = patches.map(|p| {
+            let cap = p.iter().max().map_or(1, |&m| m + 1);
+            let of = |s: &Option<usize>| s.map_or(cap, |i| p[i]);
+            repaired.source.iter().map(of).collect()
+        });
+        let winding = repairs.needs_winding_domain().then(|| WindingDomain {
+            on_boundary: (0..crossed.len()).map(|_| OnceLock::new()).collect(),
+            crossed,
+        });
+        Self::build(
+            &repaired.points,
+            &repaired.triangles,
+            patches.as_deref(),
+            geometry,
+            tree,
+            repairs,
+            winding,
+        )
+    }
 
+    fn build(
+        points: &[DVec3],
+        triangles: &[[u32; 3]],
+        patches: Option<&[PatchId]>,
+        geometry: Vec<[DVec3; 3]>,
+        tree: TriangleTree,
+        repairs: Repairs,
+        winding: Option<WindingDomain>,
+    ) -> Result<Self, PolyhedralError> {
         let component = components(points.len(), triangles);
         let num_components = component.iter().max().map_or(0, |&c| c as usize + 1);
         let patch = match patches {
@@ -148,8 +266,18 @@ impl PolyhedralOracle {
             inner_label: vec![OUTSIDE; num_components],
             initial: Vec::new(),
             domain_volume: 0.0,
+            repairs,
+            winding,
         };
-        oracle.label_components(num_components)?;
+        if oracle.winding.is_some() {
+            oracle.inner_label = vec![1; num_components];
+            oracle.domain_volume = oracle.winding_volume();
+            if oracle.domain_volume <= 0.0 {
+                return Err(PolyhedralError::NoVolume);
+            }
+        } else {
+            oracle.label_components(num_components)?;
+        }
         oracle.initial = oracle.sample_initial_points(num_components);
         Ok(oracle)
     }
@@ -208,27 +336,33 @@ impl PolyhedralOracle {
         let first = members
             .first()
             .map_or(DVec3::ZERO, |&t| self.triangles[t][0]);
-        let (w, resolved) = self.windings(first, Some(k), n);
-        if resolved {
+        let own = |t: u32| self.component[t as usize] == k;
+        let (w, resolved) = self.windings(first, own, n);
+        if resolved.is_some() {
             return w;
         }
         for &t in members {
             let [a, b, c] = self.triangles[t];
-            let (w, resolved) = self.windings((a + b + c) / 3.0, Some(k), n);
-            if resolved {
+            let (w, resolved) = self.windings((a + b + c) / 3.0, own, n);
+            if resolved.is_some() {
                 return w;
             }
         }
         w
     }
 
-    /// Winding number of each component around `p` (components numbered `0..n`), ignoring
-    /// `skip` (used for points lying on that component), and whether a ray avoided every edge and
-    /// vertex. Exact: a ray through an edge or a vertex is replaced by another one.
-    fn windings(&self, p: DVec3, skip: Option<u32>, n: usize) -> (Vec<i32>, bool) {
+    /// Winding number of each component around `p` (components numbered `0..n`), ignoring the
+    /// triangles `skip` accepts (used for points lying on them), and the end of the ray that
+    /// avoided every edge and vertex (`None` if none did). Exact: a ray through an edge or a vertex is replaced by another one.
+    fn windings(
+        &self,
+        p: DVec3,
+        skip: impl Fn(u32) -> bool,
+        n: usize,
+    ) -> (Vec<i32>, Option<DVec3>) {
         let reach = 2.0 * (self.bbox.diagonal() + p.distance(self.bbox.center())) + 1.0;
         let mut w = vec![0i32; n];
-        let mut resolved = false;
+        let mut resolved = None;
         for attempt in 0..64 {
             // First towards the nearest side of the box (the shortest walk through the tree),
             // slightly tilted off the axis; then along well-spread directions.
@@ -241,7 +375,7 @@ impl PolyhedralOracle {
             let mut degenerate = false;
             self.tree.for_each_near_segment(p, q, |t| {
                 let k = self.component[t as usize];
-                if degenerate || Some(k) == skip {
+                if degenerate || skip(t) {
                     return;
                 }
                 match segment_crossing(p, q, &self.triangles[t as usize]) {
@@ -253,7 +387,7 @@ impl PolyhedralOracle {
                 }
             });
             if !degenerate {
-                resolved = true;
+                resolved = Some(q);
                 break;
             }
         }
@@ -304,8 +438,14 @@ impl PolyhedralOracle {
     /// Appends `count` corners of the triangles of component `k`, each the farthest from the
     /// ones chosen before (starting from the corner of lowest index).
     fn spread_vertices(&self, k: u32, count: usize, out: &mut Vec<SurfacePoint>) {
+        // Corners of triangles known to bound the domain all along (a corner of a buried
+        // triangle would be no surface point).
+        let whole = |t: usize| match &self.winding {
+            Some(w) => !w.crossed[t] && self.bounds_domain(t as u32, self.triangles[t][0]),
+            None => true,
+        };
         let corners: Vec<(DVec3, PatchId)> = (0..self.triangles.len())
-            .filter(|&t| self.component[t] == k)
+            .filter(|&t| self.component[t] == k && whole(t))
             .flat_map(|t| self.triangles[t].map(|p| (p, self.patch[t])))
             .collect();
         let Some(&(start, _)) = corners.first() else {
@@ -379,6 +519,9 @@ impl PolyhedralOracle {
             let tri = &self.triangles[t as usize];
             if let Crossing::Proper { .. } | Crossing::Degenerate = segment_crossing(a, b, tri) {
                 let (point, s) = crossing_point(a, b, tri);
+                if !self.bounds_domain(t, point) {
+                    return;
+                }
                 out.push(SurfaceHit {
                     point,
                     t: s,
@@ -405,9 +548,109 @@ impl PolyhedralOracle {
         out.truncate(kept);
     }
 
+    /// Does triangle `t` bound the domain at its point `x`? Always for a surface that bounds a
+    /// volume as given; for the winding-number domain, where the winding number just behind `t`
+    /// is one (zero in front): a triangle buried in the volume, or in an inverted region, is
+    /// not part of its boundary.
+    fn bounds_domain(&self, t: u32, x: DVec3) -> bool {
+        let Some(w) = &self.winding else {
+            return true;
+        };
+        if w.crossed[t as usize] {
+            return self.winding_behind(t, x).is_none_or(|b| b == 1);
+        }
+        *w.on_boundary[t as usize].get_or_init(|| {
+            let [a, b, c] = self.triangles[t as usize];
+            self.winding_behind(t, (a + b + c) / 3.0)
+                .is_none_or(|b| b == 1)
+        })
+    }
+
+    /// The winding number just behind triangle `t` at its point `x`, from a ray from `x` that
+    /// ignores `t`. On an edge or a vertex of `t` every such ray starts on a neighbour: then from a
+    /// point a hair behind `t` (`None` if that fails too).
+    fn winding_behind(&self, t: u32, x: DVec3) -> Option<i32> {
+        let n = self.depth.len();
+        let [a, b, c] = self.triangles[t as usize];
+        let (w, end) = self.windings(x, |s| s == t, n);
+        let total: i32 = w.iter().sum();
+        // Leaving through the front, the ray counted the winding number in front, one less.
+        match end.map(|q| orient(a, b, c, q)) {
+            Some(std::cmp::Ordering::Less) => return Some(total + 1),
+            Some(std::cmp::Ordering::Greater) => return Some(total),
+            _ => {}
+        }
+        let normal = (b - a).cross(c - a).normalize_or_zero();
+        let behind = x - 1e-9 * self.bbox.diagonal() * normal;
+        let (w, end) = self.windings(behind, |_| false, n);
+        end.map(|_| w.iter().sum())
+    }
+
+    /// Volume of `{w ≥ 1}`: the exact length inside along each of a grid of lines parallel to
+    /// the z axis (from the signed crossings, walked in order), integrated by the midpoint rule.
+    fn winding_volume(&self) -> f64 {
+        const LINES: usize = 128;
+        let size = self.bbox.max - self.bbox.min;
+        let (dx, dy) = (size.x / LINES as f64, size.y / LINES as f64);
+        let (z0, z1) = (
+            self.bbox.min.z - 0.01 * size.z - 1.0,
+            self.bbox.max.z + 0.01 * size.z + 1.0,
+        );
+        let mut crossings: Vec<(f64, i32)> = Vec::new();
+        let mut volume = 0.0;
+        for i in 0..LINES {
+            for j in 0..LINES {
+                // A line through an edge or a vertex is moved a little (deterministically).
+                for attempt in 0..8 {
+                    // Unequal shifts, or a line on a diagonal would stay on it.
+                    let x = self.bbox.min.x + (i as f64 + 0.5 + 0.0731 * attempt as f64) * dx;
+                    let y = self.bbox.min.y + (j as f64 + 0.5 + 0.0419 * attempt as f64) * dy;
+                    let (p, q) = (DVec3::new(x, y, z0), DVec3::new(x, y, z1));
+                    crossings.clear();
+                    let mut degenerate = false;
+                    self.tree.for_each_near_segment(p, q, |t| {
+                        let tri = &self.triangles[t as usize];
+                        match segment_crossing(p, q, tri) {
+                            Crossing::Proper { from_back } => {
+                                let z = crossing_point(p, q, tri).0.z;
+                                crossings.push((z, if from_back { -1 } else { 1 }));
+                            }
+                            Crossing::Degenerate | Crossing::Coplanar => degenerate = true,
+                            Crossing::None => {}
+                        }
+                    });
+                    if degenerate {
+                        continue;
+                    }
+                    crossings.sort_by(|a, b| a.0.total_cmp(&b.0));
+                    let (mut w, mut length, mut entered) = (0, 0.0, 0.0);
+                    for &(z, step) in &crossings {
+                        let was_inside = w >= 1;
+                        w += step;
+                        match (was_inside, w >= 1) {
+                            (false, true) => entered = z,
+                            (true, false) => length += z - entered,
+                            _ => {}
+                        }
+                    }
+                    volume += length * dx * dy;
+                    break;
+                }
+            }
+        }
+        volume
+    }
+
     /// The subdomain of `p` from the winding numbers of the components around it.
     fn subdomain_by_windings(&self, p: DVec3) -> SubdomainId {
-        let (w, _) = self.windings(p, None, self.depth.len());
+        let (w, _) = self.windings(p, |_| false, self.depth.len());
+        if self.winding.is_some() {
+            return if w.iter().sum::<i32>() >= 1 {
+                1
+            } else {
+                OUTSIDE
+            };
+        }
         w.iter()
             .enumerate()
             .filter(|&(_, &x)| x != 0)
@@ -430,8 +673,17 @@ impl PolyhedralOracle {
         &self.triangles
     }
 
-    /// Number of subdomains (regions with a non-zero winding number).
+    /// What was repaired or reinterpreted in the input surface.
+    pub fn repairs(&self) -> &Repairs {
+        &self.repairs
+    }
+
+    /// Number of subdomains (regions with a non-zero winding number; one when the domain is
+    /// defined by the total winding number).
     pub fn num_subdomains(&self) -> usize {
+        if self.winding.is_some() {
+            return 1;
+        }
         self.inner_label.iter().filter(|&&l| l != OUTSIDE).count()
     }
 }
@@ -535,20 +787,10 @@ fn crossing_point(a: DVec3, b: DVec3, tri: &[DVec3; 3]) -> (DVec3, f64) {
 fn components(num_points: usize, triangles: &[[u32; 3]]) -> Vec<u32> {
     // Union-find over vertices: in a closed edge-manifold surface, triangles sharing a vertex
     // but no edge could join two components only at a pinched vertex, which the checks allow.
-    let mut parent: Vec<u32> = (0..num_points as u32).collect();
-    fn find(parent: &mut [u32], mut x: u32) -> u32 {
-        while parent[x as usize] != x {
-            parent[x as usize] = parent[parent[x as usize] as usize];
-            x = parent[x as usize];
-        }
-        x
-    }
+    let mut sets = UnionFind::new(num_points);
     for t in triangles {
         for k in 0..3 {
-            let (a, b) = (find(&mut parent, t[k]), find(&mut parent, t[(k + 1) % 3]));
-            if a != b {
-                parent[a.max(b) as usize] = a.min(b);
-            }
+            sets.union(t[k], t[(k + 1) % 3]);
         }
     }
     let mut label = vec![u32::MAX; num_points];
@@ -556,7 +798,7 @@ fn components(num_points: usize, triangles: &[[u32; 3]]) -> Vec<u32> {
     triangles
         .iter()
         .map(|t| {
-            let root = find(&mut parent, t[0]) as usize;
+            let root = sets.find(t[0]) as usize;
             if label[root] == u32::MAX {
                 label[root] = next;
                 next += 1;

@@ -16,6 +16,15 @@ pub(crate) fn orient(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> Ordering {
         .unwrap_or(Ordering::Equal)
 }
 
+/// Are `a`, `b`, `c` exactly collinear (a triangle of zero area)? They are when their projections
+/// on the three coordinate planes all are.
+pub(crate) fn orient2d_all_zero(a: DVec3, b: DVec3, c: DVec3) -> bool {
+    let k = |p: DVec3, i: usize, j: usize| robust::Coord { x: p[i], y: p[j] };
+    [(0, 1), (1, 2), (2, 0)]
+        .into_iter()
+        .all(|(i, j)| robust::orient2d(k(a, i, j), k(b, i, j), k(c, i, j)) == 0.0)
+}
+
 /// How a segment meets a triangle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Crossing {

@@ -76,21 +76,55 @@ fn first_intersection(
     geometry: &[[DVec3; 3]],
     tree: &TriangleTree,
 ) -> Option<(usize, usize)> {
+    let mut first = None;
+    crossing_pairs(triangles, geometry, tree, |i, j| {
+        first = Some((i, j));
+        false
+    });
+    first
+}
+
+/// Which triangles are crossed by another one.
+pub(crate) fn crossed_triangles(
+    triangles: &[[u32; 3]],
+    geometry: &[[DVec3; 3]],
+    tree: &TriangleTree,
+) -> Vec<bool> {
+    let mut crossed = vec![false; triangles.len()];
+    crossing_pairs(triangles, geometry, tree, |i, j| {
+        crossed[i] = true;
+        crossed[j] = true;
+        true
+    });
+    crossed
+}
+
+/// Calls `found(i, j)`, i < j, for the crossing pairs of triangles in order of `i`, while it
+/// returns true.
+fn crossing_pairs(
+    triangles: &[[u32; 3]],
+    geometry: &[[DVec3; 3]],
+    tree: &TriangleTree,
+    mut found: impl FnMut(usize, usize) -> bool,
+) {
+    let mut partners = Vec::new();
     for (i, t) in triangles.iter().enumerate() {
         let g = &geometry[i];
         let (min, max) = (g[0].min(g[1]).min(g[2]), g[0].max(g[1]).max(g[2]));
-        let mut found = None;
+        partners.clear();
         tree.for_each_near_box(min, max, |j| {
             let j = j as usize;
-            if j > i && found.is_none() && triangles_cross(t, g, &triangles[j], &geometry[j]) {
-                found = Some(j);
+            if j > i && triangles_cross(t, g, &triangles[j], &geometry[j]) {
+                partners.push(j);
             }
         });
-        if let Some(j) = found {
-            return Some((i, j));
+        partners.sort_unstable();
+        for &j in &partners {
+            if !found(i, j) {
+                return;
+            }
         }
     }
-    None
 }
 
 /// Do two triangles cross? Triangles sharing an edge never do (a fold onto itself is not
@@ -111,6 +145,11 @@ fn triangles_cross(ti: &[u32; 3], gi: &[DVec3; 3], tj: &[u32; 3], gj: &[DVec3; 3
         // exact orientations are the dearest.
         let (lo, hi) = (g[0].min(g[1]).min(g[2]), g[0].max(g[1]).max(g[2]));
         if edge.0.min(edge.1).cmpgt(hi).any() || edge.0.max(edge.1).cmplt(lo).any() {
+            return false;
+        }
+        // Long thin triangles have boxes that overlap nearly everything; most pairs are then
+        // coplanar (a fan over a cap), where the exact orientations are dearest.
+        if separated(edge, g) {
             return false;
         }
         match segment_crossing(edge.0, edge.1, g) {
@@ -134,4 +173,32 @@ fn triangles_cross(ti: &[u32; 3], gi: &[DVec3; 3], tj: &[u32; 3], gj: &[DVec3; 3
         }
         _ => false,
     }
+}
+
+/// Is the segment certainly apart from the triangle? A floating-point separating-axis test on the
+/// triangle's normal and its three in-plane edge normals, trusted only beyond a margin far above
+/// the rounding error, so that it never hides a crossing the exact predicates would find.
+fn separated(edge: (DVec3, DVec3), g: &[DVec3; 3]) -> bool {
+    let origin = g[0];
+    let local = [g[0] - origin, g[1] - origin, g[2] - origin];
+    let (p, q) = (edge.0 - origin, edge.1 - origin);
+    let reach = local
+        .iter()
+        .chain([&p, &q])
+        .map(|v| v.abs().max_element())
+        .fold(0.0, f64::max);
+    let normal = (local[1] - local[0]).cross(local[2] - local[0]);
+    let axes = [
+        normal,
+        normal.cross(local[1] - local[0]),
+        normal.cross(local[2] - local[1]),
+        normal.cross(local[0] - local[2]),
+    ];
+    axes.iter().any(|axis| {
+        let margin = 1e-9 * axis.abs().max_element() * reach;
+        let t = local.map(|v| axis.dot(v));
+        let (tlo, thi) = (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]));
+        let (sp, sq) = (axis.dot(p), axis.dot(q));
+        sp.min(sq) > thi + margin || sp.max(sq) < tlo - margin
+    })
 }

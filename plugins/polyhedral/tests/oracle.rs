@@ -1,7 +1,7 @@
 //! Properties of the polyhedral oracle on simple closed surfaces.
 
 use delamesh_core::oracle::{OUTSIDE, Oracle};
-use delamesh_polyhedral::{PolyhedralError, PolyhedralOracle};
+use delamesh_polyhedral::{PolyhedralError, PolyhedralOptions, PolyhedralOracle};
 use glam::DVec3;
 
 /// A cube [0, 1]^3 as 12 outward triangles, shifted by `offset` and scaled by `scale`.
@@ -147,17 +147,22 @@ fn initial_points_lie_on_every_component() {
     }
 }
 
+/// The oracle of `--strict`, which refuses what it would otherwise repair.
+fn strict(p: &[DVec3], t: &[[u32; 3]]) -> Result<PolyhedralOracle, PolyhedralError> {
+    PolyhedralOracle::with_options(p, t, None, &PolyhedralOptions { strict: true })
+}
+
 #[test]
-fn rejects_surfaces_that_bound_no_volume() {
+fn strict_rejects_surfaces_that_bound_no_volume() {
     let (p, t) = cube(DVec3::ZERO, 1.0, false);
     assert!(matches!(
-        PolyhedralOracle::new(&p, &t[1..], None),
+        strict(&p, &t[1..]),
         Err(PolyhedralError::NotClosed(_))
     ));
     let mut flipped = t.clone();
     flipped[0] = [t[0][0], t[0][2], t[0][1]];
     assert!(matches!(
-        PolyhedralOracle::new(&p, &flipped, None),
+        strict(&p, &flipped),
         Err(PolyhedralError::Inconsistent(_))
     ));
     let (p2, t2) = merge(
@@ -165,7 +170,7 @@ fn rejects_surfaces_that_bound_no_volume() {
         cube(DVec3::splat(0.5), 1.0, false),
     );
     assert!(matches!(
-        PolyhedralOracle::new(&p2, &t2, None),
+        strict(&p2, &t2),
         Err(PolyhedralError::SelfIntersecting(..))
     ));
     let bad = vec![[0, 1, 99]];
@@ -213,7 +218,7 @@ fn boxes_sharing_a_face_are_two_subdomains_not_a_self_intersection() {
         cube(DVec3::new(0.5, 0.25, 0.25), 1.0, false),
     );
     assert!(matches!(
-        PolyhedralOracle::new(&p, &t, None),
+        strict(&p, &t),
         Err(PolyhedralError::SelfIntersecting(..))
     ));
 }

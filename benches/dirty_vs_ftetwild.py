@@ -1,0 +1,74 @@
+#!/usr/bin/env python3
+"""delamesh vs fTetWild (pytetwild) side by side on surfaces that need repair.
+
+usage: dirty_vs_ftetwild.py DELAMESH_BINARY MODELS_DIR WORK_DIR NAME...
+
+For each NAME.off in MODELS_DIR: wall time of each mesher (delamesh's CLI, fTetWild's
+tetrahedralize call), tet volume, and the sampled one-sided Hausdorff distance from each output's
+boundary to the input triangles, as a fraction of the input's bounding-box diagonal. The two
+meshers alternate per model.
+"""
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import meshio
+import numpy as np
+import pytetwild
+import trimesh
+
+
+def tet_volume(points, tets):
+    a, b, c, d = (points[tets[:, k]] for k in range(4))
+    return float(np.abs(np.einsum("ij,ij->i", b - a, np.cross(c - a, d - a))).sum() / 6.0)
+
+
+def boundary(tets):
+    faces = np.sort(np.concatenate([tets[:, [0, 1, 2]], tets[:, [0, 1, 3]],
+                                    tets[:, [0, 2, 3]], tets[:, [1, 2, 3]]]), axis=1)
+    uniq, count = np.unique(faces, axis=0, return_counts=True)
+    return uniq[count == 1]
+
+
+def hausdorff_to_input(points, tets, surface, diagonal, samples=20000):
+    shell = trimesh.Trimesh(points, boundary(tets), process=False)
+    sample, _ = trimesh.sample.sample_surface_even(shell, samples, seed=1)
+    _, dist, _ = trimesh.proximity.closest_point(surface, sample)
+    return float(dist.max()) / diagonal
+
+
+def main():
+    binary, models, work = sys.argv[1], Path(sys.argv[2]), Path(sys.argv[3])
+    work.mkdir(parents=True, exist_ok=True)
+    print("model | delamesh s | fTetWild s | time ratio | delamesh vol | fTetWild vol | vol diff"
+          " | delamesh H/diag | fTetWild H/diag")
+    for name in sys.argv[4:]:
+        path = models / f"{name}.off"
+        surface = trimesh.load(path, process=False, force="mesh")
+        points, tris = np.asarray(surface.vertices, float), np.asarray(surface.faces)
+        diagonal = float(np.linalg.norm(surface.bounds[1] - surface.bounds[0]))
+
+        out = work / f"{name}.vtu"
+        t0 = time.perf_counter()
+        subprocess.run([binary, "mesh", str(path), "-o", str(out), "-q"], check=True,
+                       stderr=subprocess.DEVNULL)
+        t_ours = time.perf_counter() - t0
+        ours = meshio.read(out)
+        ours_tets = np.concatenate([c.data for c in ours.cells if c.type == "tetra"])
+
+        t0 = time.perf_counter()
+        v, t = pytetwild.tetrahedralize(points, tris.astype(np.int32))
+        t_peer = time.perf_counter() - t0
+        v, t = np.asarray(v), np.asarray(t)
+
+        vol_ours, vol_peer = tet_volume(ours.points, ours_tets), tet_volume(v, t)
+        h_ours = hausdorff_to_input(ours.points, ours_tets, surface, diagonal)
+        h_peer = hausdorff_to_input(v, t, surface, diagonal)
+        print(f"{name} | {t_ours:.2f} | {t_peer:.2f} | {t_ours / t_peer:.3f} | {vol_ours:.6g} | "
+              f"{vol_peer:.6g} | {100 * (vol_ours / vol_peer - 1):+.2f}% | {h_ours:.5f} | "
+              f"{h_peer:.5f}", flush=True)
+
+
+if __name__ == "__main__":
+    main()
