@@ -18,13 +18,23 @@ use crate::kernel::Point3;
 use crate::oracle::{CurveId, FeatureCurve};
 
 /// Largest growth of ball radii per unit of arc length: keeps neighbouring radii comparable, so
-/// that a spacing between 1/(1−β) and 2/(1+β) radii makes consecutive balls overlap and the next
-/// ones disjoint.
-const GROWTH: f64 = 0.25;
-/// Spacing of consecutive centres along a curve, in radii (inside the interval above).
-const SPACING: f64 = 1.45;
-/// Ball radius as a fraction of the distance to the nearest other feature.
-const FEATURE_FRACTION: f64 = 0.25;
+/// that consecutive balls overlap (the radius is also capped by [`GAP_FRACTION`] of the gaps to
+/// the neighbours, which keeps the next ones disjoint).
+const GROWTH: f64 = 0.3;
+/// Spacing of consecutive centres along a curve, in radii: about one radius, as CGAL's
+/// protection, so that the facets fanning out of the balls are exempt from the facet criteria
+/// (see `FeatureExemption`) instead of being refined down to the curve's spacing.
+const SPACING: f64 = 1.1;
+/// Ball radius as a fraction of the distance to the nearest other feature (below 1/2: balls on two
+/// features are disjoint).
+const FEATURE_FRACTION: f64 = 0.45;
+/// Largest curve ball radius as a fraction of the gaps to its chain neighbours (below 1: balls
+/// two steps apart on a straight run stay disjoint; above 1/2: neighbours overlap).
+const GAP_FRACTION: f64 = 0.95;
+/// Corner ball radius as a fraction of the shortest straight run leaving it along a curve piece
+/// (CGAL: a third of the distance to the nearest corner): a bend is always a centre, so it must
+/// lie outside the corner ball.
+const INCIDENT_FRACTION: f64 = 1.0 / 3.0;
 /// Distance, relative to a curve's extent, under which a polyline vertex counts as on the chord
 /// of its neighbours (no bend): rounding noise, far below any fidelity that matters.
 const COLLINEAR: f64 = 1e-11;
@@ -33,7 +43,7 @@ const COLLINEAR: f64 = 1e-11;
 const BEND_FRACTION: f64 = 0.6;
 /// How much of a spacing a straight run may exceed before it gets one more ball: the runs
 /// between fixed centres are not cut for a small excess (the two end balls still overlap).
-const RUN_SLACK: f64 = 0.25;
+const RUN_SLACK: f64 = 0.5;
 /// Rounds of shrink-and-repopulate before giving up.
 const MAX_ROUNDS: usize = 200;
 
@@ -392,14 +402,28 @@ fn populate(
                     d = d.min(q.distance(c));
                 }
             }
+            // The pieces ending here: room for their own balls between the corner balls.
+            let mut incident = f64::INFINITY;
             for piece in pieces {
-                if piece.distance_bound(c) < d && piece.ends.is_none_or(|e| !e.contains(&k)) {
+                if let Some([a, b]) = piece.ends.filter(|e| e.contains(&k)) {
+                    // Up to the first bend from this end: a bend is always a centre.
+                    let l = piece.line.length();
+                    let first = piece.bends.first().map_or(l, |&s| s);
+                    let last = piece.bends.last().map_or(l, |&s| l - s);
+                    if a == k {
+                        incident = incident.min(first);
+                    }
+                    if b == k {
+                        incident = incident.min(last);
+                    }
+                } else if piece.distance_bound(c) < d {
                     d = piece.line.distance_below(c, d);
                 }
             }
             edge_size
                 .at(c, 0)
                 .min(FEATURE_FRACTION * d)
+                .min(INCIDENT_FRACTION * incident)
                 .min(corner_limit[k])
         })
         .collect();
@@ -436,12 +460,13 @@ fn populate(
             chain.push(a);
             chain_s.push(0.0);
         }
-        for &s in &positions {
+        let gaps = gaps_along(&positions, l, piece.ends.is_none());
+        for (&s, gap) in positions.iter().zip(gaps) {
             chain.push(protection.balls.len());
             chain_s.push(s);
             protection.balls.push(ProtectingBall {
                 center: piece.line.point_at(s),
-                radius: radius(s),
+                radius: radius(s).min(GAP_FRACTION * gap),
                 feature: Feature::Curve(piece.curve),
             });
         }
@@ -458,6 +483,33 @@ fn populate(
     }
     protection.chain_params = params;
     protection
+}
+
+/// For each ball of a chain (arc lengths `positions` on a piece of length `length`), the arc
+/// length to its nearer chain neighbour, the corner balls of an open piece left out: a ball no
+/// larger than a fraction of both gaps next to it is disjoint from the balls two steps away
+/// along a straight run, whatever the spacing the run's length forced.
+fn gaps_along(positions: &[f64], length: f64, closed: bool) -> Vec<f64> {
+    let n = positions.len();
+    (0..n)
+        .map(|k| {
+            let prev = if k > 0 {
+                positions[k] - positions[k - 1]
+            } else if closed && n > 1 {
+                positions[0] + length - positions[n - 1]
+            } else {
+                f64::INFINITY
+            };
+            let next = if k + 1 < n {
+                positions[k + 1] - positions[k]
+            } else if closed && n > 1 {
+                positions[0] + length - positions[n - 1]
+            } else {
+                f64::INFINITY
+            };
+            prev.min(next)
+        })
+        .collect()
 }
 
 /// Arc lengths of the interior balls of a curve piece. Every bend of the polyline is a centre,
@@ -556,7 +608,13 @@ fn spread(
         r = r_next;
         samples.push((s, u));
     }
-    let n = ((u - RUN_SLACK).ceil().max(0.0) as usize).max(min_intervals);
+    let mut n = ((u - RUN_SLACK).ceil().max(0.0) as usize).max(min_intervals);
+    // A run is straight (its ends are bends or corner-ball boundaries): two overlapping end
+    // balls already cover it, and a ball between them would make them intersect without being
+    // consecutive.
+    if !closed && n > 1 && radius(from) + radius(to) > to - from {
+        n = 1.max(min_intervals);
+    }
     let count = if closed { n } else { n + 1 };
     let mut out = Vec::with_capacity(count);
     let mut j = 0;
