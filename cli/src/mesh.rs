@@ -30,6 +30,10 @@ pub struct MeshArgs {
     /// that follow them (default: bounding-box diagonal / 20). Unused without features.
     #[arg(long)]
     pub edge_size: Option<f64>,
+    /// Smallest protecting ball radius (CGAL's edge_min_size): sharp features closer than this
+    /// are no longer split, but still meshed (default: bounding-box diagonal / 1000).
+    #[arg(long)]
+    pub edge_min_size: Option<f64>,
     /// Smallest facet angle, in degrees (0 disables; ≤ 30 guarantees termination).
     #[arg(long)]
     pub facet_angle: Option<f64>,
@@ -48,7 +52,10 @@ pub struct MeshArgs {
     /// Stop with an error past this many vertices.
     #[arg(long, default_value_t = 2_000_000)]
     pub max_vertices: usize,
-    /// When --max-vertices stops refinement, still write the mesh reached.
+    /// Stop with an error when meshing takes longer than this many seconds.
+    #[arg(long, value_name = "SECONDS")]
+    pub time_limit: Option<f64>,
+    /// When --max-vertices or --time-limit stops refinement, still write the mesh reached.
     #[arg(long)]
     pub keep_partial: bool,
     /// Write a JSON report (counts, timings, quality, approximation, topology) here.
@@ -102,10 +109,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     let criteria = criteria(args, oracle)?;
     let options = MeshOptions {
         criteria: criteria.clone(),
-        limits: Limits {
-            max_vertices: args.max_vertices,
-            ..Limits::default()
-        },
+        limits: limits(args)?,
         keep_partial: args.keep_partial,
     };
     let bar = progress_bar(args.quiet);
@@ -187,6 +191,22 @@ pub fn run(args: &MeshArgs) -> Result<()> {
 }
 
 /// The CGAL-style criteria: defaults from the bounding box, overridden by the options.
+/// The guards of `mesh` from its options.
+pub(crate) fn limits(args: &MeshArgs) -> Result<Limits> {
+    let time_limit = match args.time_limit {
+        None => None,
+        Some(t) if t.is_finite() && t > 0.0 && t < 1e9 => {
+            Some(std::time::Duration::from_secs_f64(t))
+        }
+        Some(t) => bail!("--time-limit must be a positive number of seconds, got {t}"),
+    };
+    Ok(Limits {
+        max_vertices: args.max_vertices,
+        time_limit,
+        ..Limits::default()
+    })
+}
+
 pub(crate) fn criteria(args: &MeshArgs, oracle: &dyn Oracle) -> Result<MeshCriteria> {
     let mut c = MeshCriteria::default_for(&oracle.bounding_box());
     let positive = |name: &str, v: f64| -> Result<f64> {
@@ -205,6 +225,9 @@ pub(crate) fn criteria(args: &MeshArgs, oracle: &dyn Oracle) -> Result<MeshCrite
     };
     if let Some(v) = args.edge_size {
         c.edge_size = Sizing::Constant(positive("edge-size", v)?);
+    }
+    if let Some(v) = args.edge_min_size {
+        c.edge_min_size = positive("edge-min-size", v)?;
     }
     if let Some(v) = args.facet_angle {
         c.facet.angle_deg = non_negative("facet-angle", v)?;

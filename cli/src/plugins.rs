@@ -5,7 +5,7 @@ use crate::mesh::{MeshArgs, criteria, progress_bar};
 use anyhow::{Context, Result, bail};
 use delamesh_core::oracle::Oracle;
 use delamesh_core::plugin::{DynOracle, PluginLibrary};
-use delamesh_core::refine::{Limits, MeshError, MeshOptions, mesh_domain};
+use delamesh_core::refine::{MeshError, MeshOptions, mesh_domain};
 use delamesh_formats::{WriteOptions, write_tet_mesh};
 use std::path::{Path, PathBuf};
 
@@ -61,10 +61,7 @@ pub fn mesh(args: &MeshArgs, spec: &str) -> Result<()> {
     let oracle = load_oracle(spec, &args.plugin.plugin_config)?;
     let options = MeshOptions {
         criteria: criteria(args, &oracle)?,
-        limits: Limits {
-            max_vertices: args.max_vertices,
-            ..Limits::default()
-        },
+        limits: crate::mesh::limits(args)?,
         keep_partial: args.keep_partial,
     };
     let bar = progress_bar(args.quiet);

@@ -75,17 +75,35 @@ pub struct MeshCriteria {
     /// `edge_size`), so on the length of the mesh edges that follow them; the label is the curve.
     /// Unused by smooth domains.
     pub edge_size: Sizing,
+    /// Smallest protecting ball radius (CGAL 6's `edge_min_size`): features closer than this are
+    /// no longer split, but still meshed. 0 picks [`DEFAULT_EDGE_MIN_FRACTION`] of the bounding-box
+    /// diagonal. Unused by smooth domains.
+    pub edge_min_size: f64,
     pub facet: FacetCriteria,
     pub cell: CellCriteria,
 }
 
+/// Default smallest protecting ball radius, as a fraction of the bounding-box diagonal: far below
+/// any edge size a user asks for, large enough to bound the protection of features that touch.
+pub const DEFAULT_EDGE_MIN_FRACTION: f64 = 1e-3;
+
 impl MeshCriteria {
+    /// The smallest protecting ball radius for a domain with bounding box `bbox`.
+    pub fn edge_min_size_for(&self, bbox: &Aabb) -> f64 {
+        if self.edge_min_size > 0.0 {
+            self.edge_min_size
+        } else {
+            DEFAULT_EDGE_MIN_FRACTION * bbox.diagonal()
+        }
+    }
+
     /// Criteria that give a medium-resolution mesh of any domain, scaled by its bounding box, so
     /// that meshing needs no option.
     pub fn default_for(bbox: &Aabb) -> Self {
         let d = bbox.diagonal();
         MeshCriteria {
             edge_size: Sizing::Constant(d / 20.0),
+            edge_min_size: 0.0,
             facet: FacetCriteria {
                 angle_deg: 25.0,
                 size: Sizing::Constant(d / 20.0),
