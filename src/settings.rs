@@ -27,6 +27,9 @@ pub struct MeshSettings {
     /// Largest protecting ball radius along sharp feature curves (default: bounding-box
     /// diagonal / 20). Unused without features.
     pub edge_size: Option<f64>,
+    /// Smallest protecting ball radius (CGAL's `edge_min_size`): sharp features closer than this
+    /// are no longer split, but still meshed (default: bounding-box diagonal / 1000).
+    pub edge_min_size: Option<f64>,
     /// Smallest facet angle in degrees (0 disables; ≤ 30 guarantees termination; default 25).
     pub facet_angle: Option<f64>,
     /// Largest surface Delaunay ball radius (default: diagonal / 20).
@@ -39,6 +42,8 @@ pub struct MeshSettings {
     pub cell_size: Option<f64>,
     /// Refinement stops past this many vertices.
     pub max_vertices: usize,
+    /// Refinement (protection included) stops when it has taken longer than this.
+    pub time_limit: Option<std::time::Duration>,
     /// When a guard stops refinement, still return the mesh reached (marked as stopped).
     pub keep_partial: bool,
     /// How sharp features of a surface are found.
@@ -85,12 +90,14 @@ impl Default for MeshSettings {
     fn default() -> Self {
         MeshSettings {
             edge_size: None,
+            edge_min_size: None,
             facet_angle: None,
             facet_size: None,
             facet_distance: None,
             cell_radius_edge_ratio: None,
             cell_size: None,
             max_vertices: DEFAULT_MAX_VERTICES,
+            time_limit: None,
             keep_partial: false,
             features: FeatureSettings::default(),
             image: ImageSettings::default(),
@@ -148,6 +155,13 @@ impl MeshSettings {
     /// box gives the defaults, in the pipeline).
     pub fn validate(&self) -> Result<(), SettingsError> {
         positive("edge-size", self.edge_size)?;
+        positive("edge-min-size", self.edge_min_size)?;
+        if self.time_limit.is_some_and(|t| t.is_zero()) {
+            return Err(SettingsError::new(
+                "time-limit",
+                "must be a positive number of seconds",
+            ));
+        }
         non_negative("facet-angle", self.facet_angle)?;
         positive("facet-size", self.facet_size)?;
         positive("facet-distance", self.facet_distance)?;
@@ -183,6 +197,9 @@ impl MeshSettings {
         if let Some(v) = self.edge_size {
             c.edge_size = Sizing::Constant(v);
         }
+        if let Some(v) = self.edge_min_size {
+            c.edge_min_size = v;
+        }
         if let Some(v) = self.facet_angle {
             c.facet.angle_deg = v;
         }
@@ -213,6 +230,7 @@ impl MeshSettings {
             criteria: self.criteria(bbox),
             limits: Limits {
                 max_vertices: self.max_vertices,
+                time_limit: self.time_limit,
                 ..Limits::default()
             },
             keep_partial: self.keep_partial,
@@ -240,6 +258,16 @@ impl MeshSettingsBuilder {
     /// See [`MeshSettings::edge_size`].
     pub fn edge_size(mut self, v: f64) -> Self {
         self.settings.edge_size = Some(v);
+        self
+    }
+    /// See [`MeshSettings::edge_min_size`].
+    pub fn edge_min_size(mut self, v: f64) -> Self {
+        self.settings.edge_min_size = Some(v);
+        self
+    }
+    /// See [`MeshSettings::time_limit`].
+    pub fn time_limit(mut self, limit: std::time::Duration) -> Self {
+        self.settings.time_limit = Some(limit);
         self
     }
     /// See [`MeshSettings::facet_angle`].

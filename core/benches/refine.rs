@@ -79,6 +79,7 @@ fn sphere(c: &mut Criterion) {
     let options = MeshOptions {
         criteria: MeshCriteria {
             edge_size: Sizing::Constant(0.1),
+            edge_min_size: 0.0,
             facet: FacetCriteria {
                 angle_deg: 25.0,
                 size: Sizing::Constant(0.1),

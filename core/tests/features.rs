@@ -255,6 +255,7 @@ fn options(size: f64) -> MeshOptions {
     MeshOptions {
         criteria: MeshCriteria {
             edge_size: Sizing::Constant(size),
+            edge_min_size: 0.0,
             facet: FacetCriteria {
                 angle_deg: 25.0,
                 size: Sizing::Constant(size),

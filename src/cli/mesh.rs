@@ -27,6 +27,10 @@ pub struct MeshArgs {
     /// that follow them (default: bounding-box diagonal / 20). Unused without features.
     #[arg(long)]
     pub edge_size: Option<f64>,
+    /// Smallest protecting ball radius (CGAL's edge_min_size): sharp features closer than this
+    /// are no longer split, but still meshed (default: bounding-box diagonal / 1000).
+    #[arg(long)]
+    pub edge_min_size: Option<f64>,
     /// Smallest facet angle, in degrees (0 disables; ≤ 30 guarantees termination).
     #[arg(long)]
     pub facet_angle: Option<f64>,
@@ -45,7 +49,10 @@ pub struct MeshArgs {
     /// Stop with an error past this many vertices.
     #[arg(long, default_value_t = delamesh::DEFAULT_MAX_VERTICES)]
     pub max_vertices: usize,
-    /// When --max-vertices stops refinement, still write the mesh reached.
+    /// Stop with an error when meshing takes longer than this many seconds.
+    #[arg(long, value_name = "SECONDS")]
+    pub time_limit: Option<f64>,
+    /// When --max-vertices or --time-limit stops refinement, still write the mesh reached.
     #[arg(long)]
     pub keep_partial: bool,
     /// Write a JSON report (counts, timings, quality, approximation, topology) here.
@@ -86,12 +93,20 @@ impl MeshArgs {
     fn settings(&self) -> Result<MeshSettings> {
         Ok(MeshSettings {
             edge_size: self.edge_size,
+            edge_min_size: self.edge_min_size,
             facet_angle: self.facet_angle,
             facet_size: self.facet_size,
             facet_distance: self.facet_distance,
             cell_radius_edge_ratio: self.cell_radius_edge_ratio,
             cell_size: self.cell_size,
             max_vertices: self.max_vertices,
+            time_limit: match self.time_limit {
+                None => None,
+                Some(t) if t.is_finite() && t > 0.0 && t < 1e9 => {
+                    Some(Duration::from_secs_f64(t))
+                }
+                Some(t) => bail!("--time-limit must be a positive number of seconds, got {t}"),
+            },
             keep_partial: self.keep_partial,
             features: FeatureSettings {
                 enabled: !self.no_features,

@@ -91,6 +91,7 @@ use delamesh::polyhedral::PolyhedralOracle;
 pub fn criteria(angle: f64, size: f64, distance: f64, ratio: f64, cell_size: f64) -> MeshCriteria {
     MeshCriteria {
         edge_size: Sizing::Constant(size),
+        edge_min_size: 0.0,
         facet: FacetCriteria {
             angle_deg: angle,
             size: Sizing::Constant(size),

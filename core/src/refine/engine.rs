@@ -107,6 +107,9 @@ pub struct Limits {
     /// A proposing element rejected this many times in a row without any insertion is dropped,
     /// so that two levels cannot bounce an element between them forever.
     pub max_rejections_in_a_row: usize,
+    /// Refinement stops with [`RefineError::TimeLimit`] when it runs longer than this (and the
+    /// protection of sharp features, when it does; `None`: no limit).
+    pub time_limit: Option<std::time::Duration>,
 }
 
 impl Default for Limits {
@@ -114,6 +117,7 @@ impl Default for Limits {
         Limits {
             max_vertices: 2_000_000,
             max_rejections_in_a_row: 64,
+            time_limit: None,
         }
     }
 }
@@ -145,6 +149,8 @@ pub enum RefineError {
          the criteria"
     )]
     TooManyVertices { limit: usize },
+    #[error("meshing took longer than the time limit; raise --time-limit or coarsen the criteria")]
+    TimeLimit,
     #[error("a refinement point was refused by the triangulation")]
     Triangulation(#[from] TriangulationError),
 }
@@ -188,7 +194,16 @@ impl<'a, T: Triangulation> Engine<'a, T> {
         }
         let mut rejections_in_a_row = 0;
         let mut total = 0usize;
+        let deadline = self
+            .limits
+            .time_limit
+            .map(|t| std::time::Instant::now() + t);
+        let mut steps = 0usize;
         while let Some((i, candidate)) = self.next_candidate(tr) {
+            steps += 1;
+            if steps % 256 == 0 && deadline.is_some_and(|d| std::time::Instant::now() > d) {
+                return Err(RefineError::TimeLimit);
+            }
             match self.check_by_all_levels(tr, &candidate, i) {
                 Check::Accepted => {
                     if tr.num_vertices() >= self.limits.max_vertices {

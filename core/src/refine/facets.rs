@@ -7,7 +7,7 @@
 //! The ball is stored in both cells sharing the facet, as CGAL does, so that a cell knows its
 //! boundary facets without a global facet map.
 
-use super::criteria::FacetCriteria;
+use super::criteria::{FacetCriteria, FeatureExemption};
 use super::engine::{Candidate, Check, MesherLevel};
 use super::geometry::{
     cell_vertices, clipped_dual_edge, crowds_a_vertex, dual_parameter, facet_normal_away_from_apex,
@@ -274,11 +274,20 @@ impl<'o> SurfaceLevel<'o> {
         // With weights (protecting balls), shape is measured against the smallest orthogonal
         // sphere, as CGAL does: a facet fanning around a heavy vertex is not a sliver.
         let weighted = weights != [0.0; 3];
+        // Facets fanning out of protecting balls: CGAL's exemptions (see [`FeatureExemption`]).
+        let exempt = if weighted {
+            FeatureExemption::of_facet([a, b, c], weights)
+        } else {
+            FeatureExemption::default()
+        };
+        if exempt.all {
+            return None;
+        }
         let r = ball.radius2.sqrt();
         let size = self.criteria.size.at(ball.center, ball.patch);
         let mut worst: Option<f64> = None;
         let mut note = |q: f64| worst = Some(worst.map_or(q, |w: f64| w.max(q)));
-        if r > size {
+        if r > size && !exempt.size {
             note(r / size);
         }
         let (center, radius2) = if weighted {
@@ -286,7 +295,7 @@ impl<'o> SurfaceLevel<'o> {
         } else {
             (triangle_circumcenter(a, b, c), 0.0)
         };
-        if self.criteria.angle_deg > 0.0 {
+        if self.criteria.angle_deg > 0.0 && !exempt.angle {
             let angle = if weighted {
                 let shortest2 = a
                     .distance_squared(b)
@@ -304,7 +313,7 @@ impl<'o> SurfaceLevel<'o> {
             }
         }
         let distance = self.criteria.distance.at(ball.center, ball.patch);
-        if distance.is_finite() {
+        if distance.is_finite() && !exempt.distance {
             let d = center.distance(ball.center);
             if d > distance {
                 note(d / distance);

@@ -7,7 +7,7 @@ use super::criteria::MeshCriteria;
 use super::engine::{Engine, Limits, Progress, RefineError, RefineStats};
 use super::facets::SurfaceLevel;
 use super::guard::CurveLevel;
-use super::protect::{ProtectError, protect};
+use super::protect::{ProtectError, ProtectLimits, protect};
 use crate::complex::MeshComplex;
 use crate::kernel::Point3;
 use crate::oracle::{FeatureCurve, Oracle};
@@ -38,10 +38,6 @@ pub struct MeshOutcome {
     pub stats: RefineStats,
     pub times: PhaseTimes,
 }
-
-/// Smallest protecting ball radius, as a fraction of the bounding-box diagonal: features closer
-/// than this are taken as touching (the termination guard of the protection).
-const MIN_BALL_FRACTION: f64 = 1e-6;
 
 #[derive(Debug, thiserror::Error)]
 pub enum MeshError {
@@ -130,8 +126,12 @@ pub fn mesh_with_features<T: Triangulation<Point = Point3>>(
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<MeshOutcome, MeshError> {
     let start = Instant::now();
-    let min_radius = MIN_BALL_FRACTION * oracle.bounding_box().diagonal();
-    let protection = protect(curves, corners, &options.criteria.edge_size, min_radius)?;
+    let limits = ProtectLimits {
+        min_radius: options.criteria.edge_min_size_for(&oracle.bounding_box()),
+        max_balls: options.limits.max_vertices,
+        deadline: options.limits.time_limit.map(|t| start + t),
+    };
+    let protection = protect(curves, corners, &options.criteria.edge_size, &limits)?;
     let mut surface = SurfaceLevel::new(oracle, options.criteria.facet.clone()).check_patches();
     let cells = CellLevel::new(oracle, options.criteria.cell.clone()).outside_box();
     let mut vertices = Vec::with_capacity(protection.balls.len());

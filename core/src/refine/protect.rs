@@ -16,15 +16,26 @@ use super::criteria::Sizing;
 use super::curves::{Polyline, point_segment_distance};
 use crate::kernel::Point3;
 use crate::oracle::{CurveId, FeatureCurve};
+use std::time::Instant;
 
 /// Largest growth of ball radii per unit of arc length: keeps neighbouring radii comparable, so
-/// that a spacing between 1/(1−β) and 2/(1+β) radii makes consecutive balls overlap and the next
-/// ones disjoint.
-const GROWTH: f64 = 0.25;
-/// Spacing of consecutive centres along a curve, in radii (inside the interval above).
-const SPACING: f64 = 1.45;
-/// Ball radius as a fraction of the distance to the nearest other feature.
-const FEATURE_FRACTION: f64 = 0.25;
+/// that consecutive balls overlap (the radius is also capped by [`GAP_FRACTION`] of the gaps to
+/// the neighbours, which keeps the next ones disjoint).
+const GROWTH: f64 = 0.3;
+/// Spacing of consecutive centres along a curve, in radii: about one radius, as CGAL's
+/// protection, so that the facets fanning out of the balls are exempt from the facet criteria
+/// (see `FeatureExemption`) instead of being refined down to the curve's spacing.
+const SPACING: f64 = 1.1;
+/// Ball radius as a fraction of the distance to the nearest other feature (below 1/2: balls on two
+/// features are disjoint).
+const FEATURE_FRACTION: f64 = 0.45;
+/// Largest curve ball radius as a fraction of the gaps to its chain neighbours (below 1: balls
+/// two steps apart on a straight run stay disjoint; above 1/2: neighbours overlap).
+const GAP_FRACTION: f64 = 0.95;
+/// Corner ball radius as a fraction of the shortest straight run leaving it along a curve piece
+/// (CGAL: a third of the distance to the nearest corner): a bend is always a centre, so it must
+/// lie outside the corner ball.
+const INCIDENT_FRACTION: f64 = 1.0 / 3.0;
 /// Distance, relative to a curve's extent, under which a polyline vertex counts as on the chord
 /// of its neighbours (no bend): rounding noise, far below any fidelity that matters.
 const COLLINEAR: f64 = 1e-11;
@@ -33,7 +44,7 @@ const COLLINEAR: f64 = 1e-11;
 const BEND_FRACTION: f64 = 0.6;
 /// How much of a spacing a straight run may exceed before it gets one more ball: the runs
 /// between fixed centres are not cut for a small excess (the two end balls still overlap).
-const RUN_SLACK: f64 = 0.25;
+const RUN_SLACK: f64 = 0.5;
 /// Rounds of shrink-and-repopulate before giving up.
 const MAX_ROUNDS: usize = 200;
 
@@ -90,16 +101,38 @@ pub enum ProtectError {
     #[error("corner {index} has a non-finite coordinate")]
     BadCorner { index: usize },
     #[error(
-        "features too close to protect near ({x}, {y}, {z}): a ball would be smaller than {min_radius:e}"
+        "protecting the sharp features needs more than {limit} vertices; raise --max-vertices, or --edge-size / --edge-min-size"
     )]
-    TooClose {
-        x: f64,
-        y: f64,
-        z: f64,
-        min_radius: f64,
-    },
-    #[error("protecting balls did not settle in {rounds} rounds")]
+    TooManyBalls { limit: usize },
+    #[error(
+        "protecting the sharp features took longer than the time limit; raise --time-limit or --edge-min-size"
+    )]
+    TimeLimit,
+    #[error("protecting balls did not settle in {rounds} rounds; raise --edge-min-size")]
     NotSettled { rounds: usize },
+}
+
+/// Guards that bound the protection whatever the features.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProtectLimits {
+    /// Smallest ball radius (CGAL's `edge_min_size`): features closer than this are not split
+    /// further, their balls stay at this radius (and may then intersect; the curves are still
+    /// meshed, less faithfully there).
+    pub min_radius: f64,
+    /// Most balls ([`ProtectError::TooManyBalls`] past it).
+    pub max_balls: usize,
+    /// Wall-clock time after which the protection gives up ([`ProtectError::TimeLimit`]).
+    pub deadline: Option<Instant>,
+}
+
+impl Default for ProtectLimits {
+    fn default() -> Self {
+        ProtectLimits {
+            min_radius: 0.0,
+            max_balls: 2_000_000,
+            deadline: None,
+        }
+    }
 }
 
 /// A curve between two corners, or a closed curve without corner.
@@ -167,13 +200,14 @@ impl Piece {
 }
 
 /// Place protecting balls on `curves` and `corners`. `edge_size` bounds the radii (evaluated at
-/// the centre with the curve id as label; corners use label 0); `min_radius` is the guard under
-/// which features count as touching.
+/// the centre with the curve id as label; corners use label 0); `limits` bounds the work: no
+/// radius below `limits.min_radius` (features closer than that are protected at that size
+/// rather than refused), at most `limits.max_balls` balls, no round past the deadline.
 pub fn protect(
     curves: &[FeatureCurve],
     corners: &[Point3],
     edge_size: &Sizing,
-    min_radius: f64,
+    limits: &ProtectLimits,
 ) -> Result<Protection, ProtectError> {
     let mut corners: Vec<Point3> = corners.to_vec();
     if let Some(index) = corners.iter().position(|p| !p.is_finite()) {
@@ -207,26 +241,27 @@ pub fn protect(
         split_at_corners(*id, line, &corners, tol, &mut pieces);
     }
     let mut corner_limit = vec![f64::INFINITY; corners.len()];
+    let min_radius = limits.min_radius;
     for _ in 0..MAX_ROUNDS {
-        let protection = populate(&pieces, &corners, &corner_limit, edge_size);
-        let violations = violations(&protection, &pieces);
-        if violations.is_empty() {
-            return Ok(protection);
+        if limits.deadline.is_some_and(|d| Instant::now() > d) {
+            return Err(ProtectError::TimeLimit);
         }
-        for (ball, radius) in violations {
-            if radius < min_radius {
-                let c = protection.balls[ball].center;
-                return Err(ProtectError::TooClose {
-                    x: c.x,
-                    y: c.y,
-                    z: c.z,
-                    min_radius,
-                });
+        let protection = populate(&pieces, &corners, &corner_limit, edge_size, limits)?;
+        let mut shrunk = false;
+        for (ball, radius) in violations(&protection, &pieces) {
+            // A ball already at the smallest radius stays as it is (CGAL's special balls).
+            if protection.balls[ball].radius <= min_radius {
+                continue;
             }
+            let radius = radius.max(min_radius);
+            shrunk = true;
             match owner(&protection, ball) {
                 Owner::Corner(k) => corner_limit[k] = corner_limit[k].min(radius),
                 Owner::Piece(i, s) => pieces[i].limits.push((s, radius)),
             }
+        }
+        if !shrunk {
+            return Ok(protection);
         }
     }
     Err(ProtectError::NotSettled { rounds: MAX_ROUNDS })
@@ -381,7 +416,8 @@ fn populate(
     corners: &[Point3],
     corner_limit: &[f64],
     edge_size: &Sizing,
-) -> Protection {
+    limits: &ProtectLimits,
+) -> Result<Protection, ProtectError> {
     let corner_radius: Vec<f64> = corners
         .iter()
         .enumerate()
@@ -392,15 +428,30 @@ fn populate(
                     d = d.min(q.distance(c));
                 }
             }
+            // The pieces ending here: room for their own balls between the corner balls.
+            let mut incident = f64::INFINITY;
             for piece in pieces {
-                if piece.distance_bound(c) < d && piece.ends.is_none_or(|e| !e.contains(&k)) {
+                if let Some([a, b]) = piece.ends.filter(|e| e.contains(&k)) {
+                    // Up to the first bend from this end: a bend is always a centre.
+                    let l = piece.line.length();
+                    let first = piece.bends.first().map_or(l, |&s| s);
+                    let last = piece.bends.last().map_or(l, |&s| l - s);
+                    if a == k {
+                        incident = incident.min(first);
+                    }
+                    if b == k {
+                        incident = incident.min(last);
+                    }
+                } else if piece.distance_bound(c) < d {
                     d = piece.line.distance_below(c, d);
                 }
             }
             edge_size
                 .at(c, 0)
                 .min(FEATURE_FRACTION * d)
+                .min(INCIDENT_FRACTION * incident)
                 .min(corner_limit[k])
+                .max(limits.min_radius)
         })
         .collect();
     let mut protection = Protection {
@@ -420,7 +471,9 @@ fn populate(
     };
     let mut params = Vec::with_capacity(pieces.len());
     for (i, piece) in pieces.iter().enumerate() {
-        let radius = |s: f64| piece_radius(pieces, i, s, corners, &corner_radius, edge_size);
+        let radius = |s: f64| {
+            piece_radius(pieces, i, s, corners, &corner_radius, edge_size).max(limits.min_radius)
+        };
         let l = piece.line.length();
         let (from, to) = match piece.ends {
             Some([a, b]) => (
@@ -429,19 +482,24 @@ fn populate(
             ),
             None => (0.0, l),
         };
-        let positions = place_on_piece(piece, from, to, &radius);
+        let budget = limits.max_balls.saturating_sub(protection.balls.len());
+        let positions =
+            place_on_piece(piece, from, to, &radius, budget).ok_or(ProtectError::TooManyBalls {
+                limit: limits.max_balls,
+            })?;
         let mut chain = Vec::with_capacity(positions.len() + 2);
         let mut chain_s = Vec::with_capacity(positions.len() + 2);
         if let Some([a, _]) = piece.ends {
             chain.push(a);
             chain_s.push(0.0);
         }
-        for &s in &positions {
+        let gaps = gaps_along(&positions, l, piece.ends.is_none());
+        for (&s, gap) in positions.iter().zip(gaps) {
             chain.push(protection.balls.len());
             chain_s.push(s);
             protection.balls.push(ProtectingBall {
                 center: piece.line.point_at(s),
-                radius: radius(s),
+                radius: radius(s).min(GAP_FRACTION * gap),
                 feature: Feature::Curve(piece.curve),
             });
         }
@@ -457,28 +515,73 @@ fn populate(
         params.push(chain_s);
     }
     protection.chain_params = params;
-    protection
+    Ok(protection)
+}
+
+/// For each ball of a chain (arc lengths `positions` on a piece of length `length`), the arc
+/// length to its nearer chain neighbour, the corner balls of an open piece left out: a ball no
+/// larger than a fraction of both gaps next to it is disjoint from the balls two steps away
+/// along a straight run, whatever the spacing the run's length forced.
+fn gaps_along(positions: &[f64], length: f64, closed: bool) -> Vec<f64> {
+    let n = positions.len();
+    (0..n)
+        .map(|k| {
+            let prev = if k > 0 {
+                positions[k] - positions[k - 1]
+            } else if closed && n > 1 {
+                positions[0] + length - positions[n - 1]
+            } else {
+                f64::INFINITY
+            };
+            let next = if k + 1 < n {
+                positions[k + 1] - positions[k]
+            } else if closed && n > 1 {
+                positions[0] + length - positions[n - 1]
+            } else {
+                f64::INFINITY
+            };
+            prev.min(next)
+        })
+        .collect()
 }
 
 /// Arc lengths of the interior balls of a curve piece. Every bend of the polyline is a centre,
 /// so that the chords joining consecutive centres follow the input exactly; the straight runs
 /// between bends (and the boundaries `from`, `to` of an open piece's corner balls) are filled by
 /// [`spread`]. The parameters of a closed piece are in `[0, length)`, in chain order.
-fn place_on_piece(piece: &Piece, from: f64, to: f64, radius: &dyn Fn(f64) -> f64) -> Vec<f64> {
+/// `None` when more than `budget` balls would be needed.
+fn place_on_piece(
+    piece: &Piece,
+    from: f64,
+    to: f64,
+    radius: &dyn Fn(f64) -> f64,
+    budget: usize,
+) -> Option<Vec<f64>> {
     let (line, bends) = (&piece.line, piece.bends.clone());
     if piece.ends.is_none() {
         let Some(&first) = bends.first() else {
-            return spread(line, true, 0.0, line.length(), radius, 3);
+            return spread(line, true, 0.0, line.length(), radius, 3, budget);
         };
         // A closed curve needs three balls at least: split each run into enough intervals.
         let min_intervals = 3usize.div_ceil(bends.len());
         let mut out = Vec::new();
         for (k, &s0) in bends.iter().enumerate() {
             let s1 = bends.get(k + 1).copied().unwrap_or(first + line.length());
-            let run = spread(line, false, s0, s1, radius, min_intervals);
+            let run = spread(
+                line,
+                false,
+                s0,
+                s1,
+                radius,
+                min_intervals,
+                budget - out.len(),
+            )?;
             out.extend(run[..run.len() - 1].iter().map(|&s| line.normalize(s)));
+            if out.len() > budget {
+                return None;
+            }
         }
-        return out;
+        return Some(out);
     }
     let mut anchors: Vec<f64> = bends;
     anchors.push(from);
@@ -487,9 +590,10 @@ fn place_on_piece(piece: &Piece, from: f64, to: f64, radius: &dyn Fn(f64) -> f64
     anchors.dedup();
     let mut out = vec![anchors[0]];
     for w in anchors.windows(2) {
-        out.extend_from_slice(&spread(line, false, w[0], w[1], radius, 1)[1..]);
+        let budget = budget.checked_sub(out.len())?;
+        out.extend_from_slice(&spread(line, false, w[0], w[1], radius, 1, budget)?[1..]);
     }
-    out
+    (out.len() <= budget).then_some(out)
 }
 
 /// Arc lengths of the polyline vertices where the curve bends: greedily, the vertices that end
@@ -540,7 +644,8 @@ fn spread(
     to: f64,
     radius: &dyn Fn(f64) -> f64,
     min_intervals: usize,
-) -> Vec<f64> {
+    budget: usize,
+) -> Option<Vec<f64>> {
     let floor = line.length() * 1e-9;
     // (s, u) samples of the cumulative measure.
     // Trapezoids: each radius evaluation (a distance query to every nearby feature) serves the
@@ -555,8 +660,18 @@ fn spread(
         s += ds;
         r = r_next;
         samples.push((s, u));
+        // Each sample step is a fifth of a radius: far past the budget, stop sampling.
+        if u > budget as f64 + 1.0 {
+            return None;
+        }
     }
-    let n = ((u - RUN_SLACK).ceil().max(0.0) as usize).max(min_intervals);
+    let mut n = ((u - RUN_SLACK).ceil().max(0.0) as usize).max(min_intervals);
+    // A run is straight (its ends are bends or corner-ball boundaries): two overlapping end
+    // balls already cover it, and a ball between them would make them intersect without being
+    // consecutive.
+    if !closed && n > 1 && radius(from) + radius(to) > to - from {
+        n = 1.max(min_intervals);
+    }
     let count = if closed { n } else { n + 1 };
     let mut out = Vec::with_capacity(count);
     let mut j = 0;
@@ -574,7 +689,7 @@ fn spread(
         };
         out.push(s0 + t.clamp(0.0, 1.0) * (s1 - s0));
     }
-    out
+    Some(out)
 }
 
 /// Balls breaking a rule, with the radius each must shrink to: consecutive balls that do not
@@ -717,7 +832,8 @@ mod tests {
     #[test]
     fn cube_edges_are_chains_between_exact_corners() {
         let (curves, corners) = cube();
-        let p = protect(&curves, &corners, &Sizing::Constant(0.2), 1e-6).expect("protects");
+        let p =
+            protect(&curves, &corners, &Sizing::Constant(0.2), &limits(1e-6)).expect("protects");
         assert_eq!(p.corners, corners);
         for (k, &c) in corners.iter().enumerate() {
             assert_eq!(p.balls[k].center, c);
@@ -747,7 +863,7 @@ mod tests {
                 true,
             ),
         ];
-        let p = protect(&curves, &[], &Sizing::Constant(0.1), 1e-6).expect("protects");
+        let p = protect(&curves, &[], &Sizing::Constant(0.1), &limits(1e-6)).expect("protects");
         assert!(p.corners.is_empty());
         assert_eq!(p.chains.len(), 2);
         assert!(p.chains.iter().all(|c| c.closed && c.balls.len() >= 3));
@@ -774,7 +890,8 @@ mod tests {
         ];
         let curves = [curve(1, &hexagon, true), curve(2, &zigzag, false)];
         for size in [0.5, 0.05] {
-            let p = protect(&curves, &[], &Sizing::Constant(size), 1e-9).expect("protects");
+            let p =
+                protect(&curves, &[], &Sizing::Constant(size), &limits(1e-9)).expect("protects");
             assert_protects(&p, &curves, size);
             let is_centre = |q: [f64; 3]| {
                 let q = Point3::from_array(q);
@@ -796,7 +913,7 @@ mod tests {
             }
         }
         assert!(
-            !protect(&curves, &[], &Sizing::Constant(0.5), 1e-9)
+            !protect(&curves, &[], &Sizing::Constant(0.5), &limits(1e-9))
                 .expect("protects")
                 .balls
                 .iter()
@@ -817,7 +934,7 @@ mod tests {
                 curve(2, &[tip, b], false),
                 curve(3, &[a, b], false),
             ];
-            let p = protect(&curves, &[], &Sizing::Constant(0.1), 1e-9).expect("protects");
+            let p = protect(&curves, &[], &Sizing::Constant(0.1), &limits(1e-9)).expect("protects");
             assert_eq!(p.corners.len(), 3);
             assert_protects(&p, &curves, 0.1);
         }
@@ -834,7 +951,7 @@ mod tests {
             &curves,
             &[Point3::new(1.0, 0.0, 0.0)],
             &Sizing::Constant(0.1),
-            1e-6,
+            &limits(1e-6),
         )
         .expect("protects");
         assert_eq!(p.corners.len(), 3);
@@ -842,20 +959,56 @@ mod tests {
         assert_protects(&p, &curves, 0.1);
     }
 
+    /// Guards with the given smallest radius.
+    fn limits(min_radius: f64) -> ProtectLimits {
+        ProtectLimits {
+            min_radius,
+            ..ProtectLimits::default()
+        }
+    }
+
     #[test]
-    fn touching_curves_are_refused() {
+    fn touching_curves_are_protected_at_the_smallest_size() {
         let curves = [
             curve(1, &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]], false),
             curve(2, &[[0.5, -1.0, 0.0], [0.5, 1.0, 0.0]], false),
         ];
-        assert!(matches!(
-            protect(&curves, &[], &Sizing::Constant(0.1), 1e-4),
-            Err(ProtectError::TooClose { .. })
-        ));
+        let p = protect(&curves, &[], &Sizing::Constant(0.1), &limits(1e-3)).expect("protects");
+        assert!(p.balls.iter().all(|b| b.radius >= 1e-3 && b.radius <= 0.1));
+        // Far from the crossing, the balls keep the requested size.
+        assert!(p.balls.iter().any(|b| b.radius == 0.1));
         let bad = [curve(3, &[[0.0, 0.0, 0.0]], false)];
         assert_eq!(
-            protect(&bad, &[], &Sizing::Constant(0.1), 1e-4),
+            protect(&bad, &[], &Sizing::Constant(0.1), &limits(1e-4)),
             Err(ProtectError::BadCurve { curve: 3 })
+        );
+    }
+
+    #[test]
+    fn guards_bound_the_number_of_balls_and_the_time() {
+        let (curves, corners) = cube();
+        let tiny = Sizing::Constant(1e-300);
+        let bounded = ProtectLimits {
+            min_radius: 1e-300,
+            max_balls: 1000,
+            deadline: None,
+        };
+        assert_eq!(
+            protect(&curves, &corners, &tiny, &bounded),
+            Err(ProtectError::TooManyBalls { limit: 1000 })
+        );
+        // The smallest radius wins over the edge size: 12 edges of length 1 at radius 0.01.
+        let p = protect(&curves, &corners, &tiny, &limits(0.01)).expect("protects");
+        assert!(p.balls.iter().all(|b| b.radius >= 0.01));
+        assert!(p.balls.len() <= 12 * 100 + 8);
+        let past = ProtectLimits {
+            deadline: Some(Instant::now()),
+            ..limits(1e-3)
+        };
+        std::thread::sleep(std::time::Duration::from_millis(2));
+        assert_eq!(
+            protect(&curves, &corners, &Sizing::Constant(0.1), &past),
+            Err(ProtectError::TimeLimit)
         );
     }
 }

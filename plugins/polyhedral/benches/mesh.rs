@@ -33,6 +33,7 @@ fn sphere_off(c: &mut Criterion) {
             },
             // No sharp features on a sphere: nothing to protect.
             edge_size: Sizing::Unbounded,
+            edge_min_size: 0.0,
         },
         limits: Limits::default(),
         keep_partial: false,
