@@ -7,7 +7,10 @@ use delamesh_core::complex::MeshComplex;
 use delamesh_core::oracle::Oracle;
 use delamesh_core::quality::{self, TetQuality};
 use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
-use delamesh_core::refine::{Limits, MeshError, MeshOptions, MeshOutcome, Progress, mesh_domain};
+use delamesh_core::mesh::component_euler_characteristics;
+use delamesh_core::refine::{
+    Limits, MeshError, MeshOptions, MeshOutcome, Progress, ValidityOptions, mesh_domain,
+};
 use delamesh_formats::{WriteOptions, read_surface, write_tet_mesh};
 use delamesh_polyhedral::{PolyhedralOracle, TriangleTree};
 use glam::DVec3;
@@ -65,6 +68,10 @@ pub struct MeshArgs {
     /// Mesh the surface as smooth: no feature curves nor corners.
     #[arg(long)]
     pub no_features: bool,
+    /// Skip the refinement that makes the boundary a 2-manifold with the input's topology
+    /// (faster; the boundary may then have edges in four facets or pinched vertices).
+    #[arg(long)]
+    pub non_manifold: bool,
     /// ASCII instead of binary for .vtu / .vtk.
     #[arg(long)]
     pub ascii: bool,
@@ -107,6 +114,11 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             ..Limits::default()
         },
         keep_partial: args.keep_partial,
+        validity: ValidityOptions {
+            manifold: !args.non_manifold,
+            input_euler: Some(component_euler_characteristics(&surface.triangles).1),
+            ..ValidityOptions::default()
+        },
     };
     let bar = progress_bar(args.quiet);
     let mut on_progress = |p: &Progress| {
@@ -134,6 +146,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
                 complex: *complex,
                 stats: Default::default(),
                 times: Default::default(),
+                validity: Default::default(),
             };
             (outcome, Some(source))
         }
@@ -149,6 +162,11 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             "{}: the mesh has no tetrahedron inside the surface (criteria too coarse?)",
             input.display()
         );
+    }
+
+    let warnings = validity_warnings(&outcome, !args.non_manifold);
+    for w in &warnings {
+        eprintln!("warning: {}: {w}", input.display());
     }
 
     let t = Instant::now();
@@ -174,6 +192,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         times.quality = t.elapsed();
         times.total = started.elapsed();
         report.times_s = times.seconds();
+        report.boundary.warnings = warnings;
         write_json_atomically(path, &report)?;
     }
     match partial_error {
@@ -184,6 +203,20 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         ))),
         None => Ok(()),
     }
+}
+
+/// What the validity repairs could not reach, one sentence each (the run still succeeds).
+fn validity_warnings(outcome: &MeshOutcome, manifold_asked: bool) -> Vec<String> {
+    let v = &outcome.validity;
+    let mut warnings = Vec::new();
+    if v.flat_cells > 0 {
+        warnings.push(format!("{} flat tetrahedra are left", v.flat_cells));
+    }
+    if manifold_asked && !v.manifold {
+        warnings.push("the mesh boundary is not a 2-manifold (repairs stopped by a guard)".into());
+    }
+    warnings.extend(v.topology_warnings.iter().cloned());
+    warnings
 }
 
 /// The CGAL-style criteria: defaults from the bounding box, overridden by the options.
@@ -428,6 +461,8 @@ struct BoundaryReport {
     input_components: usize,
     /// Boundary facets whose dual Voronoi edge the surface level did not find crossing the input.
     unrestricted_facets: usize,
+    /// What the validity repairs could not reach (also printed on stderr).
+    warnings: Vec<String>,
 }
 
 impl Report {
@@ -506,6 +541,7 @@ impl Report {
                 input_euler_characteristic: input_topology.euler_characteristic,
                 input_components: input_topology.components,
                 unrestricted_facets: c.facet_patch.iter().filter(|&&p| p == 0).count(),
+                warnings: Vec::new(),
             },
             features: FeaturesReport::new(domain, criteria, c),
         }

@@ -66,6 +66,7 @@ pub fn mesh(args: &MeshArgs, spec: &str) -> Result<()> {
             ..Limits::default()
         },
         keep_partial: args.keep_partial,
+        validity: Default::default(),
     };
     let bar = progress_bar(args.quiet);
     let outcome = mesh_domain(&oracle, &options, &mut |p| {

@@ -6,7 +6,8 @@ use super::criteria::CellCriteria;
 use super::engine::{Candidate, Check, MesherLevel};
 use super::facets::ClearFacets;
 use super::geometry::{
-    cell_vertices, crowds_a_vertex, is_same_cell, power_distance, shortest_edge,
+    cell_vertices, crowds_a_vertex, flat_cell_refinement_point, is_flat, is_same_cell,
+    power_distance, shortest_edge,
 };
 use super::queue::RefineQueue;
 use crate::kernel::Point3;
@@ -142,7 +143,18 @@ impl<'o> CellLevel<'o> {
         self.hits.is_empty().then(|| self.subdomain(n))
     }
 
+    /// Queue cell `c` whatever its quality, first in line (a flat cell found inside after
+    /// refinement, or a cell at a non-manifold spot of the boundary).
+    pub fn force<T: Triangulation<Point = Point3>>(&mut self, tr: &T, c: CellId) {
+        if tr.is_live(c) && !tr.is_infinite_cell(c) {
+            let vertices = cell_vertices(tr, c);
+            self.queue.push(f64::INFINITY, QueuedCell { cell: c, vertices });
+        }
+    }
+
     /// How much a cell of subdomain `sub` violates the criteria (`None`: it satisfies them).
+    /// A flat cell (four nearly coplanar vertices, often cocircular points on a planar patch
+    /// whose radius-edge ratio is fine) is always bad: a solver cannot use it.
     fn badness<T: Triangulation<Point = Point3>>(
         &self,
         tr: &T,
@@ -151,6 +163,9 @@ impl<'o> CellLevel<'o> {
         sub: SubdomainId,
     ) -> Option<f64> {
         let p = vertices.map(|v| tr.point(v));
+        if is_flat(&p) && std::env::var_os("DBG_NOFLAT").is_none() {
+            return Some(f64::INFINITY);
+        }
         let radius = power_distance(tr, vertices[0], center).max(0.0).sqrt();
         let size_excess = radius / self.criteria.size.at(center, sub);
         let shape_excess = if self.criteria.radius_edge_ratio > 0.0 {
@@ -193,6 +208,14 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for CellLevel<'o> {
     }
 
     fn refinement_point(&mut self, tr: &T, q: &QueuedCell) -> Option<Candidate<Point3>> {
+        if is_flat(&q.vertices.map(|v| tr.point(v))) {
+            let (point, radius2) = flat_cell_refinement_point(tr, &q.vertices)?;
+            self.proposed_radius2 = radius2;
+            return Some(Candidate {
+                point,
+                hint: Some(q.cell),
+            });
+        }
         let center = tr.circumcenter(q.cell);
         self.proposed_radius2 = power_distance(tr, q.vertices[0], center);
         Some(Candidate {

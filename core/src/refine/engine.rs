@@ -104,8 +104,9 @@ impl<T: Triangulation, L: MesherLevel<T>> Level<T> for L {
 pub struct Limits {
     /// Refinement stops with [`RefineError::TooManyVertices`] past this many vertices.
     pub max_vertices: usize,
-    /// A proposing element rejected this many times in a row without any insertion is dropped,
-    /// so that two levels cannot bounce an element between them forever.
+    /// A level whose elements are rejected this many times in a row without any insertion drops
+    /// the one it proposes, so that levels cannot bounce elements between them forever (counted
+    /// per level: a lower level's element that keeps making a higher one bounce is dropped too).
     pub max_rejections_in_a_row: usize,
 }
 
@@ -130,12 +131,30 @@ pub struct Progress<'n> {
 /// What happened during one refinement run.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct RefineStats {
+    /// Rounds of validity repairs after the criteria were met (flat cells, non-manifold spots,
+    /// topology differences), each followed by refinement to the criteria again.
+    pub repair_rounds: usize,
     /// Insertions per level, in priority order.
     pub insertions: Vec<usize>,
     /// Points rejected because they encroached a higher-priority element.
     pub rejections: usize,
     /// Elements dropped without refinement (rejected forever, duplicates, bouncing).
     pub dropped: usize,
+}
+
+impl RefineStats {
+    /// Add the counts of a later run over the same levels.
+    pub fn absorb(&mut self, other: &RefineStats) {
+        if self.insertions.len() < other.insertions.len() {
+            self.insertions.resize(other.insertions.len(), 0);
+        }
+        for (a, b) in self.insertions.iter_mut().zip(&other.insertions) {
+            *a += b;
+        }
+        self.rejections += other.rejections;
+        self.dropped += other.dropped;
+        self.repair_rounds += other.repair_rounds;
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -176,16 +195,33 @@ impl<'a, T: Triangulation> Engine<'a, T> {
         tr: &mut T,
         progress: &mut dyn FnMut(&Progress),
     ) -> Result<RefineStats, RefineError> {
+        for level in self.levels.iter_mut() {
+            level.scan(tr);
+        }
+        self.resume(tr, progress)
+    }
+
+    /// Run all levels from their queues as they are, without scanning the triangulation: for a
+    /// new round after elements were queued from outside (validity repairs of the complex).
+    pub fn resume(
+        &mut self,
+        tr: &mut T,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> Result<RefineStats, RefineError> {
         let mut stats = RefineStats {
             insertions: vec![0; self.levels.len()],
             ..RefineStats::default()
         };
-        for level in self.levels.iter_mut() {
-            level.scan(tr);
-        }
-        let mut rejections_in_a_row = 0;
+        // Per level: a bounced element of one level cannot reset the count of another's.
+        let mut rejections_in_a_row = vec![0usize; self.levels.len()];
         let mut total = 0usize;
+        let mut dbg_iter = 0u64;
         while let Some((i, candidate)) = self.next_candidate(tr) {
+            dbg_iter += 1;
+            if dbg_iter % (1 << 16) == 0 && std::env::var_os("DBG_REPAIR").is_some() {
+                let pending: Vec<usize> = self.levels.iter().map(|l| l.pending()).collect();
+                eprintln!("iter {dbg_iter} level {i} pending {pending:?} stats {stats:?} rej {rejections_in_a_row:?}");
+            }
             match self.check_by_all_levels(tr, &candidate, i) {
                 Check::Accepted => {
                     if tr.num_vertices() >= self.limits.max_vertices {
@@ -196,7 +232,7 @@ impl<'a, T: Triangulation> Engine<'a, T> {
                     self.levels[i].pop();
                     match tr.insert_reporting(candidate.point, candidate.hint, &mut self.report)? {
                         InsertOutcome::Inserted(v) => {
-                            rejections_in_a_row = 0;
+                            rejections_in_a_row.fill(0);
                             stats.insertions[i] += 1;
                             total += 1;
                             for (j, level) in self.levels.iter_mut().enumerate() {
@@ -214,11 +250,11 @@ impl<'a, T: Triangulation> Engine<'a, T> {
                 }
                 Check::Rejected => {
                     stats.rejections += 1;
-                    rejections_in_a_row += 1;
-                    if rejections_in_a_row > self.limits.max_rejections_in_a_row {
+                    rejections_in_a_row[i] += 1;
+                    if rejections_in_a_row[i] > self.limits.max_rejections_in_a_row {
                         self.levels[i].pop();
                         stats.dropped += 1;
-                        rejections_in_a_row = 0;
+                        rejections_in_a_row[i] = 0;
                     }
                 }
                 Check::RejectedForever => {

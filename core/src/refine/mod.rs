@@ -17,11 +17,13 @@ pub mod guard;
 mod mesh3;
 pub mod protect;
 mod queue;
+pub mod repair;
 
 pub use engine::{
     Candidate, Check, Engine, Limits, MesherLevel, Progress, RefineError, RefineStats,
 };
 pub(crate) use geometry::{cell_vertices, facet_vertices};
+pub use repair::{Validity, ValidityOptions};
 pub use mesh3::{
     InsertBall, MeshError, MeshOptions, MeshOutcome, PhaseTimes, mesh_domain, mesh_with_features,
 };
