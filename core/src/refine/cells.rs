@@ -6,7 +6,7 @@ use super::criteria::CellCriteria;
 use super::engine::{Candidate, Check, MesherLevel};
 use super::facets::ClearFacets;
 use super::geometry::{
-    cell_vertices, crowds_a_vertex, flat_cell_refinement_point, is_flat, is_same_cell,
+    FLAT_CANDIDATES, cell_vertices, crowds_a_vertex, flat_cell_refinement_point, is_flat, is_same_cell,
     power_distance, shortest_edge,
 };
 use super::queue::RefineQueue;
@@ -19,6 +19,9 @@ use crate::triangulation::{CellId, InsertReport, Triangulation, VertexId};
 pub struct QueuedCell {
     pub cell: CellId,
     pub vertices: [VertexId; 4],
+    /// For a flat cell, which of its candidate refinement points to propose (see
+    /// [`flat_cell_refinement_point`]): the next one is tried when a point is refused forever.
+    pub attempt: u8,
 }
 
 pub struct CellLevel<'o> {
@@ -29,6 +32,8 @@ pub struct CellLevel<'o> {
     queue: RefineQueue<QueuedCell>,
     /// Squared circumradius of the cell whose circumcentre was last proposed.
     proposed_radius2: f64,
+    /// The cell last proposed is flat (its point is one of several candidates).
+    proposed_flat: bool,
     hits: Vec<SurfaceHit>,
     /// When set, a circumcentre outside this box is outside the domain without asking the
     /// oracle (see [`CellLevel::outside_box`]).
@@ -45,6 +50,7 @@ impl<'o> CellLevel<'o> {
             subdomain: Vec::new(),
             queue: RefineQueue::default(),
             proposed_radius2: 0.0,
+            proposed_flat: false,
             hits: Vec::new(),
             domain_box: None,
             clear_facets: None,
@@ -111,7 +117,11 @@ impl<'o> CellLevel<'o> {
         }
         let vertices = cell_vertices(tr, c);
         if let Some(priority) = self.badness(tr, &vertices, center, sub) {
-            self.queue.push(priority, QueuedCell { cell: c, vertices });
+            self.queue.push(priority, QueuedCell {
+                    cell: c,
+                    vertices,
+                    attempt: 0,
+                });
         }
     }
 
@@ -148,7 +158,11 @@ impl<'o> CellLevel<'o> {
     pub fn force<T: Triangulation<Point = Point3>>(&mut self, tr: &T, c: CellId) {
         if tr.is_live(c) && !tr.is_infinite_cell(c) {
             let vertices = cell_vertices(tr, c);
-            self.queue.push(f64::INFINITY, QueuedCell { cell: c, vertices });
+            self.queue.push(f64::INFINITY, QueuedCell {
+                    cell: c,
+                    vertices,
+                    attempt: 0,
+                });
         }
     }
 
@@ -163,7 +177,7 @@ impl<'o> CellLevel<'o> {
         sub: SubdomainId,
     ) -> Option<f64> {
         let p = vertices.map(|v| tr.point(v));
-        if is_flat(&p) && std::env::var_os("DBG_NOFLAT").is_none() {
+        if is_flat(&p) {
             return Some(f64::INFINITY);
         }
         let radius = power_distance(tr, vertices[0], center).max(0.0).sqrt();
@@ -203,13 +217,32 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for CellLevel<'o> {
         None
     }
 
+    /// A flat cell is queued again with its next candidate point: when the point was inserted
+    /// the cell is gone and the copy is discarded as stale, and when it was refused forever
+    /// (inside a protecting ball) the next candidate is tried.
     fn pop_element(&mut self) {
+        if let Some(&q) = self.queue.peek()
+            && self.proposed_flat
+            && usize::from(q.attempt) + 1 < FLAT_CANDIDATES
+        {
+            self.queue.pop();
+            self.queue.push(
+                f64::INFINITY,
+                QueuedCell {
+                    attempt: q.attempt + 1,
+                    ..q
+                },
+            );
+            return;
+        }
         self.queue.pop();
     }
 
     fn refinement_point(&mut self, tr: &T, q: &QueuedCell) -> Option<Candidate<Point3>> {
-        if is_flat(&q.vertices.map(|v| tr.point(v))) {
-            let (point, radius2) = flat_cell_refinement_point(tr, &q.vertices)?;
+        self.proposed_flat = is_flat(&q.vertices.map(|v| tr.point(v)));
+        if self.proposed_flat {
+            let (point, radius2) =
+                flat_cell_refinement_point(tr, &q.vertices, usize::from(q.attempt))?;
             self.proposed_radius2 = radius2;
             return Some(Candidate {
                 point,

@@ -215,13 +215,7 @@ impl<'a, T: Triangulation> Engine<'a, T> {
         // Per level: a bounced element of one level cannot reset the count of another's.
         let mut rejections_in_a_row = vec![0usize; self.levels.len()];
         let mut total = 0usize;
-        let mut dbg_iter = 0u64;
         while let Some((i, candidate)) = self.next_candidate(tr) {
-            dbg_iter += 1;
-            if dbg_iter % (1 << 16) == 0 && std::env::var_os("DBG_REPAIR").is_some() {
-                let pending: Vec<usize> = self.levels.iter().map(|l| l.pending()).collect();
-                eprintln!("iter {dbg_iter} level {i} pending {pending:?} stats {stats:?} rej {rejections_in_a_row:?}");
-            }
             match self.check_by_all_levels(tr, &candidate, i) {
                 Check::Accepted => {
                     if tr.num_vertices() >= self.limits.max_vertices {

@@ -215,10 +215,6 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
         loop {
             let defects = find_defects(&tr, &cells, &options.validity, true);
             validity = defects.validity();
-            if std::env::var_os("DBG_REPAIR").is_some() {
-                for f in &defects.facets { let cv = crate::refine::cell_vertices(&tr, f.cell); let fv = crate::refine::facet_vertices(&cv, f.index); eprintln!("  facet w {:?} ball {:?} p {:?}", fv.map(|v| tr.weight(v)), surface.ball(f.cell, f.index).map(|b| b.radius2.sqrt()), tr.point(fv[0])); }
-                eprintln!("round {} vertices {} flat {} facets {} nm {} topo {:?} stats {:?}", stats.repair_rounds, tr.num_vertices(), defects.flat.len(), defects.facets.len(), defects.non_manifold, defects.topology_warnings, stats);
-            }
             if defects.is_empty() || stats.repair_rounds >= options.validity.max_rounds {
                 break;
             }

@@ -61,19 +61,19 @@ pub struct Validity {
 
 /// A boundary facet of the complex: the inside cell and the index of the vertex opposite it.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct BoundaryFacet {
-    pub(crate) cell: CellId,
-    pub(crate) index: usize,
+struct BoundaryFacet {
+    cell: CellId,
+    index: usize,
 }
 
 /// The defects found in one look at the complex, and what to refine for them.
 #[derive(Default)]
 pub(crate) struct Defects {
-    pub(crate) flat: Vec<CellId>,
+    flat: Vec<CellId>,
     /// Boundary facets to refine (by their surface ball, or their cell when they have none).
-    pub(crate) facets: Vec<BoundaryFacet>,
-    pub(crate) non_manifold: bool,
-    pub(crate) topology_warnings: Vec<String>,
+    facets: Vec<BoundaryFacet>,
+    non_manifold: bool,
+    topology_warnings: Vec<String>,
 }
 
 impl Defects {
