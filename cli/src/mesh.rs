@@ -4,10 +4,10 @@ use crate::domain::{Domain, FeatureArgs};
 use anyhow::{Result, bail};
 use clap::Args;
 use delamesh_core::complex::MeshComplex;
+use delamesh_core::mesh::component_euler_characteristics;
 use delamesh_core::oracle::Oracle;
 use delamesh_core::quality::{self, TetQuality};
 use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
-use delamesh_core::mesh::component_euler_characteristics;
 use delamesh_core::refine::{
     Limits, MeshError, MeshOptions, MeshOutcome, Progress, ValidityOptions, mesh_domain,
 };

@@ -6,8 +6,8 @@ use super::criteria::CellCriteria;
 use super::engine::{Candidate, Check, MesherLevel};
 use super::facets::ClearFacets;
 use super::geometry::{
-    FLAT_CANDIDATES, cell_vertices, crowds_a_vertex, flat_cell_refinement_point, is_flat, is_same_cell,
-    power_distance, shortest_edge,
+    FLAT_CANDIDATES, cell_vertices, crowds_a_vertex, flat_cell_refinement_point, is_flat,
+    is_same_cell, power_distance, shortest_edge,
 };
 use super::queue::RefineQueue;
 use crate::kernel::Point3;
@@ -117,11 +117,14 @@ impl<'o> CellLevel<'o> {
         }
         let vertices = cell_vertices(tr, c);
         if let Some(priority) = self.badness(tr, &vertices, center, sub) {
-            self.queue.push(priority, QueuedCell {
+            self.queue.push(
+                priority,
+                QueuedCell {
                     cell: c,
                     vertices,
                     attempt: 0,
-                });
+                },
+            );
         }
     }
 
@@ -158,11 +161,14 @@ impl<'o> CellLevel<'o> {
     pub fn force<T: Triangulation<Point = Point3>>(&mut self, tr: &T, c: CellId) {
         if tr.is_live(c) && !tr.is_infinite_cell(c) {
             let vertices = cell_vertices(tr, c);
-            self.queue.push(f64::INFINITY, QueuedCell {
+            self.queue.push(
+                f64::INFINITY,
+                QueuedCell {
                     cell: c,
                     vertices,
                     attempt: 0,
-                });
+                },
+            );
         }
     }
 

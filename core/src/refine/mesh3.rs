@@ -202,7 +202,14 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
             engine.resume(tr, progress)
         }
     };
-    let mut result = run(&mut tr, &mut surface, &mut cells, curves.as_mut(), options.limits, true);
+    let mut result = run(
+        &mut tr,
+        &mut surface,
+        &mut cells,
+        curves.as_mut(),
+        options.limits,
+        true,
+    );
     // Validity repairs, in bounded rounds and within a vertex budget (refinement near tiny
     // protecting balls can cascade).
     let budget = (options.validity.max_vertex_growth * tr.num_vertices() as f64) as usize;
@@ -220,7 +227,14 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
             }
             defects.queue(&tr, &mut surface, &mut cells);
             stats.repair_rounds += 1;
-            match run(&mut tr, &mut surface, &mut cells, curves.as_mut(), repair_limits, false) {
+            match run(
+                &mut tr,
+                &mut surface,
+                &mut cells,
+                curves.as_mut(),
+                repair_limits,
+                false,
+            ) {
                 Ok(more) => stats.absorb(&more),
                 // The vertex guard stops the repairs, not the meshing: the mesh so far is kept
                 // and the validity says what is left.

@@ -23,7 +23,7 @@ pub use engine::{
     Candidate, Check, Engine, Limits, MesherLevel, Progress, RefineError, RefineStats,
 };
 pub(crate) use geometry::{cell_vertices, facet_vertices};
-pub use repair::{Validity, ValidityOptions};
 pub use mesh3::{
     InsertBall, MeshError, MeshOptions, MeshOutcome, PhaseTimes, mesh_domain, mesh_with_features,
 };
+pub use repair::{Validity, ValidityOptions};

@@ -174,7 +174,9 @@ pub(crate) fn find_defects<T: Triangulation<Point = Point3>>(
         }
         chosen.sort_unstable();
         chosen.dedup();
-        defects.facets.extend(chosen.into_iter().map(|k| boundary[k]));
+        defects
+            .facets
+            .extend(chosen.into_iter().map(|k| boundary[k]));
     }
     if !defects.non_manifold
         && let Some(input) = &options.input_euler
