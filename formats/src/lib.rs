@@ -9,6 +9,7 @@ mod atomic;
 mod error;
 mod format;
 mod gltf;
+pub mod image;
 mod legacy_vtk;
 mod medit;
 mod msh;

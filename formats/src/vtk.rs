@@ -113,7 +113,9 @@ pub(crate) fn read_cells(
 /// checks (found by fuzzing), so a malformed file can make it panic. The panic hook is silenced for
 /// this thread meanwhile, so the user sees one error line instead of a backtrace; panics of other
 /// threads still reach the previous hook.
-fn contain_panics<T>(parse: impl FnOnce() -> T + std::panic::UnwindSafe) -> Result<T, String> {
+pub(crate) fn contain_panics<T>(
+    parse: impl FnOnce() -> T + std::panic::UnwindSafe,
+) -> Result<T, String> {
     use std::sync::{Arc, Mutex};
     static HOOK_SWAP: Mutex<()> = Mutex::new(());
     let _one_at_a_time = HOOK_SWAP
@@ -178,7 +180,7 @@ fn spell_nan_for_vtkio(bytes: &[u8]) -> Option<Vec<u8>> {
 /// vtkio reads appended data only base64-encoded, while VTK and ParaView (and our writer) default to
 /// raw bytes: re-encode each raw block as base64 and rewrite the offsets. `None` when there is no raw
 /// appended data.
-fn raw_appended_to_base64(bytes: &[u8]) -> Result<Option<Vec<u8>>, Problem> {
+pub(crate) fn raw_appended_to_base64(bytes: &[u8]) -> Result<Option<Vec<u8>>, Problem> {
     use base64::Engine;
     let find = |hay: &[u8], needle: &[u8]| hay.windows(needle.len()).position(|w| w == needle);
     let Some(tag) = find(bytes, b"<AppendedData") else {

@@ -1,0 +1,109 @@
+//! The extent of the labels and the initial surface points: a few crossings on every connected
+//! group of blocks the interfaces pass through, so that every interface component starts with
+//! restricted facets (P0 of the thesis) whatever its size.
+
+use crate::grid::{BLOCK, Class, ClassGrid, Interpolation, MIXED};
+use crate::walk::changes;
+use glam::DVec3;
+use std::collections::VecDeque;
+
+/// Blocks sampled per connected group of boundary blocks, spread along the group.
+const BLOCKS_PER_GROUP: usize = 16;
+
+/// The index-space box of the blocks holding a non-background voxel, with a voxel of margin so
+/// that the boundary lies strictly inside; `None` for an image of background only.
+pub(crate) fn occupied_box<C: Class>(g: &ClassGrid<C>) -> Option<(DVec3, DVec3)> {
+    let [bx, by, bz] = g.blocks();
+    let (mut lo, mut hi) = ([usize::MAX; 3], [0usize; 3]);
+    for k in 0..bz {
+        for j in 0..by {
+            for i in 0..bx {
+                if g.block_summary([i, j, k]) != 0 {
+                    for (a, b) in [i, j, k].into_iter().enumerate() {
+                        lo[a] = lo[a].min(b);
+                        hi[a] = hi[a].max(b);
+                    }
+                }
+            }
+        }
+    }
+    if lo[0] == usize::MAX {
+        return None;
+    }
+    let margin = match g.interpolation {
+        Interpolation::Trilinear => 1.0,
+        Interpolation::Nearest => 1.5,
+    };
+    let lo = DVec3::from_array(lo.map(|b| (b * BLOCK) as f64)) - margin;
+    let top = |a: usize| (((hi[a] + 1) * BLOCK).min(g.dims[a] - 1)) as f64 + margin;
+    Some((lo, DVec3::new(top(0), top(1), top(2))))
+}
+
+/// Initial surface points as `(index-space point, class on one side, class on the other)`.
+pub(crate) fn initial_points<C: Class>(g: &ClassGrid<C>) -> Vec<(DVec3, u32, u32)> {
+    let [bx, by, bz] = g.blocks();
+    let index = |b: [usize; 3]| b[0] + bx * (b[1] + by * b[2]);
+    // Boundary blocks: several classes, or a label touching the image border.
+    let is_boundary = |b: [usize; 3]| {
+        let s = g.block_summary(b);
+        let on_border = (0..3).any(|a| b[a] == 0 || b[a] + 1 == g.blocks()[a]);
+        s == MIXED || (s != 0 && on_border)
+    };
+    let mut seen = vec![false; bx * by * bz];
+    let mut points = Vec::new();
+    let mut found = Vec::new();
+    for k in 0..bz {
+        for j in 0..by {
+            for i in 0..bx {
+                let start = [i, j, k];
+                if seen[index(start)] || !is_boundary(start) {
+                    continue;
+                }
+                // Breadth-first over face neighbours: the group, in a deterministic order.
+                let mut group = Vec::new();
+                let mut queue = VecDeque::from([start]);
+                seen[index(start)] = true;
+                while let Some(b) = queue.pop_front() {
+                    group.push(b);
+                    for a in 0..3 {
+                        for up in [false, true] {
+                            let mut n = b;
+                            if up {
+                                if b[a] + 1 >= g.blocks()[a] {
+                                    continue;
+                                }
+                                n[a] += 1;
+                            } else {
+                                if b[a] == 0 {
+                                    continue;
+                                }
+                                n[a] -= 1;
+                            }
+                            if !seen[index(n)] && is_boundary(n) {
+                                seen[index(n)] = true;
+                                queue.push_back(n);
+                            }
+                        }
+                    }
+                }
+                let stride = group.len().div_ceil(BLOCKS_PER_GROUP);
+                for b in group.iter().step_by(stride) {
+                    let centre =
+                        DVec3::from_array(b.map(|v| (v * BLOCK) as f64)) + 0.5 * BLOCK as f64;
+                    let reach = 0.5 * BLOCK as f64 + 1.5;
+                    for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
+                        let (from, to) = (centre - reach * axis, centre + reach * axis);
+                        found.clear();
+                        changes(g, from, to, &mut found);
+                        points.extend(
+                            found
+                                .iter()
+                                .map(|c| (from + c.t * (to - from), c.from, c.to)),
+                        );
+                    }
+                }
+            }
+        }
+    }
+    points
+}

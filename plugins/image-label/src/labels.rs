@@ -1,0 +1,129 @@
+//! From voxel values to classes: the labels of a segmented image, or the two sides of an
+//! isovalue of a gray-level one.
+
+use crate::ImageLabelError;
+use crate::grid::{ClassGrid, Interpolation};
+use delamesh_core::oracle::SubdomainId;
+use delamesh_formats::image::{Image, Voxels};
+
+/// Most labels an image may have: class pairs number the interface patches, which must fit a
+/// `u32` (65 535 labels give about 2.1 × 10⁹ pairs).
+pub const MAX_LABELS: usize = 65_535;
+
+/// The class grid in the narrowest type that holds every class.
+pub(crate) enum Field {
+    U8(ClassGrid<u8>),
+    U16(ClassGrid<u16>),
+}
+
+/// Classes of an image and the subdomain of each class (class 0 is the background, `OUTSIDE`).
+pub(crate) struct Classified {
+    pub field: Field,
+    pub subdomains: Vec<SubdomainId>,
+}
+
+/// Labels: every voxel value must be a non-negative integer; `background` is the outside. The
+/// subdomain of a label is the label itself, except that with a non-zero background, label 0 (if
+/// present) takes the background's number, since subdomain 0 means outside.
+pub(crate) fn classify_labels(
+    image: &Image,
+    background: u32,
+    interpolation: Interpolation,
+) -> Result<Classified, ImageLabelError> {
+    let n = image.voxels.len();
+    let label_of = |i: usize| -> Result<u32, ImageLabelError> {
+        let v = image.voxels.value(i);
+        if v.fract() == 0.0 && (0.0..f64::from(u32::MAX)).contains(&v) {
+            Ok(v as u32)
+        } else {
+            Err(ImageLabelError::NotALabel { value: v, voxel: i })
+        }
+    };
+    // The distinct labels, sorted: direct histograms for bytes and shorts, a sort otherwise.
+    let mut present: Vec<u32> = match &image.voxels {
+        Voxels::U8(v) => histogram(v.iter().map(|&x| usize::from(x)), 256),
+        Voxels::U16(v) => histogram(v.iter().map(|&x| usize::from(x)), 65_536),
+        _ => {
+            let mut all = (0..n).map(label_of).collect::<Result<Vec<u32>, _>>()?;
+            all.sort_unstable();
+            all.dedup();
+            all
+        }
+    };
+    present.retain(|&l| l != background);
+    if present.len() > MAX_LABELS {
+        return Err(ImageLabelError::TooManyLabels(present.len()));
+    }
+    // Class 0 is the background; classes 1.. the other labels in increasing order.
+    let mut labels = vec![background];
+    labels.extend_from_slice(&present);
+    let subdomains = labels
+        .iter()
+        .map(|&l| match l {
+            l if l == background => 0,
+            0 => background,
+            l => l,
+        })
+        .collect();
+    let class_of = |l: u32| -> usize {
+        if l == background {
+            0
+        } else {
+            present.binary_search(&l).map_or(0, |c| c + 1)
+        }
+    };
+    let count = labels.len();
+    // One class per voxel, in the narrowest type, without a wider intermediate buffer.
+    fn per_voxel<T>(
+        voxels: &Voxels,
+        table: &dyn Fn(u32) -> usize,
+        label_of: &dyn Fn(usize) -> Result<u32, ImageLabelError>,
+        narrow: fn(usize) -> T,
+    ) -> Result<Vec<T>, ImageLabelError> {
+        match voxels {
+            Voxels::U8(v) => {
+                let t: Vec<usize> = (0..256u32).map(table).collect();
+                Ok(v.iter().map(|&x| narrow(t[usize::from(x)])).collect())
+            }
+            Voxels::U16(v) => {
+                let t: Vec<usize> = (0..65_536u32).map(table).collect();
+                Ok(v.iter().map(|&x| narrow(t[usize::from(x)])).collect())
+            }
+            _ => (0..voxels.len())
+                .map(|i| label_of(i).map(|l| narrow(table(l))))
+                .collect(),
+        }
+    }
+    let field = if count <= 256 {
+        let classes = per_voxel(&image.voxels, &class_of, &label_of, |c| c as u8)?;
+        Field::U8(ClassGrid::new(image.dims, classes, interpolation))
+    } else {
+        let classes = per_voxel(&image.voxels, &class_of, &label_of, |c| c as u16)?;
+        Field::U16(ClassGrid::new(image.dims, classes, interpolation))
+    };
+    Ok(Classified { field, subdomains })
+}
+
+/// Gray levels: class 1 (subdomain 1) where the value is at least `isovalue`, else background.
+pub(crate) fn classify_isovalue(
+    image: &Image,
+    isovalue: f64,
+    interpolation: Interpolation,
+) -> Classified {
+    let classes: Vec<u8> = (0..image.voxels.len())
+        .map(|i| u8::from(image.voxels.value(i) >= isovalue))
+        .collect();
+    Classified {
+        field: Field::U8(ClassGrid::new(image.dims, classes, interpolation)),
+        subdomains: vec![0, 1],
+    }
+}
+
+/// The labels present among `values` (each below `size`), sorted.
+fn histogram(values: impl Iterator<Item = usize>, size: usize) -> Vec<u32> {
+    let mut seen = vec![false; size];
+    for v in values {
+        seen[v] = true;
+    }
+    (0..size as u32).filter(|&l| seen[l as usize]).collect()
+}

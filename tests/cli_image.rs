@@ -1,0 +1,109 @@
+//! `delamesh mesh IMAGE` end to end: a segmented image made here, recognised by its extension,
+//! meshed with defaults drawn from its size; bad images and options refused without output.
+
+mod cli_support;
+
+use cli_support::delamesh;
+use std::io::Write;
+use std::path::Path;
+
+/// A gzipped INR image of two nested balls (labels 2 inside 5) in a 20³ grid of 0.5-voxels.
+fn write_nested_balls(path: &Path) {
+    let n = 20usize;
+    let mut bytes = format!(
+        "#INRIMAGE-4#{{\nXDIM={n}\nYDIM={n}\nZDIM={n}\nVDIM=1\nTYPE=unsigned fixed\nPIXSIZE=8 bits\nCPU=decm\nVX=0.5\nVY=0.5\nVZ=0.5\n"
+    )
+    .into_bytes();
+    bytes.resize(252, b'\n');
+    bytes.extend_from_slice(b"##}\n");
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let d = [i, j, k].map(|v| v as f64 - 9.5);
+                let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                bytes.push(if r < 4.0 {
+                    2
+                } else if r < 8.0 {
+                    5
+                } else {
+                    0
+                });
+            }
+        }
+    }
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+    gz.write_all(&bytes).expect("in memory");
+    std::fs::write(path, gz.finish().expect("in memory")).expect("write image");
+}
+
+#[test]
+fn an_image_is_meshed_with_its_label_values_as_subdomains() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let image = dir.path().join("balls.inr.gz");
+    write_nested_balls(&image);
+    let out = dir.path().join("balls.mesh");
+    delamesh()
+        .args(["mesh", "-q"])
+        .arg(&image)
+        .arg("-o")
+        .arg(&out)
+        .args(["--cell-size-per-label", "2=0.8"])
+        .assert()
+        .success();
+    let text = std::fs::read_to_string(&out).expect("output written");
+    // MEDIT tetrahedra lines end with their subdomain: the labels 2 and 5 themselves.
+    let tets = text.split("Tetrahedra").nth(1).expect("tetrahedra");
+    let mut labels: Vec<&str> = tets
+        .lines()
+        .skip(2)
+        .take_while(|l| l.split_whitespace().count() == 5)
+        .filter_map(|l| l.split_whitespace().last())
+        .collect();
+    labels.sort_unstable();
+    labels.dedup();
+    assert_eq!(labels, ["2", "5"]);
+}
+
+#[test]
+fn bad_images_and_options_fail_with_one_line_and_no_output() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let good = dir.path().join("balls.inr.gz");
+    write_nested_balls(&good);
+    let truncated = dir.path().join("short.inr");
+    std::fs::write(
+        &truncated,
+        b"#INRIMAGE-4#{\nXDIM=900000\nYDIM=900000\nZDIM=900000\n",
+    )
+    .expect("write");
+    let empty = dir.path().join("empty.nrrd");
+    std::fs::write(
+        &empty,
+        b"NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\n\0\0\0\0\0\0\0\0",
+    )
+    .expect("write");
+    let cases: [(&Path, &[&str], &str); 4] = [
+        (&truncated, &[], "##}"),
+        (&empty, &[], "nothing to mesh"),
+        (
+            &good,
+            &["--cell-size-per-label", "2=-1"],
+            "--cell-size-per-label",
+        ),
+        (&good, &["--isovalue", "nan"], "isovalue"),
+    ];
+    for (input, extra, message) in cases {
+        let out = dir.path().join("out.vtu");
+        let assert = delamesh()
+            .args(["mesh", "-q"])
+            .arg(input)
+            .arg("-o")
+            .arg(&out)
+            .args(extra)
+            .assert()
+            .code(1);
+        let stderr = String::from_utf8_lossy(&assert.get_output().stderr).into_owned();
+        assert!(stderr.contains(message), "{stderr}");
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+        assert!(!out.exists(), "output left behind for {}", input.display());
+    }
+}
