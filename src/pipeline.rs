@@ -6,6 +6,7 @@ use crate::error::Error;
 use crate::report::{Report, ReportInput, Times};
 use crate::settings::MeshSettings;
 use delamesh_core::complex::MeshComplex;
+use delamesh_core::mesh::component_euler_characteristics;
 use delamesh_core::mesh::{SurfaceMesh, TetMesh};
 use delamesh_core::refine::criteria::MeshCriteria;
 use delamesh_core::refine::{MeshError, Progress, RefineError, RefineStats, mesh_domain};
@@ -34,6 +35,10 @@ pub struct Mesher<'p> {
 
 /// A finished run: the mesh, what refinement did, and whether a guard stopped it early.
 pub struct Meshed {
+    /// What the validity repairs could not reach (flat cells, a non-manifold boundary, input
+    /// components whose topology the boundary does not reproduce), one sentence each: the mesh
+    /// is still returned.
+    pub warnings: Vec<String>,
     /// The mesh: points, tetrahedra with subdomains, boundary facets with patches, features.
     pub complex: MeshComplex,
     /// What refinement did (empty when a guard stopped it).
@@ -159,6 +164,10 @@ impl<'p> Mesher<'p> {
         let oracle = domain.oracle();
         let bbox = oracle.bounding_box();
         let mut options = self.settings.mesh_options(&bbox);
+        if let Some(surface) = &input {
+            options.validity.input_euler =
+                Some(component_euler_characteristics(&surface.triangles).1);
+        }
         if let (Domain::Image(image), None) = (&domain, self.settings.facet_distance) {
             // Finer than the voxels, the facet distance would chase their staircase.
             options.criteria.facet.distance = image.default_criteria().facet.distance;
@@ -178,11 +187,13 @@ impl<'p> Mesher<'p> {
         };
         let outcome = mesh_domain(oracle, &options, progress);
         domain.check()?;
+        let mut warnings = Vec::new();
         let (complex, stats, stopped) = match outcome {
             Ok(o) => {
                 times.initial_points = o.times.initial_points;
                 times.refinement = o.times.refinement;
                 times.complex = o.times.complex;
+                warnings = validity_warnings(&o.validity, options.validity.manifold);
                 (o.complex, o.stats, None)
             }
             Err(MeshError::Refinement {
@@ -202,6 +213,7 @@ impl<'p> Mesher<'p> {
         Ok(Meshed {
             complex,
             stats,
+            warnings,
             stopped,
             criteria: options.criteria,
             times,
@@ -270,4 +282,17 @@ pub fn mesh_file(input: &Path, output: &Path) -> Result<Meshed, Error> {
     let mut meshed = Mesher::new(MeshSettings::default()).mesh_file(input)?;
     meshed.write(output, &WriteOptions::default())?;
     Ok(meshed)
+}
+
+/// What the validity repairs could not reach, one sentence each.
+fn validity_warnings(v: &delamesh_core::refine::Validity, manifold_asked: bool) -> Vec<String> {
+    let mut warnings = Vec::new();
+    if v.flat_cells > 0 {
+        warnings.push(format!("{} flat tetrahedra are left", v.flat_cells));
+    }
+    if manifold_asked && !v.manifold {
+        warnings.push("the mesh boundary is not a 2-manifold (repairs stopped by a guard)".into());
+    }
+    warnings.extend(v.topology_warnings.iter().cloned());
+    warnings
 }

@@ -11,7 +11,7 @@
 
 use delamesh_core::oracle::Aabb;
 use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
-use delamesh_core::refine::{Limits, MeshOptions};
+use delamesh_core::refine::{Limits, MeshOptions, ValidityOptions};
 use std::collections::BTreeMap;
 use std::fmt;
 use std::path::PathBuf;
@@ -46,6 +46,8 @@ pub struct MeshSettings {
     pub time_limit: Option<std::time::Duration>,
     /// When a guard stops refinement, still return the mesh reached (marked as stopped).
     pub keep_partial: bool,
+    /// Skip the repairs that make the boundary a 2-manifold with the input's topology (faster).
+    pub non_manifold: bool,
     /// How sharp features of a surface are found.
     pub features: FeatureSettings,
     /// How a 3D image becomes a domain, and its sizes per label.
@@ -99,6 +101,7 @@ impl Default for MeshSettings {
             max_vertices: DEFAULT_MAX_VERTICES,
             time_limit: None,
             keep_partial: false,
+            non_manifold: false,
             features: FeatureSettings::default(),
             image: ImageSettings::default(),
             strict: false,
@@ -234,6 +237,10 @@ impl MeshSettings {
                 ..Limits::default()
             },
             keep_partial: self.keep_partial,
+            validity: ValidityOptions {
+                manifold: !self.non_manifold,
+                ..ValidityOptions::default()
+            },
         }
     }
 }

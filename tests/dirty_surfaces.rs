@@ -32,6 +32,7 @@ fn mesh_of(oracle: &PolyhedralOracle, size: f64) -> MeshComplex {
             ..Limits::default()
         },
         keep_partial: false,
+        validity: Default::default(),
     };
     mesh_domain(oracle, &options, &mut |_| {})
         .expect("refinement terminates")

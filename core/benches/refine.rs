@@ -92,6 +92,7 @@ fn sphere(c: &mut Criterion) {
         },
         limits: Limits::default(),
         keep_partial: false,
+        validity: Default::default(),
     };
     let mut group = c.benchmark_group("refine");
     group.sample_size(10);

@@ -7,7 +7,9 @@
 mod topology;
 mod weld;
 
-pub use topology::{Topology, surface_topology};
+pub use topology::{
+    Topology, component_euler_characteristics, non_manifold_elements, surface_topology,
+};
 pub use weld::weld_exact;
 
 use glam::DVec3;

@@ -271,6 +271,7 @@ fn options(size: f64) -> MeshOptions {
             ..Limits::default()
         },
         keep_partial: false,
+        validity: Default::default(),
     }
 }
 

@@ -55,6 +55,10 @@ pub struct MeshArgs {
     /// When --max-vertices or --time-limit stops refinement, still write the mesh reached.
     #[arg(long)]
     pub keep_partial: bool,
+    /// Skip the refinement that makes the boundary a 2-manifold with the input's topology
+    /// (faster; the boundary may then have edges in four facets or pinched vertices).
+    #[arg(long)]
+    pub non_manifold: bool,
     /// Write a JSON report (counts, timings, quality, approximation, topology) here.
     #[arg(long)]
     pub report: Option<PathBuf>,
@@ -108,6 +112,7 @@ impl MeshArgs {
                 Some(t) => bail!("--time-limit must be a positive number of seconds, got {t}"),
             },
             keep_partial: self.keep_partial,
+            non_manifold: self.non_manifold,
             features: FeatureSettings {
                 enabled: !self.no_features,
                 angle_deg: self.feature_angle,
@@ -155,6 +160,9 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             meshed.name(),
             repairs.join("; ")
         );
+    }
+    for w in &meshed.warnings {
+        eprintln!("warning: {}: {w}", meshed.name());
     }
     let write_options = WriteOptions {
         ascii: args.ascii,

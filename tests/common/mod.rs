@@ -115,6 +115,7 @@ pub fn mesh(surface: &Surface, criteria: MeshCriteria) -> (PolyhedralOracle, Mes
             ..Limits::default()
         },
         keep_partial: false,
+        validity: Default::default(),
     };
     let outcome = mesh_domain(&oracle, &options, &mut |_| {}).expect("refinement terminates");
     (oracle, outcome.complex)

@@ -200,6 +200,100 @@ pub fn surface_topology(positions: &[DVec3], triangles: &[[u32; 3]]) -> Topology
     }
 }
 
+/// Where a triangle surface fails to be a 2-manifold: the edges with three or more incident
+/// triangles, and the vertices whose incident triangles form more than one fan. Triangles with a
+/// repeated index are ignored. Both lists are sorted.
+pub fn non_manifold_elements(triangles: &[[u32; 3]]) -> (Vec<[u32; 2]>, Vec<u32>) {
+    let faces: Vec<[u32; 3]> = triangles
+        .iter()
+        .copied()
+        .filter(|t| t[0] != t[1] && t[1] != t[2] && t[2] != t[0])
+        .collect();
+    let mut sides: Vec<[u32; 2]> = faces
+        .iter()
+        .flat_map(|t| (0..3).map(move |k| [t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3])]))
+        .collect();
+    sides.sort_unstable();
+    let edges = sides
+        .chunk_by(|x, y| x == y)
+        .filter(|g| g.len() > 2)
+        .map(|g| g[0])
+        .collect();
+    let mut corners: Vec<(u32, u32, u32)> = faces
+        .iter()
+        .flat_map(|&[a, b, c]| [(a, b, c), (b, c, a), (c, a, b)])
+        .collect();
+    corners.sort_unstable();
+    let mut vertices = Vec::new();
+    let mut link: Vec<u32> = Vec::new();
+    for fan in corners.chunk_by(|x, y| x.0 == y.0) {
+        link.clear();
+        link.extend(fan.iter().flat_map(|&(_, u, w)| [u, w]));
+        link.sort_unstable();
+        link.dedup();
+        let mut uf = UnionFind::new(link.len());
+        let local = |x: u32| link.binary_search(&x).map_or(0, |i| i as u32);
+        for &(_, u, w) in fan {
+            uf.union(local(u), local(w));
+        }
+        if (0..link.len() as u32).filter(|&i| uf.find(i) == i).count() > 1 {
+            vertices.push(fan[0].0);
+        }
+    }
+    (edges, vertices)
+}
+
+/// The connected components of a triangle surface (triangles sharing a vertex are connected) and
+/// the Euler characteristic V − E + F of each: `(component of each triangle, characteristic of
+/// each component)`, components numbered in the order of their first triangle. Triangles with a
+/// repeated index count in their component's faces only.
+pub fn component_euler_characteristics(triangles: &[[u32; 3]]) -> (Vec<u32>, Vec<i64>) {
+    let n = triangles
+        .iter()
+        .flatten()
+        .max()
+        .map_or(0, |&m| m as usize + 1);
+    let mut uf = UnionFind::new(n);
+    for &[a, b, c] in triangles {
+        uf.union(a, b);
+        uf.union(b, c);
+    }
+    let mut number = vec![u32::MAX; n];
+    let mut euler: Vec<i64> = Vec::new();
+    let component: Vec<u32> = triangles
+        .iter()
+        .map(|t| {
+            let root = uf.find(t[0]) as usize;
+            if number[root] == u32::MAX {
+                number[root] = euler.len() as u32;
+                euler.push(0);
+            }
+            number[root]
+        })
+        .collect();
+    let mut vertices: Vec<u32> = triangles.iter().flatten().copied().collect();
+    vertices.sort_unstable();
+    vertices.dedup();
+    let mut edges: Vec<[u32; 2]> = triangles
+        .iter()
+        .flat_map(|t| (0..3).map(move |k| [t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3])]))
+        .filter(|e| e[0] != e[1])
+        .collect();
+    edges.sort_unstable();
+    edges.dedup();
+    let mut of = |v: u32| number[uf.find(v) as usize] as usize;
+    for v in vertices {
+        euler[of(v)] += 1;
+    }
+    for e in edges {
+        euler[of(e[0])] -= 1;
+    }
+    for &k in &component {
+        euler[k as usize] += 1;
+    }
+    (component, euler)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -311,5 +405,37 @@ mod tests {
             DVec3::new(2.0, 4.0, 6.0),
         ];
         assert_eq!(surface_topology(&q, &[[0, 1, 2]]).degenerate_triangles, 1);
+    }
+
+    #[test]
+    fn non_manifold_elements_are_located() {
+        let (_, cube) = cube();
+        assert_eq!(non_manifold_elements(&cube), (vec![], vec![]));
+        // Two cubes sharing the corner 7 of the first: one non-manifold vertex, no edge.
+        let shifted: Vec<[u32; 3]> = cube
+            .iter()
+            .map(|t| t.map(|v| if v == 0 { 7 } else { v + 8 }))
+            .collect();
+        let both: Vec<[u32; 3]> = cube.iter().chain(&shifted).copied().collect();
+        assert_eq!(non_manifold_elements(&both), (vec![], vec![7]));
+        // A third triangle on an edge of a tetrahedron.
+        let mut fin = vec![[0, 1, 2], [0, 3, 1], [1, 3, 2], [2, 3, 0], [0, 1, 4]];
+        let (edges, _) = non_manifold_elements(&fin);
+        assert_eq!(edges, vec![[0, 1]]);
+        fin.pop();
+        assert_eq!(non_manifold_elements(&fin), (vec![], vec![]));
+    }
+
+    #[test]
+    fn euler_characteristic_of_each_component() {
+        let (_, cube) = cube();
+        let (_, torus) = torus(6, 5);
+        let far: Vec<[u32; 3]> = torus.iter().map(|t| t.map(|v| v + 100)).collect();
+        let both: Vec<[u32; 3]> = cube.iter().chain(&far).copied().collect();
+        let (component, euler) = component_euler_characteristics(&both);
+        assert_eq!(euler, vec![2, 0]);
+        assert!(component[..cube.len()].iter().all(|&k| k == 0));
+        assert!(component[cube.len()..].iter().all(|&k| k == 1));
+        assert_eq!(component_euler_characteristics(&[]), (vec![], vec![]));
     }
 }

@@ -6,7 +6,8 @@ use super::criteria::CellCriteria;
 use super::engine::{Candidate, Check, MesherLevel};
 use super::facets::ClearFacets;
 use super::geometry::{
-    cell_vertices, crowds_a_vertex, is_same_cell, power_distance, shortest_edge,
+    FLAT_CANDIDATES, cell_vertices, crowds_a_vertex, flat_cell_refinement_point, is_flat,
+    is_same_cell, power_distance, shortest_edge,
 };
 use super::queue::RefineQueue;
 use crate::kernel::Point3;
@@ -18,6 +19,9 @@ use crate::triangulation::{CellId, InsertReport, Triangulation, VertexId};
 pub struct QueuedCell {
     pub cell: CellId,
     pub vertices: [VertexId; 4],
+    /// For a flat cell, which of its candidate refinement points to propose (see
+    /// [`flat_cell_refinement_point`]): the next one is tried when a point is refused forever.
+    pub attempt: u8,
 }
 
 pub struct CellLevel<'o> {
@@ -28,6 +32,8 @@ pub struct CellLevel<'o> {
     queue: RefineQueue<QueuedCell>,
     /// Squared circumradius of the cell whose circumcentre was last proposed.
     proposed_radius2: f64,
+    /// The cell last proposed is flat (its point is one of several candidates).
+    proposed_flat: bool,
     hits: Vec<SurfaceHit>,
     /// When set, a circumcentre outside this box is outside the domain without asking the
     /// oracle (see [`CellLevel::outside_box`]).
@@ -44,6 +50,7 @@ impl<'o> CellLevel<'o> {
             subdomain: Vec::new(),
             queue: RefineQueue::default(),
             proposed_radius2: 0.0,
+            proposed_flat: false,
             hits: Vec::new(),
             domain_box: None,
             clear_facets: None,
@@ -110,7 +117,14 @@ impl<'o> CellLevel<'o> {
         }
         let vertices = cell_vertices(tr, c);
         if let Some(priority) = self.badness(tr, &vertices, center, sub) {
-            self.queue.push(priority, QueuedCell { cell: c, vertices });
+            self.queue.push(
+                priority,
+                QueuedCell {
+                    cell: c,
+                    vertices,
+                    attempt: 0,
+                },
+            );
         }
     }
 
@@ -142,7 +156,25 @@ impl<'o> CellLevel<'o> {
         self.hits.is_empty().then(|| self.subdomain(n))
     }
 
+    /// Queue cell `c` whatever its quality, first in line (a flat cell found inside after
+    /// refinement, or a cell at a non-manifold spot of the boundary).
+    pub fn force<T: Triangulation<Point = Point3>>(&mut self, tr: &T, c: CellId) {
+        if tr.is_live(c) && !tr.is_infinite_cell(c) {
+            let vertices = cell_vertices(tr, c);
+            self.queue.push(
+                f64::INFINITY,
+                QueuedCell {
+                    cell: c,
+                    vertices,
+                    attempt: 0,
+                },
+            );
+        }
+    }
+
     /// How much a cell of subdomain `sub` violates the criteria (`None`: it satisfies them).
+    /// A flat cell (four nearly coplanar vertices, often cocircular points on a planar patch
+    /// whose radius-edge ratio is fine) is always bad: a solver cannot use it.
     fn badness<T: Triangulation<Point = Point3>>(
         &self,
         tr: &T,
@@ -151,6 +183,9 @@ impl<'o> CellLevel<'o> {
         sub: SubdomainId,
     ) -> Option<f64> {
         let p = vertices.map(|v| tr.point(v));
+        if is_flat(&p) {
+            return Some(f64::INFINITY);
+        }
         let radius = power_distance(tr, vertices[0], center).max(0.0).sqrt();
         let size_excess = radius / self.criteria.size.at(center, sub);
         let shape_excess = if self.criteria.radius_edge_ratio > 0.0 {
@@ -188,11 +223,38 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for CellLevel<'o> {
         None
     }
 
+    /// A flat cell is queued again with its next candidate point: when the point was inserted
+    /// the cell is gone and the copy is discarded as stale, and when it was refused forever
+    /// (inside a protecting ball) the next candidate is tried.
     fn pop_element(&mut self) {
+        if let Some(&q) = self.queue.peek()
+            && self.proposed_flat
+            && usize::from(q.attempt) + 1 < FLAT_CANDIDATES
+        {
+            self.queue.pop();
+            self.queue.push(
+                f64::INFINITY,
+                QueuedCell {
+                    attempt: q.attempt + 1,
+                    ..q
+                },
+            );
+            return;
+        }
         self.queue.pop();
     }
 
     fn refinement_point(&mut self, tr: &T, q: &QueuedCell) -> Option<Candidate<Point3>> {
+        self.proposed_flat = is_flat(&q.vertices.map(|v| tr.point(v)));
+        if self.proposed_flat {
+            let (point, radius2) =
+                flat_cell_refinement_point(tr, &q.vertices, usize::from(q.attempt))?;
+            self.proposed_radius2 = radius2;
+            return Some(Candidate {
+                point,
+                hint: Some(q.cell),
+            });
+        }
         let center = tr.circumcenter(q.cell);
         self.proposed_radius2 = power_distance(tr, q.vertices[0], center);
         Some(Candidate {

@@ -104,8 +104,9 @@ impl<T: Triangulation, L: MesherLevel<T>> Level<T> for L {
 pub struct Limits {
     /// Refinement stops with [`RefineError::TooManyVertices`] past this many vertices.
     pub max_vertices: usize,
-    /// A proposing element rejected this many times in a row without any insertion is dropped,
-    /// so that two levels cannot bounce an element between them forever.
+    /// A level whose elements are rejected this many times in a row without any insertion drops
+    /// the one it proposes, so that levels cannot bounce elements between them forever (counted
+    /// per level: a lower level's element that keeps making a higher one bounce is dropped too).
     pub max_rejections_in_a_row: usize,
     /// Refinement stops with [`RefineError::TimeLimit`] when it runs longer than this (and the
     /// protection of sharp features, when it does; `None`: no limit).
@@ -134,12 +135,30 @@ pub struct Progress<'n> {
 /// What happened during one refinement run.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct RefineStats {
+    /// Rounds of validity repairs after the criteria were met (flat cells, non-manifold spots,
+    /// topology differences), each followed by refinement to the criteria again.
+    pub repair_rounds: usize,
     /// Insertions per level, in priority order.
     pub insertions: Vec<usize>,
     /// Points rejected because they encroached a higher-priority element.
     pub rejections: usize,
     /// Elements dropped without refinement (rejected forever, duplicates, bouncing).
     pub dropped: usize,
+}
+
+impl RefineStats {
+    /// Add the counts of a later run over the same levels.
+    pub fn absorb(&mut self, other: &RefineStats) {
+        if self.insertions.len() < other.insertions.len() {
+            self.insertions.resize(other.insertions.len(), 0);
+        }
+        for (a, b) in self.insertions.iter_mut().zip(&other.insertions) {
+            *a += b;
+        }
+        self.rejections += other.rejections;
+        self.dropped += other.dropped;
+        self.repair_rounds += other.repair_rounds;
+    }
 }
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -185,14 +204,25 @@ impl<'a, T: Triangulation> Engine<'a, T> {
         tr: &mut T,
         progress: &mut dyn FnMut(&Progress),
     ) -> Result<RefineStats, RefineError> {
+        for level in self.levels.iter_mut() {
+            level.scan(tr);
+        }
+        self.resume(tr, progress)
+    }
+
+    /// Run all levels from their queues as they are, without scanning the triangulation: for a
+    /// new round after elements were queued from outside (validity repairs of the complex).
+    pub fn resume(
+        &mut self,
+        tr: &mut T,
+        progress: &mut dyn FnMut(&Progress),
+    ) -> Result<RefineStats, RefineError> {
         let mut stats = RefineStats {
             insertions: vec![0; self.levels.len()],
             ..RefineStats::default()
         };
-        for level in self.levels.iter_mut() {
-            level.scan(tr);
-        }
-        let mut rejections_in_a_row = 0;
+        // Per level: a bounced element of one level cannot reset the count of another's.
+        let mut rejections_in_a_row = vec![0usize; self.levels.len()];
         let mut total = 0usize;
         let deadline = self
             .limits
@@ -214,7 +244,7 @@ impl<'a, T: Triangulation> Engine<'a, T> {
                     self.levels[i].pop();
                     match tr.insert_reporting(candidate.point, candidate.hint, &mut self.report)? {
                         InsertOutcome::Inserted(v) => {
-                            rejections_in_a_row = 0;
+                            rejections_in_a_row.fill(0);
                             stats.insertions[i] += 1;
                             total += 1;
                             for (j, level) in self.levels.iter_mut().enumerate() {
@@ -232,11 +262,11 @@ impl<'a, T: Triangulation> Engine<'a, T> {
                 }
                 Check::Rejected => {
                     stats.rejections += 1;
-                    rejections_in_a_row += 1;
-                    if rejections_in_a_row > self.limits.max_rejections_in_a_row {
+                    rejections_in_a_row[i] += 1;
+                    if rejections_in_a_row[i] > self.limits.max_rejections_in_a_row {
                         self.levels[i].pop();
                         stats.dropped += 1;
-                        rejections_in_a_row = 0;
+                        rejections_in_a_row[i] = 0;
                     }
                 }
                 Check::RejectedForever => {

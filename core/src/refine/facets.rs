@@ -349,6 +349,22 @@ impl<'o> SurfaceLevel<'o> {
         }
     }
 
+    /// Queue the restricted facet `(c, i)` for refinement whatever its quality, first in line:
+    /// a facet at a non-manifold spot of the boundary or on a component with the wrong topology.
+    pub fn force<T: Triangulation<Point = Point3>>(&mut self, tr: &T, c: CellId, i: usize) {
+        if tr.is_live(c) && self.ball(c, i).is_some() {
+            self.queue.push(
+                URGENT,
+                QueuedFacet {
+                    cell: c,
+                    index: i as u8,
+                    forced: true,
+                    vertices: cell_vertices(tr, c),
+                },
+            );
+        }
+    }
+
     /// Every restricted facet once, as `(cell, opposite vertex index, ball)`, in cell order.
     pub fn restricted_facets<'s, T: Triangulation<Point = Point3>>(
         &'s self,

@@ -128,6 +128,74 @@ pub(crate) fn triangle_min_angle_deg(a: Point3, b: Point3, c: Point3) -> f64 {
     x.min(y).min(180.0 - x - y)
 }
 
+/// A tetrahedron is flat when |6V| ≤ `FLAT_VOLUME` · (longest edge)³: no solver can use it, and
+/// its circumcentre has no significant digit. Checkers count |6V| ≤ 1e-12 · L³ as flat; the
+/// margin catches the cells that rounding in a later stage could push below that.
+pub(crate) const FLAT_VOLUME: f64 = 1e-9;
+
+/// Is the tetrahedron `p` flat (see [`FLAT_VOLUME`])?
+pub(crate) fn is_flat(p: &[Point3; 4]) -> bool {
+    let mut longest2 = 0.0f64;
+    for i in 0..4 {
+        for j in i + 1..4 {
+            longest2 = longest2.max(p[i].distance_squared(p[j]));
+        }
+    }
+    let v6 = (p[1] - p[0]).cross(p[2] - p[0]).dot(p[3] - p[0]);
+    v6.abs() <= FLAT_VOLUME * longest2 * longest2.sqrt()
+}
+
+/// Candidate refinement points of a flat cell: four facets times [`FLAT_HEIGHTS`].
+pub(crate) const FLAT_CANDIDATES: usize = 4 * FLAT_HEIGHTS.len();
+
+/// Heights of the candidates above a facet's circumcentre, in facet circumradii.
+const FLAT_HEIGHTS: [f64; 3] = [0.5, 0.75, 0.25];
+
+/// Candidate `attempt` of the refinement points that destroy a flat cell, with the squared
+/// radius it is refined at.
+///
+/// The circumcentre of a flat cell is meaningless: cocircular points on a planar patch have a
+/// whole line of empty spheres, and rounding puts the computed centre anywhere along it. The
+/// cell's true circumsphere, for the orientation the triangulation gave it, is nearly the
+/// half-space on one side of its plane; that side is known exactly from the orientation (see
+/// [`dual_parameter`]). A point on the normal line through a facet's circumcentre, on that side
+/// and less than the facet's circumradius `r` from it, lies inside that sphere whatever its
+/// size, so inserting it destroys the cell, and it is off the plane, so it cannot make new flat
+/// cells with the facets. Candidates go through the facets from the largest, at heights
+/// [`FLAT_HEIGHTS`]; the caller tries the next one when a candidate is refused forever (inside
+/// a protecting ball, crowding a vertex).
+pub(crate) fn flat_cell_refinement_point<T: Triangulation<Point = Point3>>(
+    tr: &T,
+    cell: &[VertexId; 4],
+    attempt: usize,
+) -> Option<(Point3, f64)> {
+    let area2 = |i: usize| {
+        let [a, b, c] = facet_vertices(cell, i).map(|v| tr.point(v));
+        (b - a).cross(c - a).length_squared()
+    };
+    let mut facets = [0, 1, 2, 3];
+    facets.sort_by(|&x, &y| area2(y).total_cmp(&area2(x)));
+    let i = *facets.get(attempt / FLAT_HEIGHTS.len())?;
+    let height = FLAT_HEIGHTS[attempt % FLAT_HEIGHTS.len()];
+    let fv = facet_vertices(cell, i);
+    let facet = fv.map(|v| tr.point(v));
+    let weights = fv.map(|v| tr.weight(v));
+    let (center, radius2) = if weights == [0.0; 3] {
+        let center = triangle_circumcenter(facet[0], facet[1], facet[2]);
+        (center, center.distance_squared(facet[0]))
+    } else {
+        weighted_triangle_circumcenter(facet, weights)
+    };
+    let axis = facet_normal_away_from_apex(facet, i).normalize_or_zero();
+    if axis == Point3::ZERO || !center.is_finite() || radius2 <= 0.0 {
+        return None;
+    }
+    let apex = cell[i];
+    let t = -dual_parameter(center, radius2 + tr.weight(apex), -axis, tr.point(apex));
+    let side = if t < 0.0 { -1.0 } else { 1.0 };
+    Some((center + side * height * radius2.sqrt() * axis, radius2))
+}
+
 /// Length of the shortest edge of a tetrahedron.
 pub(crate) fn shortest_edge(p: &[Point3; 4]) -> f64 {
     let mut m = f64::INFINITY;

@@ -8,6 +8,7 @@ use super::engine::{Engine, Limits, Progress, RefineError, RefineStats};
 use super::facets::SurfaceLevel;
 use super::guard::CurveLevel;
 use super::protect::{ProtectError, ProtectLimits, protect};
+use super::repair::{Validity, ValidityOptions, find_defects};
 use crate::complex::MeshComplex;
 use crate::kernel::Point3;
 use crate::oracle::{FeatureCurve, Oracle};
@@ -22,6 +23,8 @@ pub struct MeshOptions {
     pub limits: Limits,
     /// On a tripped guard, return the mesh reached so far inside the error.
     pub keep_partial: bool,
+    /// Repairs after the criteria: flat cells, manifold boundary, input topology.
+    pub validity: ValidityOptions,
 }
 
 /// Wall time of each phase.
@@ -37,6 +40,8 @@ pub struct MeshOutcome {
     pub complex: MeshComplex,
     pub stats: RefineStats,
     pub times: PhaseTimes,
+    /// What the validity repairs reached (see [`ValidityOptions`]).
+    pub validity: Validity,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -179,15 +184,71 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
         ..PhaseTimes::default()
     };
     let start = Instant::now();
-    let result = {
-        let mut engine = Engine::new(options.limits);
-        if let Some(curves) = curves.as_mut() {
+    cells.share_clear_facets(surface.clear_facets());
+    let mut run = |tr: &mut T,
+                   surface: &mut SurfaceLevel<'_>,
+                   cells: &mut CellLevel<'_>,
+                   curves: Option<&mut CurveLevel>,
+                   limits: Limits,
+                   first: bool| {
+        let mut engine = Engine::new(limits);
+        if let Some(curves) = curves {
             engine.push_level(curves);
         }
-        cells.share_clear_facets(surface.clear_facets());
-        engine.push_level(&mut surface).push_level(&mut cells);
-        engine.refine(&mut tr, progress)
+        engine.push_level(surface).push_level(cells);
+        if first {
+            engine.refine(tr, progress)
+        } else {
+            engine.resume(tr, progress)
+        }
     };
+    let mut result = run(
+        &mut tr,
+        &mut surface,
+        &mut cells,
+        curves.as_mut(),
+        options.limits,
+        true,
+    );
+    // Validity repairs, in bounded rounds and within a vertex budget (refinement near tiny
+    // protecting balls can cascade).
+    let budget = (options.validity.max_vertex_growth * tr.num_vertices() as f64) as usize;
+    let repair_limits = Limits {
+        max_vertices: budget.min(options.limits.max_vertices),
+        ..options.limits
+    };
+    let mut validity = Validity::default();
+    if let Ok(stats) = result.as_mut() {
+        loop {
+            let defects = find_defects(&tr, &cells, &options.validity, true);
+            validity = defects.validity();
+            if defects.is_empty() || stats.repair_rounds >= options.validity.max_rounds {
+                break;
+            }
+            defects.queue(&tr, &mut surface, &mut cells);
+            stats.repair_rounds += 1;
+            match run(
+                &mut tr,
+                &mut surface,
+                &mut cells,
+                curves.as_mut(),
+                repair_limits,
+                false,
+            ) {
+                Ok(more) => stats.absorb(&more),
+                // The vertex guard stops the repairs, not the meshing: the mesh so far is kept
+                // and the validity says what is left.
+                Err(RefineError::TooManyVertices { .. }) => {
+                    validity = find_defects(&tr, &cells, &options.validity, false).validity();
+                    break;
+                }
+                Err(e) => {
+                    result = Err(e);
+                    break;
+                }
+            }
+        }
+    }
     times.refinement = start.elapsed();
 
     let start = Instant::now();
@@ -200,6 +261,7 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
                 complex,
                 stats,
                 times,
+                validity,
             })
         }
         Err(source) => {

@@ -17,6 +17,7 @@ pub mod guard;
 mod mesh3;
 pub mod protect;
 mod queue;
+pub mod repair;
 
 pub use engine::{
     Candidate, Check, Engine, Limits, MesherLevel, Progress, RefineError, RefineStats,
@@ -25,3 +26,4 @@ pub(crate) use geometry::{cell_vertices, facet_vertices};
 pub use mesh3::{
     InsertBall, MeshError, MeshOptions, MeshOutcome, PhaseTimes, mesh_domain, mesh_with_features,
 };
+pub use repair::{Validity, ValidityOptions};

@@ -45,6 +45,7 @@ fn mesh(oracle: &ImageLabelOracle, criteria: MeshCriteria) -> MeshComplex {
         criteria,
         limits: Limits::default(),
         keep_partial: false,
+        validity: Default::default(),
     };
     mesh_domain(oracle, &options, &mut |_| {})
         .expect("meshing succeeds")

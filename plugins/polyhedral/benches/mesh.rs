@@ -37,6 +37,7 @@ fn sphere_off(c: &mut Criterion) {
         },
         limits: Limits::default(),
         keep_partial: false,
+        validity: Default::default(),
     };
     let mut group = c.benchmark_group("mesh");
     group.sample_size(10);
