@@ -20,6 +20,8 @@ pub enum Domain {
     PiecewiseSmooth(PiecewiseSmoothOracle),
     /// The domain of an oracle plugin loaded through the C ABI.
     Plugin(DynOracle),
+    /// Any other oracle: a domain written in Rust and linked in.
+    Custom(Box<dyn Oracle>),
 }
 
 impl Domain {
@@ -77,6 +79,7 @@ impl Domain {
             Domain::Smooth(o) => o,
             Domain::PiecewiseSmooth(o) => o,
             Domain::Plugin(o) => o,
+            Domain::Custom(o) => o.as_ref(),
         }
     }
 
@@ -86,7 +89,7 @@ impl Domain {
         match self {
             Domain::Smooth(o) => Some(o),
             Domain::PiecewiseSmooth(o) => Some(o.polyhedral()),
-            Domain::Plugin(_) => None,
+            Domain::Plugin(_) | Domain::Custom(_) => None,
         }
     }
 

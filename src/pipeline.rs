@@ -7,6 +7,7 @@ use crate::report::{Report, ReportInput, Times};
 use crate::settings::MeshSettings;
 use delamesh_core::complex::MeshComplex;
 use delamesh_core::mesh::{SurfaceMesh, TetMesh};
+use delamesh_core::oracle::Oracle;
 use delamesh_core::refine::criteria::MeshCriteria;
 use delamesh_core::refine::{MeshError, Progress, RefineError, RefineStats, mesh_domain};
 use delamesh_formats::{WriteOptions, read_surface, write_tet_mesh};
@@ -100,6 +101,19 @@ impl<'p> Mesher<'p> {
             ..Times::default()
         };
         self.mesh_domain(format!("plugin `{spec}`"), domain, None, started, times)
+    }
+
+    /// Meshes the domain an oracle of your own describes (see [`Oracle`](delamesh_core::Oracle));
+    /// `name` names it in errors.
+    pub fn mesh_oracle(
+        &mut self,
+        name: &str,
+        oracle: impl Oracle + 'static,
+    ) -> Result<Meshed, Error> {
+        self.settings.validate()?;
+        let domain = Domain::Custom(Box::new(oracle));
+        let times = Times::default();
+        self.mesh_domain(name.to_string(), domain, None, Instant::now(), times)
     }
 
     fn mesh_surface_from(

@@ -7,6 +7,7 @@ use crate::validate::surface_defects_in;
 use delamesh_core::oracle::{
     Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
 };
+use delamesh_core::union_find::UnionFind;
 use glam::DVec3;
 use std::sync::OnceLock;
 
@@ -535,20 +536,10 @@ fn crossing_point(a: DVec3, b: DVec3, tri: &[DVec3; 3]) -> (DVec3, f64) {
 fn components(num_points: usize, triangles: &[[u32; 3]]) -> Vec<u32> {
     // Union-find over vertices: in a closed edge-manifold surface, triangles sharing a vertex
     // but no edge could join two components only at a pinched vertex, which the checks allow.
-    let mut parent: Vec<u32> = (0..num_points as u32).collect();
-    fn find(parent: &mut [u32], mut x: u32) -> u32 {
-        while parent[x as usize] != x {
-            parent[x as usize] = parent[parent[x as usize] as usize];
-            x = parent[x as usize];
-        }
-        x
-    }
+    let mut sets = UnionFind::new(num_points);
     for t in triangles {
         for k in 0..3 {
-            let (a, b) = (find(&mut parent, t[k]), find(&mut parent, t[(k + 1) % 3]));
-            if a != b {
-                parent[a.max(b) as usize] = a.min(b);
-            }
+            sets.union(t[k], t[(k + 1) % 3]);
         }
     }
     let mut label = vec![u32::MAX; num_points];
@@ -556,7 +547,7 @@ fn components(num_points: usize, triangles: &[[u32; 3]]) -> Vec<u32> {
     triangles
         .iter()
         .map(|t| {
-            let root = find(&mut parent, t[0]) as usize;
+            let root = sets.find(t[0]) as usize;
             if label[root] == u32::MAX {
                 label[root] = next;
                 next += 1;
