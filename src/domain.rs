@@ -66,11 +66,11 @@ impl Domain {
             .map_err(|e| unmeshable(&e))
     }
 
-    /// The domain of the plugin `spec` (a library path, or a name looked up in
-    /// [`PLUGIN_PATH_VAR`](crate::plugins::PLUGIN_PATH_VAR)), created from `config` and
-    /// self-checked.
+    /// The domain of the plugin `spec` (a library path, a name looked up in
+    /// [`PLUGIN_PATH_VAR`](crate::plugins::PLUGIN_PATH_VAR), or a built-in plugin's name), created
+    /// from `config` (and self-checked, for a library).
     pub fn from_plugin(spec: &str, config: &str) -> Result<Domain, Error> {
-        crate::plugins::load_oracle(spec, config).map(Domain::Plugin)
+        crate::plugins::load_domain(spec, config)
     }
 
     /// The oracle the mesher asks.

@@ -7,7 +7,6 @@
 
 mod occupancy;
 mod oracle;
-#[cfg(feature = "cdylib")]
 mod plugin_export;
 mod predicates;
 mod tree;
