@@ -24,6 +24,8 @@ pub enum Domain {
     Plugin(DynOracle),
     /// The labels of a segmented 3D image (or a gray-level image's side of an isovalue).
     Image(ImageLabelOracle),
+    /// Any other oracle: a domain written in Rust and linked in.
+    Custom(Box<dyn Oracle>),
 }
 
 impl Domain {
@@ -82,11 +84,11 @@ impl Domain {
         .map_err(|e| unmeshable(&e))
     }
 
-    /// The domain of the plugin `spec` (a library path, or a name looked up in
-    /// [`PLUGIN_PATH_VAR`](crate::plugins::PLUGIN_PATH_VAR)), created from `config` and
-    /// self-checked.
+    /// The domain of the plugin `spec` (a library path, a name looked up in
+    /// [`PLUGIN_PATH_VAR`](crate::plugins::PLUGIN_PATH_VAR), or a built-in plugin's name), created
+    /// from `config` (and self-checked, for a library).
     pub fn from_plugin(spec: &str, config: &str) -> Result<Domain, Error> {
-        crate::plugins::load_oracle(spec, config).map(Domain::Plugin)
+        crate::plugins::load_domain(spec, config)
     }
 
     /// The domain of a 3D image (`name` says which input it is, in errors).
@@ -106,6 +108,7 @@ impl Domain {
             Domain::PiecewiseSmooth(o) => o,
             Domain::Plugin(o) => o,
             Domain::Image(o) => o,
+            Domain::Custom(o) => o.as_ref(),
         }
     }
 
@@ -115,7 +118,7 @@ impl Domain {
         match self {
             Domain::Smooth(o) => Some(o),
             Domain::PiecewiseSmooth(o) => Some(o.polyhedral()),
-            Domain::Plugin(_) | Domain::Image(_) => None,
+            Domain::Plugin(_) | Domain::Image(_) | Domain::Custom(_) => None,
         }
     }
 

@@ -65,11 +65,14 @@ pub enum Error {
         /// The directories searched, or "unset".
         searched: String,
     },
-    /// The name of a built-in plugin was given where a plugin library is expected.
-    #[error(
-        "`{0}` is built in: use it without --plugin (load its shared library by path to test the C ABI)"
-    )]
-    BuiltInPlugin(String),
+    /// A built-in plugin refused its configuration.
+    #[error("plugin `{name}` (built in): {problem}")]
+    BuiltInCreate {
+        /// The plugin's name.
+        name: &'static str,
+        /// Why.
+        problem: String,
+    },
     /// The mesher could not start (no initial points, protection failed...).
     #[error("meshing {name}")]
     Mesh {

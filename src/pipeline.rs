@@ -8,6 +8,7 @@ use crate::settings::MeshSettings;
 use delamesh_core::complex::MeshComplex;
 use delamesh_core::mesh::component_euler_characteristics;
 use delamesh_core::mesh::{SurfaceMesh, TetMesh};
+use delamesh_core::oracle::Oracle;
 use delamesh_core::refine::criteria::MeshCriteria;
 use delamesh_core::refine::{MeshError, Progress, RefineError, RefineStats, mesh_domain};
 use delamesh_formats::image::{is_image_path, read_image};
@@ -128,6 +129,19 @@ impl<'p> Mesher<'p> {
             ..Times::default()
         };
         self.mesh_domain(name, domain, None, started, times)
+    }
+
+    /// Meshes the domain an oracle of your own describes (see [`Oracle`](delamesh_core::Oracle));
+    /// `name` names it in errors.
+    pub fn mesh_oracle(
+        &mut self,
+        name: &str,
+        oracle: impl Oracle + 'static,
+    ) -> Result<Meshed, Error> {
+        self.settings.validate()?;
+        let domain = Domain::Custom(Box::new(oracle));
+        let times = Times::default();
+        self.mesh_domain(name.to_string(), domain, None, Instant::now(), times)
     }
 
     fn mesh_surface_from(

@@ -1,30 +1,45 @@
 //! Finding oracle plugins: a library path as given, or a name looked up in the directories of
 //! [`PLUGIN_PATH_VAR`].
 
+use crate::domain::Domain;
 use crate::error::Error;
-use delamesh_core::plugin::{DynOracle, PluginLibrary};
+use delamesh_core::plugin::{DynOracle, PluginLibrary, PluginOracle};
+use delamesh_piecewise_smooth::PiecewiseSmoothOracle;
+use delamesh_polyhedral::PolyhedralOracle;
 use std::path::{Path, PathBuf};
 
 /// Environment variable listing directories searched for plugins named without a path.
 pub const PLUGIN_PATH_VAR: &str = "DELAMESH_PLUGIN_PATH";
 
 /// A plugin linked into this library: its name, kind and what it meshes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug)]
 pub struct BuiltIn {
-    /// The name `--plugin` would take.
+    /// The name `--plugin` takes (the same as in its C-ABI table).
     pub name: &'static str,
     /// The kind of input it reads.
     pub kind: &'static str,
     /// What it meshes.
     pub description: &'static str,
+    /// Creates the domain from the plugin's configuration string.
+    create: fn(&str) -> Result<Domain, String>,
 }
 
-/// The plugins linked into this library.
-pub const BUILT_IN: &[BuiltIn] = &[BuiltIn {
-    name: "polyhedral",
-    kind: "surface-mesh",
-    description: "the inside of a closed triangle surface",
-}];
+/// The plugins linked into this library; their configuration strings are those of their C-ABI
+/// libraries.
+pub const BUILT_IN: &[BuiltIn] = &[
+    BuiltIn {
+        name: "polyhedral",
+        kind: "surface-mesh",
+        description: "the inside of a closed triangle surface (config: its path)",
+        create: |config| PolyhedralOracle::from_config(config).map(Domain::Smooth),
+    },
+    BuiltIn {
+        name: "piecewise-smooth",
+        kind: "surface-mesh",
+        description: "the same, keeping sharp edges and corners (config: path, feature-angle=, features=)",
+        create: |config| PiecewiseSmoothOracle::from_config(config).map(Domain::PiecewiseSmooth),
+    },
+];
 
 /// Loads the plugin `spec` (path or name), creates its oracle from `config` and self-checks it, so
 /// that a broken plugin fails here with an error naming it rather than in the middle of meshing.
@@ -35,6 +50,25 @@ pub fn load_oracle(spec: &str, config: &str) -> Result<DynOracle, Error> {
     let oracle = library.create(config)?;
     oracle.self_check()?;
     Ok(oracle)
+}
+
+/// The domain of plugin `spec`: a library found by [`load_oracle`]'s rules, or else the built-in
+/// plugin of that name, created in process.
+pub fn load_domain(spec: &str, config: &str) -> Result<Domain, Error> {
+    match (load_oracle(spec, config), built_in(spec)) {
+        (Err(Error::PluginNotFound { .. }), Some(b)) => {
+            (b.create)(config).map_err(|problem| Error::BuiltInCreate {
+                name: b.name,
+                problem,
+            })
+        }
+        (found, _) => found.map(Domain::Plugin),
+    }
+}
+
+/// The built-in plugin called `name`.
+pub fn built_in(name: &str) -> Option<&'static BuiltIn> {
+    BUILT_IN.iter().find(|b| b.name == name)
 }
 
 /// Directories of `DELAMESH_PLUGIN_PATH`, in order.
@@ -87,9 +121,6 @@ fn resolve(spec: &str) -> Result<PathBuf, Error> {
         .find(|p| PluginLibrary::open(p).is_ok_and(|l| l.info().name == spec))
     {
         return Ok(path.clone());
-    }
-    if BUILT_IN.iter().any(|b| b.name == spec) {
-        return Err(Error::BuiltInPlugin(spec.to_string()));
     }
     let dirs: Vec<String> = search_dirs()
         .iter()

@@ -178,3 +178,50 @@ fn plugin_config_requires_a_plugin() {
     assert!(!output.status.success());
     assert!(String::from_utf8_lossy(&output.stderr).contains("--plugin"));
 }
+
+#[test]
+fn built_in_plugins_are_listed_and_load_by_name_as_the_file_path_meshes() {
+    let listing = stdout_of(delamesh().arg("plugins"));
+    for name in ["polyhedral", "piecewise-smooth"] {
+        assert!(
+            listing.lines().any(|l| l.trim_start().starts_with(name)),
+            "{name} missing from {listing}"
+        );
+    }
+    let cube = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/features/cube.off");
+    let dir = tempfile::tempdir().expect("temporary directory");
+    let (by_name, by_file) = (dir.path().join("name.mesh"), dir.path().join("file.mesh"));
+    stdout_of(
+        delamesh()
+            .args([
+                "mesh",
+                "-q",
+                "--plugin",
+                "piecewise-smooth",
+                "--plugin-config",
+            ])
+            .arg(&cube)
+            .arg("-o")
+            .arg(&by_name),
+    );
+    stdout_of(
+        delamesh()
+            .args(["mesh", "-q"])
+            .arg(&cube)
+            .arg("-o")
+            .arg(&by_file),
+    );
+    let read = |p: &Path| std::fs::read(p).expect("the mesh was written");
+    assert!(read(&by_name) == read(&by_file), "the two paths differ");
+    let report = stdout_of(
+        delamesh()
+            .args(["plugins", "--plugin", "polyhedral", "--plugin-config"])
+            .arg(&cube),
+    );
+    assert!(report.starts_with("ok:"), "{report}");
+    let error = failure_of(delamesh().args(["plugins", "--plugin", "polyhedral"]));
+    assert!(
+        error.contains("polyhedral") && error.contains("path"),
+        "{error}"
+    );
+}

@@ -48,7 +48,7 @@ pub struct MeshComplex {
 
 impl MeshComplex {
     /// Collect the complex from a refined triangulation and the levels that refined it.
-    pub fn from_refinement<T: Triangulation<Point = Point3>>(
+    pub(crate) fn from_refinement<T: Triangulation<Point = Point3>>(
         tr: &T,
         surface: &SurfaceLevel<'_>,
         cells: &CellLevel<'_>,

@@ -11,3 +11,13 @@ pub mod plugin;
 pub mod quality;
 pub mod refine;
 pub mod triangulation;
+pub mod union_find;
+
+pub use complex::MeshComplex;
+pub use kernel::Point3;
+pub use mesh::{SurfaceMesh, TetMesh};
+pub use oracle::{Aabb, FeatureCurve, OUTSIDE, Oracle, SurfaceHit, SurfacePoint};
+pub use refine::criteria::{MeshCriteria, Sizing};
+pub use refine::{MeshOptions, MeshOutcome, Progress, RefineError, RefineStats, mesh_domain};
+pub use triangulation::{Delaunay2, Delaunay3, Regular3, Triangulation};
+pub use union_find::UnionFind;

@@ -251,6 +251,17 @@ fn check_len(what: &str, got: usize, expected: usize, per: &'static str) -> Resu
 }
 
 impl SurfaceMesh {
+    /// A surface of one unnamed patch from vertex positions and triangles (indices into
+    /// `positions`), as a caller that built it in memory has it.
+    pub fn from_triangles(positions: Vec<DVec3>, triangles: Vec<[u32; 3]>) -> SurfaceMesh {
+        SurfaceMesh {
+            patches: vec![PatchId(0); triangles.len()],
+            positions,
+            triangles,
+            patch_names: vec![String::new()],
+        }
+    }
+
     /// An icosphere: `subdivisions` splits of an icosahedron (each triangle into four), projected
     /// on the sphere, in one patch: the smooth closed test domain that tests and benches share.
     pub fn icosphere(center: DVec3, radius: f64, subdivisions: usize) -> SurfaceMesh {

@@ -5,6 +5,7 @@
 use crate::kernel::Point3;
 use crate::oracle::{CurveId, FeatureCurve};
 use crate::refine::curves::{Polyline, point_segment_distance};
+use crate::union_find::UnionFind;
 use rayon::prelude::*;
 use std::collections::BTreeMap;
 
@@ -196,10 +197,10 @@ pub fn surface_topology(triangles: &[[u32; 3]]) -> SurfaceTopology {
     let mut faces_uf = UnionFind::new(triangles.len());
     for fs in edges.values() {
         for w in fs.windows(2) {
-            faces_uf.union(w[0], w[1]);
+            faces_uf.union(w[0] as u32, w[1] as u32);
         }
     }
-    let components = (0..triangles.len())
+    let components = (0..triangles.len() as u32)
         .filter(|&f| faces_uf.find(f) == f)
         .count();
 
@@ -209,13 +210,6 @@ pub fn surface_topology(triangles: &[[u32; 3]]) -> SurfaceTopology {
     for (f, t) in triangles.iter().enumerate() {
         for &v in t {
             incident[slot(v)].push(f);
-        }
-    }
-    let mut fan_uf = UnionFind::new(triangles.len());
-    for (&(a, b), fs) in &edges {
-        let _ = (a, b);
-        for w in fs.windows(2) {
-            fan_uf.union(w[0], w[1]);
         }
     }
     let mut non_manifold_vertices = 0;
@@ -231,11 +225,11 @@ pub fn surface_topology(triangles: &[[u32; 3]]) -> SurfaceTopology {
                     .count()
                     > 0;
                 if shares_edge_at_v {
-                    local.union(x, y);
+                    local.union(x as u32, y as u32);
                 }
             }
         }
-        if (0..fs.len()).filter(|&x| local.find(x) == x).count() > 1 {
+        if (0..fs.len() as u32).filter(|&x| local.find(x) == x).count() > 1 {
             non_manifold_vertices += 1;
         }
     }
@@ -249,35 +243,6 @@ pub fn surface_topology(triangles: &[[u32; 3]]) -> SurfaceTopology {
         non_manifold_vertices,
         components,
         euler_characteristic: vertices.len() as i64 - edges.len() as i64 + triangles.len() as i64,
-    }
-}
-
-struct UnionFind {
-    parent: Vec<usize>,
-}
-
-impl UnionFind {
-    fn new(n: usize) -> Self {
-        UnionFind {
-            parent: (0..n).collect(),
-        }
-    }
-    fn reset(&mut self, n: usize) {
-        self.parent.clear();
-        self.parent.extend(0..n);
-    }
-    fn find(&mut self, mut x: usize) -> usize {
-        while self.parent[x] != x {
-            self.parent[x] = self.parent[self.parent[x]];
-            x = self.parent[x];
-        }
-        x
-    }
-    fn union(&mut self, a: usize, b: usize) {
-        let (ra, rb) = (self.find(a), self.find(b));
-        if ra != rb {
-            self.parent[ra.max(rb)] = ra.min(rb);
-        }
     }
 }
 

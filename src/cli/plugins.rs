@@ -3,8 +3,7 @@
 //! plugin is the library's ([`delamesh::plugins`]).
 
 use anyhow::{Context, Result};
-use delamesh::plugins::{BUILT_IN, PLUGIN_PATH_VAR, installed_libraries, load_oracle, search_dirs};
-use delamesh_core::oracle::Oracle;
+use delamesh::plugins::{BUILT_IN, PLUGIN_PATH_VAR, installed_libraries, load_domain, search_dirs};
 use delamesh_core::plugin::PluginLibrary;
 
 /// Selecting an oracle plugin; flattened into every command that meshes.
@@ -36,14 +35,15 @@ pub fn run(args: &PluginsArgs) -> Result<()> {
 }
 
 fn check(spec: &str, config: &str) -> Result<()> {
-    let oracle = load_oracle(spec, config).with_context(|| format!("checking plugin `{spec}`"))?;
+    let domain = load_domain(spec, config).with_context(|| format!("checking plugin `{spec}`"))?;
+    let oracle = domain.oracle();
     let bbox = oracle.bounding_box();
     let counts = [
         oracle.initial_points().len(),
         oracle.feature_curves().len(),
         oracle.corners().len(),
     ];
-    oracle.check()?;
+    domain.check()?;
     outln!("ok: plugin `{spec}` passed its self-check")?;
     outln!("  bounding box   [{}, {}]", bbox.min, bbox.max)?;
     outln!(

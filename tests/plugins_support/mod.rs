@@ -30,11 +30,12 @@ fn dylib_name(lib: &str) -> String {
     )
 }
 
-/// Runs `cargo build -p package [--features ...]` once per process, in the profile of the running
-/// executable but in the target subdirectory `plugins/`; returns that build's profile directory.
+/// Runs `cargo rustc -p package --lib --crate-type cdylib [--features ...]` once per process, in
+/// the profile of the running executable but in the target subdirectory `plugins/`; returns that
+/// build's profile directory.
 ///
-/// A separate target directory because the plugin crates are `rlib` + `cdylib`: a feature build
-/// in the test's own directory would overwrite the rlib that later test and doctest builds link.
+/// A separate target directory because a feature build of the built-in plugins in the test's own
+/// directory would overwrite the rlib that later test and doctest builds link.
 fn cargo_build(package: &str, features: &[&str]) -> PathBuf {
     static BUILT: Mutex<Vec<String>> = Mutex::new(Vec::new());
     let own = profile_dir();
@@ -50,9 +51,15 @@ fn cargo_build(package: &str, features: &[&str]) -> PathBuf {
         .unwrap_or_else(|poisoned| poisoned.into_inner());
     if !built.contains(&key) {
         let mut cargo = Command::new(env!("CARGO"));
-        cargo
-            .current_dir(repo_root())
-            .args(["build", "--quiet", "-p", package]);
+        cargo.current_dir(repo_root()).args([
+            "rustc",
+            "--quiet",
+            "-p",
+            package,
+            "--lib",
+            "--crate-type",
+            "cdylib",
+        ]);
         if !features.is_empty() {
             cargo.arg("--features").arg(features.join(","));
         }
@@ -63,7 +70,7 @@ fn cargo_build(package: &str, features: &[&str]) -> PathBuf {
             cargo.env("CARGO_TARGET_DIR", target);
         }
         let status = cargo.status().expect("cargo runs");
-        assert!(status.success(), "cargo build -p {package} failed");
+        assert!(status.success(), "cargo rustc -p {package} failed");
         built.push(key);
     }
     dir

@@ -1,7 +1,10 @@
 //! Exact-sign orientation and in-sphere predicates on double-precision points.
 //!
-//! Thin wrappers over the `robust` crate (Shewchuk's adaptive-precision predicates: a floating-point
-//! evaluation with an error bound, refined exactly only when the bound cannot decide the sign).
+//! Each predicate is a cascade, cheapest first, every stage deciding the sign only when its error
+//! bound allows: a static filter (a bound from the bounding box, for the triangulations' hot
+//! paths), a semi-static filter (a bound from the coordinate differences), exact evaluation of
+//! small integer grids, a double-double stage on the exact differences (in-sphere), and last the
+//! `robust` crate's exact adaptive arithmetic (Shewchuk's expansions).
 
 use super::double_double::{dd_add, dd_mul, dd_neg, dd_sub, two_diff};
 use super::exact::{expansions_are_exact, insphere_big, orient2d_big, orient3d_big};

@@ -1,6 +1,7 @@
 //! Topological checks of a triangle surface: what `delamesh info` reports and what the mesher demands
 //! of its input (closed, manifold, consistently oriented).
 
+use crate::union_find::UnionFind;
 use glam::DVec3;
 
 /// Everything `surface_topology` finds out about a triangle surface.
@@ -64,31 +65,6 @@ impl Topology {
         .filter(|(n, _)| *n > 0)
         .map(|(n, what)| format!("{n} {what}"))
         .collect()
-    }
-}
-
-/// Disjoint sets over `0..n` with path halving; used for components and vertex fans.
-struct UnionFind(Vec<u32>);
-
-impl UnionFind {
-    fn new(n: usize) -> Self {
-        UnionFind((0..n as u32).collect())
-    }
-
-    fn find(&mut self, mut x: u32) -> u32 {
-        while self.0[x as usize] != x {
-            let up = self.0[self.0[x as usize] as usize];
-            self.0[x as usize] = up;
-            x = up;
-        }
-        x
-    }
-
-    fn union(&mut self, a: u32, b: u32) {
-        let (ra, rb) = (self.find(a), self.find(b));
-        if ra != rb {
-            self.0[ra.max(rb) as usize] = ra.min(rb);
-        }
     }
 }
 

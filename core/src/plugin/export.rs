@@ -63,7 +63,8 @@ impl ExportedTable {
 /// ```
 ///
 /// Use it once per shared library: two crates exporting the entry point cannot be linked into
-/// one binary (built-in plugins therefore export it only under their `cdylib` feature).
+/// one binary (built-in plugins therefore export it only under their `cdylib` feature, built with
+/// `cargo rustc --crate-type cdylib`).
 #[macro_export]
 macro_rules! export_oracle_plugin {
     ($oracle:ty, name = $name:literal, kind = $kind:literal) => {

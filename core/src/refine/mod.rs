@@ -7,15 +7,15 @@
 //! all accept it. The engine is generic over [`Triangulation`](crate::triangulation::Triangulation)
 //! so that 2D meshers (Ruppert: segments, triangles) reuse it unchanged.
 
-pub mod cells;
+pub(crate) mod cells;
 pub mod criteria;
 pub mod curves;
 mod engine;
 pub mod facets;
 mod geometry;
-pub mod guard;
+pub(crate) mod guard;
 mod mesh3;
-pub mod protect;
+pub(crate) mod protect;
 mod queue;
 pub mod repair;
 

@@ -6,6 +6,7 @@ use crate::edges::EdgeIncidence;
 use crate::polylines::Polyline;
 use delamesh_core::mesh::{MeshError, SurfaceMesh, weld_exact};
 use delamesh_core::oracle::{CurveId, FeatureCurve, PatchId};
+use delamesh_core::union_find::UnionFind;
 use glam::DVec3;
 use std::collections::BTreeMap;
 
@@ -448,18 +449,10 @@ fn patches(
     is_feature: &[bool],
     copy_of: &[Option<u32>],
 ) -> (Vec<PatchId>, u32) {
-    let mut parent: Vec<u32> = (0..triangles.len() as u32).collect();
-    fn find(parent: &mut [u32], mut x: u32) -> u32 {
-        while parent[x as usize] != x {
-            parent[x as usize] = parent[parent[x as usize] as usize];
-            x = parent[x as usize];
-        }
-        x
-    }
+    let mut sets = UnionFind::new(triangles.len());
     for (e, feature) in is_feature.iter().enumerate() {
         if let (false, [u, w]) = (feature, incidence.uses(e)) {
-            let (a, b) = (find(&mut parent, u.triangle), find(&mut parent, w.triangle));
-            parent[a.max(b) as usize] = a.min(b);
+            sets.union(u.triangle, w.triangle);
         }
     }
     let mut label = vec![0 as PatchId; triangles.len()];
@@ -468,7 +461,7 @@ fn patches(
         if copy_of[t].is_some() {
             continue;
         }
-        let root = find(&mut parent, t as u32) as usize;
+        let root = sets.find(t as u32) as usize;
         if label[root] == 0 {
             next += 1;
             label[root] = next;

@@ -7,6 +7,7 @@
 
 use crate::edges::EdgeIncidence;
 use crate::features::Features;
+use delamesh_core::union_find::UnionFind;
 use glam::DVec3;
 use std::collections::BTreeMap;
 
@@ -22,18 +23,7 @@ pub(crate) fn separate_components(features: &Features) -> (Vec<DVec3>, Vec<[u32;
         twin[b as usize] = Some(a);
     }
     let incidence = EdgeIncidence::new(triangles, |_| true);
-    let mut parent: Vec<u32> = (0..triangles.len() as u32).collect();
-    fn find(parent: &mut [u32], mut x: u32) -> u32 {
-        while parent[x as usize] != x {
-            parent[x as usize] = parent[parent[x as usize] as usize];
-            x = parent[x as usize];
-        }
-        x
-    }
-    let union = |parent: &mut Vec<u32>, x: u32, y: u32| {
-        let (a, b) = (find(parent, x), find(parent, y));
-        parent[a.max(b) as usize] = a.min(b);
-    };
+    let mut sets = UnionFind::new(triangles.len());
     for e in 0..incidence.edges.len() {
         let uses = incidence.uses(e);
         for u in uses {
@@ -46,7 +36,7 @@ pub(crate) fn separate_components(features: &Features) -> (Vec<DVec3>, Vec<[u32;
                 partners.retain(|&w| twin[w as usize].is_some());
             }
             if let [w] = partners[..] {
-                union(&mut parent, u.triangle, w);
+                sets.union(u.triangle, w);
             }
         }
     }
@@ -54,7 +44,7 @@ pub(crate) fn separate_components(features: &Features) -> (Vec<DVec3>, Vec<[u32;
     let mut renumber: BTreeMap<(u32, u32), u32> = BTreeMap::new();
     let separated = (0..triangles.len())
         .map(|t| {
-            let component = find(&mut parent, t as u32);
+            let component = sets.find(t as u32);
             triangles[t].map(|v| {
                 *renumber.entry((component, v)).or_insert_with(|| {
                     positions.push(features.positions[v as usize]);

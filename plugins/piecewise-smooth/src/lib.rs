@@ -20,7 +20,6 @@ mod features;
 mod interface;
 pub mod models;
 mod oracle;
-#[cfg(feature = "cdylib")]
 mod plugin_export;
 mod polylines;
 

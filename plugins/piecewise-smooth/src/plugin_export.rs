@@ -1,8 +1,11 @@
-//! The piecewise-smooth oracle as a C-ABI plugin library (feature `cdylib`), so that hosts loading
-//! plugins get the same features the CLI finds. Configuration: the path of the closed surface file
-//! on the first line, then optional `feature-angle=DEG` and `features=POLYLINES_FILE` lines.
+//! The piecewise-smooth oracle as a plugin: built in (`--plugin piecewise-smooth`, through
+//! [`PluginOracle::from_config`]) and, with the feature `cdylib`, a C-ABI plugin library, so that
+//! hosts loading plugins get the same features the CLI finds. Configuration: the path of the closed
+//! surface file on the first line, then optional `feature-angle=DEG` and `features=POLYLINES_FILE`
+//! lines.
 //!
-//! Built with `cargo build -p delamesh-piecewise-smooth --features cdylib`.
+//! The C-ABI library: `cargo rustc -p delamesh-piecewise-smooth --lib --crate-type cdylib
+//! --features cdylib`.
 
 use crate::{FeatureOptions, PiecewiseSmoothOracle, read_polylines};
 use delamesh_core::plugin::PluginOracle;
@@ -44,6 +47,7 @@ impl PluginOracle for PiecewiseSmoothOracle {
     }
 }
 
+#[cfg(feature = "cdylib")]
 delamesh_core::export_oracle_plugin!(
     PiecewiseSmoothOracle,
     name = "piecewise-smooth",

@@ -12,12 +12,10 @@
 
 mod occupancy;
 mod oracle;
-#[cfg(feature = "cdylib")]
 mod plugin_export;
 mod predicates;
 mod repair;
 mod tree;
-mod union_find;
 mod validate;
 
 pub use oracle::{PolyhedralError, PolyhedralOptions, PolyhedralOracle, diagnose, refuse_defects};

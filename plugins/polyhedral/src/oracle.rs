@@ -4,11 +4,11 @@ use crate::occupancy::{MAX_CANDIDATES, Near, Occupancy};
 use crate::predicates::{Crossing, orient, segment_crossing};
 use crate::repair::{Repairs, repair};
 use crate::tree::TriangleTree;
-use crate::union_find::UnionFind;
 use crate::validate::{SurfaceDefects, crossed_triangles, surface_defects_in};
 use delamesh_core::oracle::{
     Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
 };
+use delamesh_core::union_find::UnionFind;
 use glam::DVec3;
 use std::sync::OnceLock;
 

@@ -1,9 +1,11 @@
-//! The polyhedral oracle as a C-ABI plugin library (feature `cdylib`): the same oracle the CLI links
-//! statically, exported through `delamesh_plugin_v1` so that both paths can be compared and
-//! third-party hosts can load it. Its configuration string is the path of the closed surface file.
+//! The polyhedral oracle as a plugin: built in (`--plugin polyhedral`, through
+//! [`PluginOracle::from_config`]) and, with the feature `cdylib`, exported through
+//! `delamesh_plugin_v1` so that both paths can be compared and third-party hosts can load it. Its
+//! configuration string is the path of the closed surface file.
 //!
-//! Built with `cargo build -p delamesh-polyhedral --features cdylib`; the feature is off in normal
-//! builds because two crates exporting the entry point cannot be linked into one binary.
+//! The C-ABI library: `cargo rustc -p delamesh-polyhedral --lib --crate-type cdylib --features
+//! cdylib`; the feature is off in normal builds because two crates exporting the entry point cannot
+//! be linked into one binary.
 
 use crate::PolyhedralOracle;
 use delamesh_core::plugin::PluginOracle;
@@ -25,4 +27,5 @@ impl PluginOracle for PolyhedralOracle {
     }
 }
 
+#[cfg(feature = "cdylib")]
 delamesh_core::export_oracle_plugin!(PolyhedralOracle, name = "polyhedral", kind = "surface-mesh");

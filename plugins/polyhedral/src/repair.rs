@@ -9,7 +9,7 @@
 //! whose uses cancel alone, and never need the surface to be a manifold.
 
 use crate::predicates::orient2d_all_zero;
-use crate::union_find::UnionFind;
+use delamesh_core::union_find::UnionFind;
 use glam::DVec3;
 use std::collections::HashMap;
 
