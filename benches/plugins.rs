@@ -93,6 +93,7 @@ fn meshing(c: &mut Criterion) {
         criteria: MeshCriteria::default_for(&direct.bounding_box()),
         limits: Default::default(),
         keep_partial: false,
+        optimize: delamesh_core::optimize::OptimizeOptions::none(),
     };
     let mut group = c.benchmark_group("mesh_torus");
     group.sample_size(10);

@@ -22,6 +22,7 @@ fn options(oracle: &dyn Oracle) -> MeshOptions {
         criteria,
         limits: Default::default(),
         keep_partial: false,
+        optimize: delamesh_core::optimize::OptimizeOptions::default(),
     }
 }
 

@@ -10,6 +10,7 @@ mod domain;
 mod info;
 mod mesh;
 mod mesh2d;
+mod optimize;
 mod plugins;
 
 use clap::{Parser, Subcommand};

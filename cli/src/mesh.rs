@@ -74,6 +74,9 @@ pub struct MeshArgs {
     /// Mesh the domain of an oracle plugin instead of a surface file.
     #[command(flatten)]
     pub plugin: crate::plugins::PluginArgs,
+    /// Optimisation after refinement.
+    #[command(flatten)]
+    pub optimize: crate::optimize::OptimizeArgs,
 }
 
 pub fn run(args: &MeshArgs) -> Result<()> {
@@ -84,6 +87,8 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     };
     let started = Instant::now();
     let mut times = Times::default();
+    let optimize = args.optimize.options()?;
+    args.optimize.check_plot_path()?;
 
     let t = Instant::now();
     let surface = read_surface(input, None)?.mesh;
@@ -107,6 +112,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             ..Limits::default()
         },
         keep_partial: args.keep_partial,
+        optimize,
     };
     let bar = progress_bar(args.quiet);
     let mut on_progress = |p: &Progress| {
@@ -130,10 +136,17 @@ pub fn run(args: &MeshArgs) -> Result<()> {
             source,
             partial: Some(complex),
         }) => {
+            let (complex, optimization) = delamesh_core::optimize::optimize(
+                *complex,
+                &[],
+                oracle,
+                &delamesh_core::optimize::OptimizeOptions::none(),
+            );
             let outcome = MeshOutcome {
-                complex: *complex,
+                complex,
                 stats: Default::default(),
                 times: Default::default(),
+                optimization,
             };
             (outcome, Some(source))
         }
@@ -144,6 +157,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     times.initial_points = outcome.times.initial_points;
     times.refinement = outcome.times.refinement;
     times.complex = outcome.times.complex;
+    times.optimization = outcome.times.optimization;
     if outcome.complex.tets.is_empty() {
         bail!(
             "{}: the mesh has no tetrahedron inside the surface (criteria too coarse?)",
@@ -176,6 +190,14 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         report.times_s = times.seconds();
         write_json_atomically(path, &report)?;
     }
+    if let Some(path) = &args.optimize.report_plot {
+        let title = format!(
+            "{}: {}",
+            input.file_name().unwrap_or_default().to_string_lossy(),
+            criteria_title(&criteria, oracle)
+        );
+        crate::optimize::write_plot(path, &outcome.optimization, &title)?;
+    }
     match partial_error {
         Some(e) => Err(anyhow::Error::new(e).context(format!(
             "{}: stopped early; the partial mesh was written to {}",
@@ -184,6 +206,20 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         ))),
         None => Ok(()),
     }
+}
+
+/// The criteria in one line, for the plot's title.
+fn criteria_title(criteria: &MeshCriteria, oracle: &dyn Oracle) -> String {
+    let center = oracle.bounding_box().center();
+    format!(
+        "edge {:.3}, facet {}° / {:.3} / {:.4}, cell {} / {:.3}",
+        criteria.edge_size.at(center, 1),
+        criteria.facet.angle_deg,
+        criteria.facet.size.at(center, 1),
+        criteria.facet.distance.at(center, 1),
+        criteria.cell.radius_edge_ratio,
+        criteria.cell.size.at(center, 1),
+    )
 }
 
 /// The CGAL-style criteria: defaults from the bounding box, overridden by the options.
@@ -253,6 +289,7 @@ struct Times {
     initial_points: Duration,
     refinement: Duration,
     complex: Duration,
+    optimization: Duration,
     quality: Duration,
     write: Duration,
     total: Duration,
@@ -265,6 +302,7 @@ struct TimesSeconds {
     initial_points: f64,
     refinement: f64,
     complex: f64,
+    optimization: f64,
     write: f64,
     quality: f64,
     total: f64,
@@ -278,6 +316,7 @@ impl Times {
             initial_points: self.initial_points.as_secs_f64(),
             refinement: self.refinement.as_secs_f64(),
             complex: self.complex.as_secs_f64(),
+            optimization: self.optimization.as_secs_f64(),
             write: self.write.as_secs_f64(),
             quality: self.quality.as_secs_f64(),
             total: self.total.as_secs_f64(),
@@ -294,6 +333,8 @@ struct Report {
     refinement: RefinementReport,
     times_s: TimesSeconds,
     quality: QualityReport,
+    /// Quality before and after each optimisation step.
+    optimization: crate::optimize::OptimizationReport,
     approximation: Approximation,
     boundary: BoundaryReport,
     /// Sharp features: absent for smooth domains.
@@ -490,6 +531,7 @@ impl Report {
                 inverted_tets: q.inverted,
                 min_dihedral_histogram: q.min_dihedral_histogram.counts.clone(),
             },
+            optimization: crate::optimize::OptimizationReport::new(&outcome.optimization),
             approximation: Approximation {
                 hausdorff_mesh_to_input: to_input,
                 hausdorff_input_to_mesh: to_mesh,

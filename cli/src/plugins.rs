@@ -58,6 +58,9 @@ pub fn mesh(args: &MeshArgs, spec: &str) -> Result<()> {
             "--report compares the mesh with an input surface and is not available with --plugin"
         );
     }
+    if args.optimize.report_plot.is_some() {
+        bail!("--report-plot is drawn with --report and is not available with --plugin");
+    }
     let oracle = load_oracle(spec, &args.plugin.plugin_config)?;
     let options = MeshOptions {
         criteria: criteria(args, &oracle)?,
@@ -66,6 +69,7 @@ pub fn mesh(args: &MeshArgs, spec: &str) -> Result<()> {
             ..Limits::default()
         },
         keep_partial: args.keep_partial,
+        optimize: args.optimize.options()?,
     };
     let bar = progress_bar(args.quiet);
     let outcome = mesh_domain(&oracle, &options, &mut |p| {

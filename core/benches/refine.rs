@@ -91,6 +91,7 @@ fn sphere(c: &mut Criterion) {
         },
         limits: Limits::default(),
         keep_partial: false,
+        optimize: delamesh_core::optimize::OptimizeOptions::none(),
     };
     let mut group = c.benchmark_group("refine");
     group.sample_size(10);

@@ -270,6 +270,7 @@ fn options(size: f64) -> MeshOptions {
             ..Limits::default()
         },
         keep_partial: false,
+        optimize: delamesh_core::optimize::OptimizeOptions::default(),
     }
 }
 

@@ -10,10 +10,12 @@ use super::guard::CurveLevel;
 use super::protect::{ProtectError, protect};
 use crate::complex::MeshComplex;
 use crate::kernel::Point3;
+use crate::optimize::{OptimizeOptions, OptimizeReport, optimize};
 use crate::oracle::{FeatureCurve, Oracle};
 use crate::triangulation::{
     Delaunay3, InsertOutcome, InsertReport, Regular3, Triangulation, TriangulationError, VertexId,
 };
+use std::collections::HashMap;
 use std::time::{Duration, Instant};
 
 #[derive(Clone, Debug)]
@@ -22,6 +24,8 @@ pub struct MeshOptions {
     pub limits: Limits,
     /// On a tripped guard, return the mesh reached so far inside the error.
     pub keep_partial: bool,
+    /// The optimisers run on the refined mesh (not on a partial one).
+    pub optimize: OptimizeOptions,
 }
 
 /// Wall time of each phase.
@@ -30,6 +34,8 @@ pub struct PhaseTimes {
     pub initial_points: Duration,
     pub refinement: Duration,
     pub complex: Duration,
+    /// Sliver perturbation, exudation and smoothing.
+    pub optimization: Duration,
 }
 
 #[derive(Debug)]
@@ -37,6 +43,8 @@ pub struct MeshOutcome {
     pub complex: MeshComplex,
     pub stats: RefineStats,
     pub times: PhaseTimes,
+    /// Quality before and after each optimisation step.
+    pub optimization: OptimizeReport,
 }
 
 /// Smallest protecting ball radius, as a fraction of the bounding-box diagonal: features closer
@@ -110,7 +118,16 @@ fn mesh_smooth(
         surface.mark_on_surface(v);
     }
     let initial_points = start.elapsed();
-    refine_and_collect(tr, surface, cells, None, options, initial_points, progress)
+    refine_and_collect(
+        oracle,
+        tr,
+        surface,
+        cells,
+        None,
+        options,
+        initial_points,
+        progress,
+    )
 }
 
 /// Inserts a protecting ball as a weighted vertex; `None` when the triangulation hides it.
@@ -154,6 +171,7 @@ pub fn mesh_with_features<T: Triangulation<Point = Point3>>(
     }
     let initial_points = start.elapsed();
     refine_and_collect(
+        oracle,
         tr,
         surface,
         cells,
@@ -164,8 +182,9 @@ pub fn mesh_with_features<T: Triangulation<Point = Point3>>(
     )
 }
 
-/// Run the level stack (curve balls first when given) and collect the complex.
+/// Run the level stack (curve balls first when given), collect the complex and optimise it.
 fn refine_and_collect<T: Triangulation<Point = Point3>>(
+    oracle: &dyn Oracle,
     mut tr: T,
     mut surface: SurfaceLevel<'_>,
     mut cells: CellLevel<'_>,
@@ -196,10 +215,16 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
         Ok(stats) => {
             let complex = collect();
             times.complex = start.elapsed();
+            let start = Instant::now();
+            let weights = vertex_weights(&tr, &complex);
+            let (complex, optimization) =
+                optimize(complex, &weights, oracle, &options.optimize);
+            times.optimization = start.elapsed();
             Ok(MeshOutcome {
                 complex,
                 stats,
                 times,
+                optimization,
             })
         }
         Err(source) => {
@@ -207,4 +232,27 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
             Err(MeshError::Refinement { source, partial })
         }
     }
+}
+
+/// The weight each vertex of `complex` has in `tr` (the optimisers need the regular
+/// triangulation refinement built; the complex numbers vertices compactly, so they are matched by
+/// position: a hidden vertex at a visible one's position is the lighter of the two).
+fn vertex_weights<T: Triangulation<Point = Point3>>(tr: &T, complex: &MeshComplex) -> Vec<f64> {
+    let key = |p: Point3| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+    let mut weight: HashMap<[u64; 3], f64> = HashMap::new();
+    for v in tr.vertices() {
+        let w = tr.weight(v);
+        if w > 0.0 {
+            let e = weight.entry(key(tr.point(v))).or_insert(w);
+            *e = e.max(w);
+        }
+    }
+    if weight.is_empty() {
+        return Vec::new();
+    }
+    complex
+        .points
+        .iter()
+        .map(|&p| weight.get(&key(p)).copied().unwrap_or(0.0))
+        .collect()
 }

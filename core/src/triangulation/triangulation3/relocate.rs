@@ -19,9 +19,9 @@ use std::collections::HashMap;
 /// rebuilds the same cells, usually in other slots).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct MoveReport {
-    /// The vertices of every destroyed cell that existed before the move, in the orientation
-    /// they had.
-    pub removed: Vec<[VertexId; 4]>,
+    /// Every destroyed cell that existed before the move: its slot (which the move may have
+    /// reused) and its vertices in the orientation they had.
+    pub removed: Vec<(CellId, [VertexId; 4])>,
     /// The cells created by the move and still live after it.
     pub created: Vec<CellId>,
 }
@@ -222,9 +222,8 @@ impl<K: ConflictKernel> Triangulation3<K> {
         if let Some(k) = report.created.iter().position(|&x| x.0 == c) {
             report.created.swap_remove(k);
         } else {
-            report
-                .removed
-                .push(self.cells[c as usize].v.map(VertexId));
+            let verts = self.cells[c as usize].v.map(VertexId);
+            report.removed.push((CellId(c), verts));
         }
         self.free_cell(c);
     }
@@ -262,9 +261,8 @@ impl<K: ConflictKernel> Triangulation3<K> {
             if let Some(k) = report.created.iter().position(|&x| x.0 == c) {
                 report.created.swap_remove(k);
             } else {
-                report
-                    .removed
-                    .push(self.cells[c as usize].v.map(VertexId));
+                let verts = self.cells[c as usize].v.map(VertexId);
+                report.removed.push((CellId(c), verts));
             }
         }
         let mut inserted = InsertReport::default();
