@@ -140,6 +140,7 @@ pub fn run(args: &MeshArgs) -> Result<()> {
                 *complex,
                 &[],
                 oracle,
+                &criteria,
                 &delamesh_core::optimize::OptimizeOptions::none(),
             );
             let outcome = MeshOutcome {

@@ -143,7 +143,13 @@ fn draw(
 ) -> std::result::Result<(), Box<dyn std::error::Error>> {
     let before = &report.before.histogram;
     let after = &report.after().histogram;
-    let top = before.counts.iter().chain(&after.counts).copied().max().unwrap_or(1);
+    let top = before
+        .counts
+        .iter()
+        .chain(&after.counts)
+        .copied()
+        .max()
+        .unwrap_or(1);
     let root = SVGBackend::with_string(svg, (900, 520)).into_drawing_area();
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)
@@ -159,8 +165,16 @@ fn draw(
         .draw()?;
     let width = (before.hi - before.lo) / before.counts.len() as f64;
     for (h, color, name) in [
-        (before, RED.mix(0.45), format!("refined: min {:.1}°", report.before.min_dihedral_deg)),
-        (after, BLUE.mix(0.45), format!("optimised: min {:.1}°", report.after().min_dihedral_deg)),
+        (
+            before,
+            RED.mix(0.45),
+            format!("refined: min {:.1}°", report.before.min_dihedral_deg),
+        ),
+        (
+            after,
+            BLUE.mix(0.45),
+            format!("optimised: min {:.1}°", report.after().min_dihedral_deg),
+        ),
     ] {
         chart
             .draw_series(h.counts.iter().enumerate().map(|(i, &n)| {

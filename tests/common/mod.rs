@@ -113,7 +113,7 @@ pub fn mesh(surface: &Surface, criteria: MeshCriteria) -> (PolyhedralOracle, Mes
             ..Limits::default()
         },
         keep_partial: false,
-        optimize: delamesh_core::optimize::OptimizeOptions::default(),
+        optimize: delamesh_core::optimize::OptimizeOptions::none(),
     };
     let outcome = mesh_domain(&oracle, &options, &mut |_| {}).expect("refinement terminates");
     (oracle, outcome.complex)

@@ -9,12 +9,13 @@ use super::Deadline;
 use super::state::Workspace;
 use crate::complex::VertexDimension;
 use crate::triangulation::{CellId, Triangulation, VertexId};
+use std::collections::HashSet;
 
 /// The weight bound as a fraction of the distance to the nearest other ball (Cheng et al.
 /// require less than 1/2; CGAL uses 0.3).
 const DELTA: f64 = 0.35;
 /// Weights tried per vertex, as fractions of the interval between its weight and the bound.
-const PUMPS: [f64; 4] = [0.25, 0.5, 0.75, 1.0];
+const PUMPS: [f64; 3] = [0.33, 0.67, 1.0];
 /// Sweeps over the slivers at most.
 const MAX_SWEEPS: usize = 3;
 
@@ -22,17 +23,21 @@ const MAX_SWEEPS: usize = 3;
 /// nothing or the deadline passes. Returns the number of weight changes kept.
 pub(super) fn exude(ws: &mut Workspace<'_>, bound: f64, deadline: &Deadline) -> usize {
     let mut kept = 0;
+    // Cells no pump improved: they are not tried again while they exist.
+    let mut stuck = HashSet::new();
     for _ in 0..MAX_SWEEPS {
         let mut improved = 0;
         for (_, c, cell) in ws.slivers(bound) {
             if deadline.passed() {
                 return kept + improved;
             }
-            if !ws.rt.is_live(c) || ws.rt.cell(c) != cell {
+            if !ws.rt.is_live(c) || ws.rt.cell(c) != cell || stuck.contains(&cell) {
                 continue;
             }
             if cell.iter().any(|&v| pump(ws, v)) {
                 improved += 1;
+            } else {
+                stuck.insert(cell);
             }
         }
         kept += improved;

@@ -15,12 +15,15 @@ mod exude;
 mod perturb;
 mod smooth;
 mod state;
+#[cfg(test)]
+mod tests;
 
 pub use state::WorkspaceError;
 
 use crate::complex::MeshComplex;
 use crate::oracle::Oracle;
 use crate::quality::Histogram;
+use crate::refine::criteria::MeshCriteria;
 use smooth::Smoother;
 use state::Workspace;
 use std::time::{Duration, Instant};
@@ -173,12 +176,14 @@ impl Deadline {
 }
 
 /// Optimises `complex`, whose vertex `i` had weight `weights[i]` in the triangulation refinement
-/// built (missing weights are 0), over the domain `oracle`. Returns the optimised complex (the
+/// built (missing weights are 0), over the domain `oracle`; boundary facets the optimisers change
+/// meet the facet-distance criterion of `criteria`. Returns the optimised complex (the
 /// input unchanged when it could not be taken over; the report says why).
 pub fn optimize(
     complex: MeshComplex,
     weights: &[f64],
     oracle: &dyn Oracle,
+    criteria: &MeshCriteria,
     options: &OptimizeOptions,
 ) -> (MeshComplex, OptimizeReport) {
     let start = Instant::now();
@@ -194,7 +199,7 @@ pub fn optimize(
     if !options.any() || complex.tets.is_empty() {
         return (complex, report);
     }
-    let mut ws = match Workspace::new(&complex, weights, oracle) {
+    let mut ws = match Workspace::new(&complex, weights, oracle, criteria.facet.distance.clone()) {
         Ok(ws) => ws,
         Err(e) => {
             report.skipped = Some(e);

@@ -3,7 +3,9 @@
 //! pseudo-random directions), by a fraction of its distance to the sliver's other vertices. A
 //! surface vertex moves in the tangent plane and is put back on its patch by the oracle; curve
 //! vertices and corners stay. A move is kept when the smallest dihedral angle of the cells it
-//! changed is larger than that of the cells it destroyed.
+//! changed is larger than that of the cells it destroyed. A sliver lying on the surface with two
+//! boundary facets cannot be moved away without changing the surface: it is peeled off instead
+//! (see [`Workspace::peel`]), which flips the surface edge under it.
 
 use super::Deadline;
 use super::state::{Workspace, min_dihedral};
@@ -11,13 +13,14 @@ use crate::complex::VertexDimension;
 use crate::kernel::Point3;
 use crate::oracle::{OUTSIDE, PatchId, SurfaceHit};
 use crate::triangulation::{CellId, Triangulation, VertexId};
+use std::collections::HashSet;
 
 /// Step lengths tried along a direction, as fractions of the distance to the nearest other
 /// vertex of the sliver (smallest last: a small step is the likeliest to be accepted but gains
 /// least).
-const STEPS: [f64; 4] = [0.3, 0.15, 0.07, 0.03];
-/// Pseudo-random directions tried when the gradient does not help.
-const RANDOM_TRIES: usize = 3;
+const STEPS: [f64; 3] = [0.25, 0.1, 0.04];
+/// Pseudo-random directions tried when the gradient does not help (with the middle step).
+const RANDOM_TRIES: usize = 2;
 /// Sweeps over the slivers at most.
 const MAX_SWEEPS: usize = 6;
 
@@ -26,17 +29,21 @@ const MAX_SWEEPS: usize = 6;
 pub(super) fn perturb(ws: &mut Workspace<'_>, bound: f64, deadline: &Deadline) -> usize {
     let mut kept = 0;
     let mut rng = 0x9E37_79B9_7F4A_7C15u64;
+    // Cells no move improved: they are not tried again while they exist.
+    let mut stuck = HashSet::new();
     for _ in 0..MAX_SWEEPS {
         let mut improved = 0;
         for (_, c, cell) in ws.slivers(bound) {
             if deadline.passed() {
                 return kept + improved;
             }
-            if !ws.rt.is_live(c) || ws.rt.cell(c) != cell {
+            if !ws.rt.is_live(c) || ws.rt.cell(c) != cell || stuck.contains(&cell) {
                 continue;
             }
-            if perturb_cell(ws, c, &mut rng) {
+            if ws.peel(c) || perturb_cell(ws, c, &mut rng) {
                 improved += 1;
+            } else {
+                stuck.insert(cell);
             }
         }
         kept += improved;
@@ -61,8 +68,14 @@ fn perturb_cell(ws: &mut Workspace<'_>, c: CellId, rng: &mut u64) -> bool {
             VertexDimension::Curve | VertexDimension::Corner => continue,
         };
         let p = ws.rt.point(v);
-        let others: Vec<Point3> = (0..4).filter(|&j| j != k).map(|j| ws.rt.point(cell[j])).collect();
-        let reach = others.iter().map(|q| q.distance(p)).fold(f64::INFINITY, f64::min);
+        let others: Vec<Point3> = (0..4)
+            .filter(|&j| j != k)
+            .map(|j| ws.rt.point(cell[j]))
+            .collect();
+        let reach = others
+            .iter()
+            .map(|q| q.distance(p))
+            .fold(f64::INFINITY, f64::min);
         let tangent = |d: Point3| match surface {
             Some((n, _)) => d - n * d.dot(n),
             None => d,
@@ -70,35 +83,35 @@ fn perturb_cell(ws: &mut Workspace<'_>, c: CellId, rng: &mut u64) -> bool {
         let angle_at = |x: Point3| {
             let mut t = cell.map(|u| ws.rt.point(u));
             t[k] = x;
+            t.swap(0, 1);
             min_dihedral(&t)
         };
-        let mut directions = Vec::with_capacity(1 + RANDOM_TRIES);
+        let mut tries = Vec::with_capacity(STEPS.len() + RANDOM_TRIES);
         let g = tangent(gradient(angle_at, p, 1e-4 * reach));
         if g.length() > 0.0 {
-            directions.push(g.normalize());
+            tries.extend(STEPS.map(|s| (g.normalize(), s)));
         }
         for _ in 0..RANDOM_TRIES {
             let d = tangent(random_unit(rng));
             if d.length() > 1e-3 {
-                directions.push(d.normalize());
+                tries.push((d.normalize(), STEPS[1]));
             }
         }
-        for d in directions {
-            for s in STEPS {
-                let mut q = p + d * (s * reach);
-                if let Some((n, patch)) = surface {
-                    match project(ws, q, n, reach, patch) {
-                        Some(on) => q = on,
-                        None => continue,
-                    }
+        for (d, s) in tries {
+            let mut q = p + d * (s * reach);
+            if let Some((n, patch)) = surface {
+                match project(ws, q, n, reach, patch) {
+                    Some(on) => q = on,
+                    None => continue,
                 }
-                let w = ws.rt.weight(v);
-                if let Some(change) = ws.try_move(v, q, w) {
-                    if change.after > change.before {
-                        return true;
-                    }
-                    ws.undo(change);
+            }
+            let w = ws.rt.weight(v);
+            if let Some(change) = ws.try_move(v, q, w) {
+                if change.after > change.before && (surface.is_none() || ws.surface_near_around(v))
+                {
+                    return true;
                 }
+                ws.undo(change);
             }
         }
     }
@@ -121,7 +134,11 @@ fn random_unit(state: &mut u64) -> Point3 {
         (*state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
     };
     let d = Point3::new(next(), next(), next());
-    if d.length() > 0.0 { d.normalize() } else { Point3::X }
+    if d.length() > 0.0 {
+        d.normalize()
+    } else {
+        Point3::X
+    }
 }
 
 /// The unit outward normal of the surface at surface vertex `v` (area-weighted over its
@@ -154,7 +171,10 @@ pub(super) fn surface_frame(ws: &Workspace<'_>, v: VertexId) -> Option<(Point3, 
             if ws.label(ws.rt.neighbor(c, i)) != OUTSIDE || *patch.get_or_insert(pt) != pt {
                 return None;
             }
-            let f: Vec<Point3> = (0..4).filter(|&j| j != i).map(|j| ws.rt.point(q[j])).collect();
+            let f: Vec<Point3> = (0..4)
+                .filter(|&j| j != i)
+                .map(|j| ws.rt.point(q[j]))
+                .collect();
             let mut n = (f[1] - f[0]).cross(f[2] - f[0]);
             if n.dot(ws.rt.point(q[i]) - f[0]) > 0.0 {
                 n = -n;
@@ -176,7 +196,8 @@ pub(super) fn project(
     patch: PatchId,
 ) -> Option<Point3> {
     let mut hits: Vec<SurfaceHit> = Vec::new();
-    ws.oracle.segment_hits(q - n * reach, q + n * reach, &mut hits);
+    ws.oracle
+        .segment_hits(q - n * reach, q + n * reach, &mut hits);
     hits.iter()
         .filter(|h| h.patch == patch)
         .min_by(|a, b| (a.t - 0.5).abs().total_cmp(&(b.t - 0.5).abs()))

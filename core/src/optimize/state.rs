@@ -13,7 +13,8 @@ use crate::complex::{MeshComplex, VertexDimension};
 use crate::kernel::Point3;
 use crate::oracle::{OUTSIDE, PatchId, SubdomainId};
 use crate::quality::{dihedral_angles_deg, tet_volume};
-use crate::refine::facet_vertices;
+use crate::refine::criteria::Sizing;
+use crate::refine::{facet_vertices, triangle_circumcenter};
 use crate::triangulation::{CellId, MoveReport, Regular3, Triangulation, VertexId};
 use std::collections::HashMap;
 
@@ -63,8 +64,13 @@ pub(super) struct Workspace<'o> {
     boundary: HashMap<FacetKey, BoundaryFacet>,
     /// Dimension of each triangulation vertex.
     pub dimension: Vec<VertexDimension>,
+    /// Feature edges (sorted triangulation vertex pairs): peeling may not flip them.
+    feature_edges: std::collections::HashSet<[u32; 2]>,
     /// The domain, for the optimisers that re-project surface vertices.
     pub oracle: &'o dyn crate::oracle::Oracle,
+    /// The facet-distance criterion of refinement, which boundary facets changed by the
+    /// optimisers must still meet.
+    facet_distance: Sizing,
     /// The triangulation vertex of each mesh vertex.
     vertex_of: Vec<VertexId>,
     report: MoveReport,
@@ -91,6 +97,13 @@ fn facet_key(q: [VertexId; 4], i: usize) -> FacetKey {
     k
 }
 
+/// A cell's vertices in the order of positive volume: the triangulation orders them so that
+/// `orient3d` is positive, which is the opposite handedness of [`tet_volume`].
+pub(super) fn positive(mut q: [VertexId; 4]) -> [VertexId; 4] {
+    q.swap(0, 1);
+    q
+}
+
 /// Smallest dihedral angle (degrees) of the tetrahedron; 0 when flat or inverted.
 pub(super) fn min_dihedral(p: &[Point3; 4]) -> f64 {
     if tet_volume(p) <= 0.0 {
@@ -109,6 +122,7 @@ impl<'o> Workspace<'o> {
         complex: &MeshComplex,
         weights: &[f64],
         oracle: &'o dyn crate::oracle::Oracle,
+        facet_distance: Sizing,
     ) -> Result<Self, WorkspaceError> {
         let points: Vec<(Point3, f64)> = complex
             .points
@@ -147,12 +161,22 @@ impl<'o> Workspace<'o> {
         for (i, &v) in vertex_of.iter().enumerate() {
             dimension[v.0 as usize] = complex.vertex_dimension[i];
         }
+        let feature_edges = complex
+            .feature_edges
+            .iter()
+            .map(|e| {
+                let (a, b) = (vertex_of[e[0] as usize].0, vertex_of[e[1] as usize].0);
+                [a.min(b), a.max(b)]
+            })
+            .collect();
         let ws = Workspace {
             rt,
             label,
             boundary,
             dimension,
+            feature_edges,
             oracle,
+            facet_distance,
             vertex_of,
             report: MoveReport::default(),
         };
@@ -199,9 +223,9 @@ impl<'o> Workspace<'o> {
         self.boundary.get(key).map(|b| b.patch)
     }
 
-    /// The corner points of finite cell `c`.
+    /// The corner points of finite cell `c`, positively oriented.
     pub fn points(&self, c: CellId) -> [Point3; 4] {
-        self.rt.cell(c).map(|v| self.rt.point(v))
+        positive(self.rt.cell(c)).map(|v| self.rt.point(v))
     }
 
     /// Smallest dihedral angle of finite cell `c`.
@@ -307,7 +331,7 @@ impl<'o> Workspace<'o> {
             if q.contains(&inf) || saved.get(&quad_key(q)).copied().unwrap_or(OUTSIDE) == OUTSIDE {
                 continue;
             }
-            let p = q.map(|x| if x == v { old } else { self.rt.point(x) });
+            let p = positive(q).map(|x| if x == v { old } else { self.rt.point(x) });
             min = min.min(min_dihedral(&p));
         }
         min
@@ -320,11 +344,8 @@ impl<'o> Workspace<'o> {
     fn relabel(&mut self) -> Option<f64> {
         self.grow_labels();
         let created = &self.report.created;
-        let index: HashMap<u32, usize> = created
-            .iter()
-            .enumerate()
-            .map(|(k, c)| (c.0, k))
-            .collect();
+        let index: HashMap<u32, usize> =
+            created.iter().enumerate().map(|(k, c)| (c.0, k)).collect();
         let mut new_label: Vec<Option<SubdomainId>> = vec![None; created.len()];
         let mut stack = Vec::new();
         for (k, &c) in created.iter().enumerate() {
@@ -382,13 +403,21 @@ impl<'o> Workspace<'o> {
         // Every boundary facet of a destroyed cell must be a facet of a created one.
         let mut lost: Vec<FacetKey> = Vec::new();
         for &(_, q) in &self.report.removed {
-            lost.extend((0..4).map(|i| facet_key(q, i)).filter(|k| self.is_boundary(k)));
+            lost.extend(
+                (0..4)
+                    .map(|i| facet_key(q, i))
+                    .filter(|k| self.is_boundary(k)),
+            );
         }
         let mut found: Vec<FacetKey> = Vec::new();
         let mut after = 180.0f64;
         for (k, &c) in self.report.created.iter().enumerate() {
             let q = self.rt.cell(c);
-            found.extend((0..4).map(|i| facet_key(q, i)).filter(|k| self.is_boundary(k)));
+            found.extend(
+                (0..4)
+                    .map(|i| facet_key(q, i))
+                    .filter(|k| self.is_boundary(k)),
+            );
             if new_label[k]? != OUTSIDE {
                 let a = self.cell_min_dihedral(c);
                 if a <= 0.0 {
@@ -408,6 +437,150 @@ impl<'o> Workspace<'o> {
             self.label[c.0 as usize] = new_label[k].unwrap_or(OUTSIDE);
         }
         Some(after)
+    }
+
+    /// Peels a flat cell off the boundary: a cell with two boundary facets on one patch (and its
+    /// four vertices on the surface, none on a feature), between
+    /// its subdomain and the outside, becomes outside, and its two other facets take their place
+    /// (the surface edge the two facets share flips to the opposite edge of the cell). Refused
+    /// when the shared edge is a feature edge, when the opposite edge already lies on the surface
+    /// (the flip would make it non-manifold), when a new facet would face the other way from
+    /// the old ones, or when the cell is thicker than the facet distance (the surface would move
+    /// by more). Returns whether the cell was peeled.
+    pub fn peel(&mut self, c: CellId) -> bool {
+        if !self.inside(c) {
+            return false;
+        }
+        let q = self.rt.cell(c);
+        let sub = self.label(c);
+        let on_boundary: Vec<usize> = (0..4)
+            .filter(|&i| self.is_boundary(&facet_key(q, i)))
+            .collect();
+        let &[i, j] = on_boundary.as_slice() else {
+            return false;
+        };
+        let (old_i, old_j) = (
+            self.boundary[&facet_key(q, i)],
+            self.boundary[&facet_key(q, j)],
+        );
+        if old_i.patch != old_j.patch
+            || old_i.sides != [OUTSIDE, sub]
+            || old_j.sides != [OUTSIDE, sub]
+        {
+            return false;
+        }
+        // The facets opposite i and j share the edge (a, b); the new ones share (c, d) = (q[i], q[j]).
+        let shared: Vec<u32> = (0..4)
+            .filter(|&k| k != i && k != j)
+            .map(|k| q[k].0)
+            .collect();
+        let (a, b) = (shared[0].min(shared[1]), shared[0].max(shared[1]));
+        if self.feature_edges.contains(&[a, b]) || self.is_surface_edge(q[i], q[j]) {
+            return false;
+        }
+        // Near a feature the two facets may lie on either side of a sharp edge with one patch
+        // label: only cells with all four vertices inside a patch are peeled.
+        if q.iter()
+            .any(|v| self.dimension[v.0 as usize] != VertexDimension::Surface)
+        {
+            return false;
+        }
+        let normal = |k: usize| {
+            let f: Vec<Point3> = (0..4)
+                .filter(|&m| m != k)
+                .map(|m| self.rt.point(q[m]))
+                .collect();
+            let n = (f[1] - f[0]).cross(f[2] - f[0]);
+            // Outward from the cell.
+            if n.dot(self.rt.point(q[k]) - f[0]) > 0.0 {
+                -n
+            } else {
+                n
+            }
+        };
+        // The new facets face the outside through the peeled cell: against their normal out of it.
+        let old = normal(i) + normal(j);
+        let new: Vec<usize> = (0..4).filter(|&k| k != i && k != j).collect();
+        if new.iter().any(|&k| normal(k).dot(old) >= 0.0) {
+            return false;
+        }
+        // Every point of the new facets lies within the cell's thickness of the old ones (the
+        // four vertices are on the old facets): the surface moves by at most that much.
+        let p = self.points(c);
+        let largest_face = (0..4)
+            .map(|k| {
+                let f: Vec<Point3> = (0..4).filter(|&m| m != k).map(|m| p[m]).collect();
+                (f[1] - f[0]).cross(f[2] - f[0]).length() / 2.0
+            })
+            .fold(0.0, f64::max);
+        let thickness = 3.0 * tet_volume(&p) / largest_face;
+        let centroid = (p[0] + p[1] + p[2] + p[3]) / 4.0;
+        let allowed = self.facet_distance.at(centroid, old_i.patch);
+        if !(thickness <= allowed || !(allowed > 0.0 && allowed.is_finite())) {
+            return false;
+        }
+        self.boundary.remove(&facet_key(q, i));
+        self.boundary.remove(&facet_key(q, j));
+        for k in new {
+            let sides = [OUTSIDE, sub];
+            self.boundary.insert(
+                facet_key(q, k),
+                BoundaryFacet {
+                    patch: old_i.patch,
+                    sides,
+                },
+            );
+        }
+        self.label[c.0 as usize] = OUTSIDE;
+        true
+    }
+
+    /// Whether triangle `t` on `patch` meets the facet-distance criterion: its circumcentre lies
+    /// within that distance of the surface along the triangle's normal.
+    pub fn near_surface(&self, t: [Point3; 3], patch: PatchId) -> bool {
+        let center = triangle_circumcenter(t[0], t[1], t[2]);
+        let d = self.facet_distance.at(center, patch);
+        if !(d > 0.0 && d.is_finite()) {
+            return true;
+        }
+        let n = (t[1] - t[0]).cross(t[2] - t[0]);
+        if n.length() == 0.0 {
+            return false;
+        }
+        let n = n.normalize() * d;
+        self.oracle
+            .first_segment_hit(center - n, center + n)
+            .is_some()
+    }
+
+    /// Whether every boundary facet around `v` meets the facet-distance criterion.
+    pub fn surface_near_around(&self, v: VertexId) -> bool {
+        let mut cells = Vec::new();
+        self.rt.incident_cells(v, &mut cells);
+        cells.iter().filter(|&&c| self.inside(c)).all(|&c| {
+            let q = self.rt.cell(c);
+            (0..4).filter(|&i| q[i] != v).all(|i| {
+                let Some(patch) = self.patch(&facet_key(q, i)) else {
+                    return true;
+                };
+                let f: Vec<Point3> = (0..4)
+                    .filter(|&m| m != i)
+                    .map(|m| self.rt.point(q[m]))
+                    .collect();
+                self.near_surface([f[0], f[1], f[2]], patch)
+            })
+        })
+    }
+
+    /// Whether the edge `(u, v)` is an edge of a boundary facet.
+    fn is_surface_edge(&self, u: VertexId, v: VertexId) -> bool {
+        let mut cells = Vec::new();
+        self.rt.incident_cells(u, &mut cells);
+        cells.iter().any(|&c| {
+            let q = self.rt.cell(c);
+            q.contains(&v)
+                && (0..4).any(|i| q[i] != u && q[i] != v && self.is_boundary(&facet_key(q, i)))
+        })
     }
 
     /// The inside cells whose smallest dihedral angle is below `bound`, worst first (ties by
@@ -456,7 +629,9 @@ impl<'o> Workspace<'o> {
                 continue;
             }
             let cell = self.rt.cell(c);
-            complex.tets.push(cell.map(|v| mesh_index[v.0 as usize]));
+            complex
+                .tets
+                .push(positive(cell).map(|v| mesh_index[v.0 as usize]));
             complex.tet_subdomain.push(sub);
             for (i, &apex) in cell.iter().enumerate() {
                 let other = self.label(self.rt.neighbor(c, i));

@@ -217,8 +217,13 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
             times.complex = start.elapsed();
             let start = Instant::now();
             let weights = vertex_weights(&tr, &complex);
-            let (complex, optimization) =
-                optimize(complex, &weights, oracle, &options.optimize);
+            let (complex, optimization) = optimize(
+                complex,
+                &weights,
+                oracle,
+                &options.criteria,
+                &options.optimize,
+            );
             times.optimization = start.elapsed();
             Ok(MeshOutcome {
                 complex,

@@ -81,7 +81,10 @@ impl<K: ConflictKernel> Triangulation3<K> {
             Some(hidden) => {
                 // It hid vertices: take it out again and bring them back, then put it back.
                 let removed = self.remove_interior(v.0, report);
-                debug_assert!(removed, "a vertex strictly inside a cell is not on the hull");
+                debug_assert!(
+                    removed,
+                    "a vertex strictly inside a cell is not on the hull"
+                );
                 for x in hidden {
                     self.reinsert(x.0, self.pt(x.0), self.kernel.weight(x.0), report);
                 }
@@ -178,14 +181,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
         }
         let (mut stack, mut cavity, mut boundary) = (Vec::new(), Vec::new(), Vec::new());
         let mut marks = HashMarks::default();
-        small.find_cavity(
-            q,
-            start,
-            &mut marks,
-            &mut stack,
-            &mut cavity,
-            &mut boundary,
-        );
+        small.find_cavity(q, start, &mut marks, &mut stack, &mut cavity, &mut boundary);
         if boundary.len() != star.len() {
             return None;
         }
