@@ -30,7 +30,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Mesh the volume bounded by a closed surface.
-    Mesh(mesh::MeshArgs),
+    Mesh(Box<mesh::MeshArgs>),
     /// Delaunay tetrahedralisation of a point set.
     Delaunay(delaunay::DelaunayArgs),
     /// Convert a mesh from one file format to another

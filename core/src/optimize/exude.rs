@@ -97,5 +97,5 @@ fn weight_bound(ws: &Workspace<'_>, v: VertexId) -> Option<f64> {
             }
         }
     }
-    (nearest > 0.0 && nearest.is_finite()).then(|| DELTA * DELTA * nearest * nearest)
+    (nearest > 0.0 && nearest.is_finite()).then_some(DELTA * DELTA * nearest * nearest)
 }

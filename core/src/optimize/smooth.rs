@@ -64,7 +64,7 @@ pub(super) fn smooth(
             };
             let shortest = shortest_edge(ws, v, &cells);
             let relative = target.distance(p) / shortest;
-            if !(relative >= FREEZE) {
+            if relative.is_nan() || relative < FREEZE {
                 continue;
             }
             let w = ws.rt.weight(v);

@@ -183,6 +183,8 @@ pub fn mesh_with_features<T: Triangulation<Point = Point3>>(
 }
 
 /// Run the level stack (curve balls first when given), collect the complex and optimise it.
+/// (The levels are the two meshers' own; bundling them would only move the argument list.)
+#[allow(clippy::too_many_arguments)]
 fn refine_and_collect<T: Triangulation<Point = Point3>>(
     oracle: &dyn Oracle,
     mut tr: T,
