@@ -1,5 +1,7 @@
-//! The `delamesh` binary; everything lives in the `delamesh-cli` library.
+//! The `delamesh` binary: the command line (src/cli/) over the library's pipeline.
+
+mod cli;
 
 fn main() -> std::process::ExitCode {
-    delamesh_cli::main()
+    cli::main()
 }

@@ -1,5 +1,6 @@
 //! delamesh-core: robust geometric kernel, Delaunay triangulations and the Delaunay-refinement
-//! engine. No file formats and no command line live here (see `delamesh-formats`, `delamesh-cli`).
+//! engine. No file formats and no command line live here (see `delamesh-formats` and the root
+//! crate `delamesh`).
 
 pub mod complex;
 pub mod kernel;

@@ -3,9 +3,8 @@
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use delamesh_core::optimize::{OptimizeOptions, OptimizeReport, Quality};
+use delamesh_core::optimize::{OptimizeOptions, OptimizeReport};
 use plotters::prelude::*;
-use serde::Serialize;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
@@ -64,63 +63,6 @@ impl OptimizeArgs {
             );
         }
         Ok(())
-    }
-}
-
-/// The optimisation section of the JSON report.
-#[derive(Serialize)]
-pub struct OptimizationReport {
-    before: QualityReport,
-    steps: Vec<StepReport>,
-    /// Why the optimisers did not run, if they could not.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    skipped: Option<String>,
-}
-
-#[derive(Serialize)]
-struct QualityReport {
-    tets: usize,
-    min_dihedral_deg: f64,
-    below_10_deg: usize,
-}
-
-#[derive(Serialize)]
-struct StepReport {
-    step: &'static str,
-    changes: usize,
-    sweeps: usize,
-    seconds: f64,
-    after: QualityReport,
-}
-
-impl QualityReport {
-    fn new(q: &Quality) -> Self {
-        QualityReport {
-            tets: q.tets,
-            min_dihedral_deg: q.min_dihedral_deg,
-            below_10_deg: q.below_10_deg,
-        }
-    }
-}
-
-impl OptimizationReport {
-    /// The report section of `r`.
-    pub fn new(r: &OptimizeReport) -> Self {
-        OptimizationReport {
-            before: QualityReport::new(&r.before),
-            steps: r
-                .steps
-                .iter()
-                .map(|s| StepReport {
-                    step: s.step.name(),
-                    changes: s.changes,
-                    sweeps: s.sweeps,
-                    seconds: s.time.as_secs_f64(),
-                    after: QualityReport::new(&s.quality),
-                })
-                .collect(),
-            skipped: r.skipped.map(|e| e.to_string()),
-        }
     }
 }
 

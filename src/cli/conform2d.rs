@@ -61,7 +61,7 @@ pub fn run(args: &Args) -> Result<()> {
         .map(|c| t.cell(c).map(|v| index[v.0 as usize]))
         .collect();
     let patches = vec![PatchId(0); triangles.len()];
-    let mesh = crate::mesh2d::planar_mesh(
+    let mesh = crate::cli::mesh2d::planar_mesh(
         &out.points,
         &triangles,
         &patches,

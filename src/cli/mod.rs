@@ -1,12 +1,11 @@
-//! The `delamesh` command line: argument parsing and one module per subcommand. The binary itself
-//! is the root package's `src/main.rs`, which only calls [`main`].
+//! The `delamesh` command line: argument parsing and one module per subcommand, each a thin shell
+//! over the library (`delamesh mesh` is the library's `Mesher`). Built only with the `cli` feature.
 //!
 //! Exit codes: 0 success, 1 the work failed (bad input, I/O, refinement guard), 2 bad usage.
 
 mod conform2d;
 mod convert;
 mod delaunay;
-mod domain;
 mod info;
 mod mesh;
 mod mesh2d;

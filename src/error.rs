@@ -1,0 +1,90 @@
+//! The one error type of the facade. Each variant says what was being done and names the file,
+//! option or plugin; the cause, if any, is its [`source`](std::error::Error::source).
+
+use crate::settings::SettingsError;
+use delamesh_core::plugin::PluginError;
+use delamesh_core::refine::{MeshError, RefineError};
+use delamesh_piecewise_smooth::PolylineError;
+
+/// Why the pipeline produced no mesh.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// An option has a value it cannot take.
+    #[error(transparent)]
+    Settings(#[from] SettingsError),
+    /// Reading the input or writing the output failed.
+    #[error(transparent)]
+    Format(#[from] delamesh_formats::Error),
+    /// The feature polylines file is unreadable or malformed.
+    #[error(transparent)]
+    Polylines(#[from] PolylineError),
+    /// The surface cannot bound a volume (open, self-intersecting, bad feature angle...).
+    #[error("{name}: cannot mesh this surface: {problem}")]
+    Unmeshable {
+        /// The input, as given.
+        name: String,
+        /// What is wrong with it.
+        problem: String,
+    },
+    /// Sharp features cannot be taken from the surface with the given feature polylines.
+    #[error(
+        "{name}: cannot mesh this surface with the feature polylines of {}: {problem}",
+        polylines.display()
+    )]
+    FeaturePolylines {
+        /// The input, as given.
+        name: String,
+        /// The polylines file.
+        polylines: std::path::PathBuf,
+        /// What is wrong.
+        problem: String,
+    },
+    /// A plugin could not be found, loaded or created, or faulted.
+    #[error(transparent)]
+    Plugin(#[from] PluginError),
+    /// A plugin faulted while answering the mesher; its answers cannot be trusted.
+    #[error("the plugin failed while meshing; nothing was written")]
+    PluginFault(#[source] PluginError),
+    /// A plugin name matches no file and no library of the search path.
+    #[error(
+        "plugin `{spec}` not found: not a file, and not in {} ({searched})",
+        crate::plugins::PLUGIN_PATH_VAR
+    )]
+    PluginNotFound {
+        /// The name or path given.
+        spec: String,
+        /// The directories searched, or "unset".
+        searched: String,
+    },
+    /// The name of a built-in plugin was given where a plugin library is expected.
+    #[error(
+        "`{0}` is built in: use it without --plugin (load its shared library by path to test the C ABI)"
+    )]
+    BuiltInPlugin(String),
+    /// The mesher could not start (no initial points, protection failed...).
+    #[error("meshing {name}")]
+    Mesh {
+        /// The domain: the input file, or the plugin.
+        name: String,
+        /// Why.
+        #[source]
+        source: MeshError,
+    },
+    /// A guard (vertex limit...) stopped refinement and no partial mesh was asked for.
+    #[error("meshing {name}")]
+    Stopped {
+        /// The domain: the input file, or the plugin.
+        name: String,
+        /// Which guard.
+        #[source]
+        source: RefineError,
+    },
+    /// Refinement ended without a tetrahedron inside the domain.
+    #[error("{name}: the mesh has no tetrahedron inside the {what} (criteria too coarse?)")]
+    Empty {
+        /// The domain: the input file, or the plugin.
+        name: String,
+        /// "surface" or "domain".
+        what: &'static str,
+    },
+}

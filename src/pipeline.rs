@@ -1,0 +1,243 @@
+//! The whole meshing pipeline of `delamesh mesh`: read → domain → refine → complex → report data
+//! → write, one implementation for files, in-memory surfaces and plugins.
+
+use crate::domain::Domain;
+use crate::error::Error;
+use crate::report::{Report, ReportInput, Times};
+use crate::settings::MeshSettings;
+use delamesh_core::complex::MeshComplex;
+use delamesh_core::mesh::{SurfaceMesh, TetMesh};
+use delamesh_core::optimize::{OptimizeOptions, OptimizeReport, optimize};
+use delamesh_core::refine::criteria::MeshCriteria;
+use delamesh_core::refine::{MeshError, Progress, RefineError, RefineStats, mesh_domain};
+use delamesh_formats::{WriteOptions, read_surface, write_tet_mesh};
+use std::path::Path;
+use std::time::Instant;
+
+/// A progress callback: called now and then during refinement.
+pub type ProgressFn<'p> = dyn FnMut(&Progress) + 'p;
+
+/// Runs the pipeline with one set of settings and an optional progress callback.
+///
+/// ```no_run
+/// use delamesh::{Mesher, MeshSettings};
+/// let settings = MeshSettings::builder().facet_size(0.05).build()?;
+/// let mut meshed = Mesher::new(settings).mesh_file("part.stl".as_ref())?;
+/// meshed.write("part.vtu".as_ref(), &Default::default())?;
+/// println!("{} tetrahedra", meshed.complex.tets.len());
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub struct Mesher<'p> {
+    settings: MeshSettings,
+    progress: Option<Box<ProgressFn<'p>>>,
+}
+
+/// A finished run: the mesh, what refinement did, and whether a guard stopped it early.
+pub struct Meshed {
+    /// The mesh: points, tetrahedra with subdomains, boundary facets with patches, features.
+    pub complex: MeshComplex,
+    /// What refinement did (empty when a guard stopped it).
+    pub stats: RefineStats,
+    /// The guard that stopped refinement before the criteria were met, if any; the mesh is then
+    /// the one reached (returned only with [`MeshSettings::keep_partial`]).
+    pub stopped: Option<RefineError>,
+    /// The criteria used, defaults resolved against the domain's bounding box.
+    pub criteria: MeshCriteria,
+    /// Wall time of each phase so far.
+    pub times: Times,
+    /// Quality before and after each optimisation step.
+    pub optimization: OptimizeReport,
+    domain: Domain,
+    name: String,
+    input: Option<SurfaceMesh>,
+    output: Option<String>,
+    started: Instant,
+}
+
+impl<'p> Mesher<'p> {
+    /// A pipeline with these settings and no progress callback.
+    pub fn new(settings: MeshSettings) -> Self {
+        Mesher {
+            settings,
+            progress: None,
+        }
+    }
+
+    /// Calls `f` now and then during refinement (vertex count, queue lengths).
+    pub fn on_progress(mut self, f: impl FnMut(&Progress) + 'p) -> Self {
+        self.progress = Some(Box::new(f));
+        self
+    }
+
+    /// The settings this pipeline runs with.
+    pub fn settings(&self) -> &MeshSettings {
+        &self.settings
+    }
+
+    /// Meshes the inside of the closed surface in the file `path` (any format the formats crate
+    /// reads).
+    pub fn mesh_file(&mut self, path: &Path) -> Result<Meshed, Error> {
+        self.settings.validate()?;
+        let started = Instant::now();
+        let surface = read_surface(path, None)?.mesh;
+        let read = started.elapsed();
+        self.mesh_surface_from(path.display().to_string(), surface, started, read)
+    }
+
+    /// Meshes the inside of a closed surface given in memory; `name` names it in errors and in the
+    /// report.
+    pub fn mesh_surface(&mut self, name: &str, surface: SurfaceMesh) -> Result<Meshed, Error> {
+        self.settings.validate()?;
+        let started = Instant::now();
+        self.mesh_surface_from(name.to_string(), surface, started, Default::default())
+    }
+
+    /// Meshes the domain of the plugin `spec` (a library path, or a name looked up in
+    /// [`PLUGIN_PATH_VAR`](crate::plugins::PLUGIN_PATH_VAR)) created from `config`.
+    pub fn mesh_plugin(&mut self, spec: &str, config: &str) -> Result<Meshed, Error> {
+        self.settings.validate()?;
+        let started = Instant::now();
+        let domain = Domain::from_plugin(spec, config)?;
+        let times = Times {
+            oracle: started.elapsed(),
+            ..Times::default()
+        };
+        self.mesh_domain(format!("plugin `{spec}`"), domain, None, started, times)
+    }
+
+    fn mesh_surface_from(
+        &mut self,
+        name: String,
+        surface: SurfaceMesh,
+        started: Instant,
+        read: std::time::Duration,
+    ) -> Result<Meshed, Error> {
+        let t = Instant::now();
+        let domain = Domain::from_surface(&name, &surface, &self.settings.features)?;
+        let times = Times {
+            read,
+            oracle: t.elapsed(),
+            ..Times::default()
+        };
+        self.mesh_domain(name, domain, Some(surface), started, times)
+    }
+
+    /// Refines `domain` and collects the complex; every input ends here.
+    fn mesh_domain(
+        &mut self,
+        name: String,
+        domain: Domain,
+        input: Option<SurfaceMesh>,
+        started: Instant,
+        mut times: Times,
+    ) -> Result<Meshed, Error> {
+        let oracle = domain.oracle();
+        let options = self.settings.mesh_options(&oracle.bounding_box());
+        let mut silent = |_: &Progress| {};
+        let progress: &mut dyn FnMut(&Progress) = match self.progress.as_mut() {
+            Some(f) => f,
+            None => &mut silent,
+        };
+        let outcome = mesh_domain(oracle, &options, progress);
+        domain.check()?;
+        let (complex, stats, stopped, optimization) = match outcome {
+            Ok(o) => {
+                times.initial_points = o.times.initial_points;
+                times.refinement = o.times.refinement;
+                times.complex = o.times.complex;
+                times.optimization = o.times.optimization;
+                (o.complex, o.stats, None, o.optimization)
+            }
+            Err(MeshError::Refinement {
+                source,
+                partial: Some(complex),
+            }) => {
+                // A partial mesh is not optimised; its report still gives its quality.
+                let none = OptimizeOptions::none();
+                let (complex, report) = optimize(*complex, &[], oracle, &options.criteria, &none);
+                (complex, RefineStats::default(), Some(source), report)
+            }
+            Err(MeshError::Refinement {
+                source,
+                partial: None,
+            }) => return Err(Error::Stopped { name, source }),
+            Err(source) => return Err(Error::Mesh { name, source }),
+        };
+        if complex.tets.is_empty() {
+            let what = if input.is_some() { "surface" } else { "domain" };
+            return Err(Error::Empty { name, what });
+        }
+        Ok(Meshed {
+            complex,
+            stats,
+            stopped,
+            criteria: options.criteria,
+            times,
+            optimization,
+            domain,
+            name,
+            input,
+            output: None,
+            started,
+        })
+    }
+}
+
+impl Meshed {
+    /// The mesh as the formats crate writes it (with per-cell quality fields).
+    pub fn tet_mesh(&self) -> TetMesh {
+        self.complex.to_tet_mesh()
+    }
+
+    /// The domain that was meshed.
+    pub fn domain(&self) -> &Domain {
+        &self.domain
+    }
+
+    /// The input's name, as given (file path, or plugin).
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Writes the mesh to `path`, the format following its extension (atomically: readers never
+    /// see half a file).
+    pub fn write(&mut self, path: &Path, options: &WriteOptions) -> Result<(), Error> {
+        let t = Instant::now();
+        write_tet_mesh(path, &self.tet_mesh(), options)?;
+        self.times.write = t.elapsed();
+        self.output = Some(path.display().to_string());
+        Ok(())
+    }
+
+    /// The report comparing the mesh with the input surface; `None` for a plugin's domain, which
+    /// has no input surface.
+    pub fn report(&mut self) -> Option<Report> {
+        let t = Instant::now();
+        let input = self.input.as_ref()?;
+        let polyhedral = self.domain.polyhedral()?;
+        let mut report = Report::new(&ReportInput {
+            input: &self.name,
+            output: self.output.as_deref().unwrap_or_default(),
+            input_points: &input.positions,
+            input_triangles: &input.triangles,
+            polyhedral,
+            domain: self.domain.oracle(),
+            criteria: &self.criteria,
+            complex: &self.complex,
+            stats: &self.stats,
+            optimization: &self.optimization,
+        });
+        self.times.quality = t.elapsed();
+        self.times.total = self.started.elapsed();
+        report.times_s = self.times.seconds();
+        Some(report)
+    }
+}
+
+/// Meshes the inside of the closed surface in `input` with default settings and writes it to
+/// `output` (format from the extension).
+pub fn mesh_file(input: &Path, output: &Path) -> Result<Meshed, Error> {
+    let mut meshed = Mesher::new(MeshSettings::default()).mesh_file(input)?;
+    meshed.write(output, &WriteOptions::default())?;
+    Ok(meshed)
+}

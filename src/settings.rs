@@ -1,0 +1,290 @@
+//! What `delamesh mesh` can be asked: the criteria overrides, the guards, the feature detection.
+//!
+//! [`MeshSettings`] has public fields and a [`Default`] (the command line's defaults);
+//! [`MeshSettings::builder`] sets them one by one and validates on [`MeshSettingsBuilder::build`].
+//! The pipeline validates again, so settings written field by field are checked too.
+//!
+//! Adding an option: a field here (with its default in `Default`), a builder method, its check in
+//! [`MeshSettings::validate`], its use in [`MeshSettings::criteria`] or
+//! [`MeshSettings::mesh_options`] (or wherever the pipeline needs it), then the command-line flag
+//! in `src/cli/mesh.rs` (`MeshArgs` and `MeshArgs::settings`).
+
+use delamesh_core::optimize::OptimizeOptions;
+use delamesh_core::oracle::Aabb;
+use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
+use delamesh_core::refine::{Limits, MeshOptions};
+use std::fmt;
+use std::path::PathBuf;
+
+/// The command line's `--max-vertices` default.
+pub const DEFAULT_MAX_VERTICES: usize = 2_000_000;
+
+/// Everything the meshing pipeline can be told. `Default` gives the command line's defaults:
+/// criteria scaled by the domain's bounding box, sharp features detected at
+/// [`DEFAULT_FEATURE_ANGLE_DEG`](delamesh_piecewise_smooth::DEFAULT_FEATURE_ANGLE_DEG).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshSettings {
+    /// Largest protecting ball radius along sharp feature curves (default: bounding-box
+    /// diagonal / 20). Unused without features.
+    pub edge_size: Option<f64>,
+    /// Smallest facet angle in degrees (0 disables; ≤ 30 guarantees termination; default 25).
+    pub facet_angle: Option<f64>,
+    /// Largest surface Delaunay ball radius (default: diagonal / 20).
+    pub facet_size: Option<f64>,
+    /// Largest distance between a facet's circumcentre and the surface (default: diagonal / 400).
+    pub facet_distance: Option<f64>,
+    /// Largest tetrahedron circumradius / shortest edge (0 disables; default 3).
+    pub cell_radius_edge_ratio: Option<f64>,
+    /// Largest tetrahedron circumradius (default: diagonal / 20).
+    pub cell_size: Option<f64>,
+    /// Refinement stops past this many vertices.
+    pub max_vertices: usize,
+    /// When a guard stops refinement, still return the mesh reached (marked as stopped).
+    pub keep_partial: bool,
+    /// How sharp features of a surface are found.
+    pub features: FeatureSettings,
+    /// The optimisers run after refinement (default: perturbation and exudation, as CGAL).
+    pub optimize: OptimizeOptions,
+}
+
+/// Sharp-feature detection on a surface input.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FeatureSettings {
+    /// Look for sharp features at all; `false` meshes every surface as smooth.
+    pub enabled: bool,
+    /// Edges whose two triangles' normals differ by more than this many degrees are sharp.
+    pub angle_deg: f64,
+    /// More feature curves, from a CGAL `.polylines.txt` file.
+    pub polylines: Option<PathBuf>,
+}
+
+impl Default for FeatureSettings {
+    fn default() -> Self {
+        FeatureSettings {
+            enabled: true,
+            angle_deg: delamesh_piecewise_smooth::DEFAULT_FEATURE_ANGLE_DEG,
+            polylines: None,
+        }
+    }
+}
+
+impl Default for MeshSettings {
+    fn default() -> Self {
+        MeshSettings {
+            edge_size: None,
+            facet_angle: None,
+            facet_size: None,
+            facet_distance: None,
+            cell_radius_edge_ratio: None,
+            cell_size: None,
+            max_vertices: DEFAULT_MAX_VERTICES,
+            keep_partial: false,
+            features: FeatureSettings::default(),
+            optimize: OptimizeOptions::default(),
+        }
+    }
+}
+
+/// An option with a value it cannot take.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("--{option} {problem}")]
+pub struct SettingsError {
+    /// The option, spelt as the command-line flag without its dashes (`facet-size`).
+    pub option: &'static str,
+    /// What is wrong with the value.
+    pub problem: String,
+}
+
+impl SettingsError {
+    fn new(option: &'static str, problem: impl fmt::Display) -> Self {
+        SettingsError {
+            option,
+            problem: problem.to_string(),
+        }
+    }
+}
+
+fn positive(option: &'static str, v: Option<f64>) -> Result<(), SettingsError> {
+    match v {
+        Some(v) if !(v.is_finite() && v > 0.0) => Err(SettingsError::new(
+            option,
+            format!("must be a positive number, got {v}"),
+        )),
+        _ => Ok(()),
+    }
+}
+
+fn non_negative(option: &'static str, v: Option<f64>) -> Result<(), SettingsError> {
+    match v {
+        Some(v) if !(v.is_finite() && v >= 0.0) => Err(SettingsError::new(
+            option,
+            format!("must be a number ≥ 0, got {v}"),
+        )),
+        _ => Ok(()),
+    }
+}
+
+impl MeshSettings {
+    /// A builder starting from the defaults.
+    pub fn builder() -> MeshSettingsBuilder {
+        MeshSettingsBuilder::default()
+    }
+
+    /// Checks every value on its own (the criteria against each other once the domain's bounding
+    /// box gives the defaults, in the pipeline).
+    pub fn validate(&self) -> Result<(), SettingsError> {
+        positive("edge-size", self.edge_size)?;
+        non_negative("facet-angle", self.facet_angle)?;
+        positive("facet-size", self.facet_size)?;
+        positive("facet-distance", self.facet_distance)?;
+        non_negative("cell-radius-edge-ratio", self.cell_radius_edge_ratio)?;
+        positive("cell-size", self.cell_size)?;
+        if self.optimize.time_limit.is_some_and(|t| t.is_zero()) {
+            return Err(SettingsError::new(
+                "optimize-time",
+                "must be a positive number of seconds",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Values that are valid but may keep refinement from terminating before `max_vertices`.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut warnings = Vec::new();
+        if self.facet_angle.is_some_and(|v| v > 30.0) {
+            warnings.push("--facet-angle above 30° may not terminate before --max-vertices".into());
+        }
+        if self
+            .cell_radius_edge_ratio
+            .is_some_and(|v| v > 0.0 && v < 2.0)
+        {
+            warnings.push(
+                "--cell-radius-edge-ratio below 2 may not terminate before --max-vertices".into(),
+            );
+        }
+        warnings
+    }
+
+    /// The CGAL-style criteria for a domain in `bbox`: defaults scaled by the box, overridden by
+    /// the settings.
+    pub fn criteria(&self, bbox: &Aabb) -> MeshCriteria {
+        let mut c = MeshCriteria::default_for(bbox);
+        if let Some(v) = self.edge_size {
+            c.edge_size = Sizing::Constant(v);
+        }
+        if let Some(v) = self.facet_angle {
+            c.facet.angle_deg = v;
+        }
+        if let Some(v) = self.facet_size {
+            c.facet.size = Sizing::Constant(v);
+        }
+        if let Some(v) = self.facet_distance {
+            c.facet.distance = Sizing::Constant(v);
+        }
+        if let Some(v) = self.cell_radius_edge_ratio {
+            c.cell.radius_edge_ratio = v;
+        }
+        if let Some(v) = self.cell_size {
+            c.cell.size = Sizing::Constant(v);
+        }
+        c
+    }
+
+    /// The core mesher's options for a domain in `bbox`.
+    pub fn mesh_options(&self, bbox: &Aabb) -> MeshOptions {
+        MeshOptions {
+            criteria: self.criteria(bbox),
+            limits: Limits {
+                max_vertices: self.max_vertices,
+                ..Limits::default()
+            },
+            keep_partial: self.keep_partial,
+            optimize: self.optimize.clone(),
+        }
+    }
+}
+
+/// Sets [`MeshSettings`] one option at a time; [`build`](Self::build) validates them.
+///
+/// ```
+/// let settings = delamesh::MeshSettings::builder()
+///     .facet_size(0.1)
+///     .max_vertices(100_000)
+///     .build()
+///     .unwrap();
+/// assert_eq!(settings.facet_size, Some(0.1));
+/// assert!(delamesh::MeshSettings::builder().cell_size(-1.0).build().is_err());
+/// ```
+#[derive(Clone, Debug, Default)]
+pub struct MeshSettingsBuilder {
+    settings: MeshSettings,
+}
+
+impl MeshSettingsBuilder {
+    /// See [`MeshSettings::edge_size`].
+    pub fn edge_size(mut self, v: f64) -> Self {
+        self.settings.edge_size = Some(v);
+        self
+    }
+    /// See [`MeshSettings::facet_angle`].
+    pub fn facet_angle(mut self, degrees: f64) -> Self {
+        self.settings.facet_angle = Some(degrees);
+        self
+    }
+    /// See [`MeshSettings::facet_size`].
+    pub fn facet_size(mut self, v: f64) -> Self {
+        self.settings.facet_size = Some(v);
+        self
+    }
+    /// See [`MeshSettings::facet_distance`].
+    pub fn facet_distance(mut self, v: f64) -> Self {
+        self.settings.facet_distance = Some(v);
+        self
+    }
+    /// See [`MeshSettings::cell_radius_edge_ratio`].
+    pub fn cell_radius_edge_ratio(mut self, v: f64) -> Self {
+        self.settings.cell_radius_edge_ratio = Some(v);
+        self
+    }
+    /// See [`MeshSettings::cell_size`].
+    pub fn cell_size(mut self, v: f64) -> Self {
+        self.settings.cell_size = Some(v);
+        self
+    }
+    /// See [`MeshSettings::max_vertices`].
+    pub fn max_vertices(mut self, n: usize) -> Self {
+        self.settings.max_vertices = n;
+        self
+    }
+    /// See [`MeshSettings::optimize`].
+    pub fn optimize(mut self, optimize: OptimizeOptions) -> Self {
+        self.settings.optimize = optimize;
+        self
+    }
+
+    /// See [`MeshSettings::keep_partial`].
+    pub fn keep_partial(mut self, keep: bool) -> Self {
+        self.settings.keep_partial = keep;
+        self
+    }
+    /// See [`FeatureSettings::enabled`].
+    pub fn features(mut self, enabled: bool) -> Self {
+        self.settings.features.enabled = enabled;
+        self
+    }
+    /// See [`FeatureSettings::angle_deg`].
+    pub fn feature_angle(mut self, degrees: f64) -> Self {
+        self.settings.features.angle_deg = degrees;
+        self
+    }
+    /// See [`FeatureSettings::polylines`].
+    pub fn feature_polylines(mut self, path: impl Into<PathBuf>) -> Self {
+        self.settings.features.polylines = Some(path.into());
+        self
+    }
+    /// The settings, if every value is valid.
+    pub fn build(self) -> Result<MeshSettings, SettingsError> {
+        self.settings.validate()?;
+        Ok(self.settings)
+    }
+}
