@@ -21,6 +21,9 @@ use std::collections::HashSet;
 const STEPS: [f64; 3] = [0.25, 0.1, 0.04];
 /// Pseudo-random directions tried when the gradient does not help (with the middle step).
 const RANDOM_TRIES: usize = 2;
+/// Whether surface vertices move (along the surface). Off: on two boxes sharing a face the
+/// moves lost a tenth of one box's volume (tests/cli_features.rs), a defect not found yet.
+const MOVE_SURFACE_VERTICES: bool = false;
 /// Sweeps over the slivers at most.
 const MAX_SWEEPS: usize = 6;
 
@@ -61,11 +64,11 @@ fn perturb_cell(ws: &mut Workspace<'_>, c: CellId, rng: &mut u64) -> bool {
         let v = cell[k];
         let surface = match ws.dimension[v.0 as usize] {
             VertexDimension::Volume => None,
-            VertexDimension::Surface => match surface_frame(ws, v) {
+            VertexDimension::Surface if MOVE_SURFACE_VERTICES => match surface_frame(ws, v) {
                 Some(frame) => Some(frame),
                 None => continue,
             },
-            VertexDimension::Curve | VertexDimension::Corner => continue,
+            VertexDimension::Surface | VertexDimension::Curve | VertexDimension::Corner => continue,
         };
         let p = ws.rt.point(v);
         let others: Vec<Point3> = (0..4)

@@ -66,6 +66,9 @@ pub(super) struct Workspace<'o> {
     pub dimension: Vec<VertexDimension>,
     /// Feature edges (sorted triangulation vertex pairs): peeling may not flip them.
     feature_edges: std::collections::HashSet<[u32; 2]>,
+    /// Boundary facets made by peeling: a cell under one is not peeled, so the surface moves
+    /// by one flat layer at most (peels would otherwise erode it step by step).
+    peeled: std::collections::HashSet<FacetKey>,
     /// The domain, for the optimisers that re-project surface vertices.
     pub oracle: &'o dyn crate::oracle::Oracle,
     /// The facet-distance criterion of refinement, which boundary facets changed by the
@@ -175,6 +178,7 @@ impl<'o> Workspace<'o> {
             boundary,
             dimension,
             feature_edges,
+            peeled: std::collections::HashSet::new(),
             oracle,
             facet_distance,
             vertex_of,
@@ -459,6 +463,12 @@ impl<'o> Workspace<'o> {
         let &[i, j] = on_boundary.as_slice() else {
             return false;
         };
+        if [i, j]
+            .iter()
+            .any(|&k| self.peeled.contains(&facet_key(q, k)))
+        {
+            return false;
+        }
         let (old_i, old_j) = (
             self.boundary[&facet_key(q, i)],
             self.boundary[&facet_key(q, j)],
@@ -523,6 +533,7 @@ impl<'o> Workspace<'o> {
         self.boundary.remove(&facet_key(q, j));
         for k in new {
             let sides = [OUTSIDE, sub];
+            self.peeled.insert(facet_key(q, k));
             self.boundary.insert(
                 facet_key(q, k),
                 BoundaryFacet {
