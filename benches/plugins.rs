@@ -94,6 +94,7 @@ fn meshing(c: &mut Criterion) {
         limits: Default::default(),
         keep_partial: false,
         validity: Default::default(),
+        optimize: delamesh_core::optimize::OptimizeOptions::none(),
     };
     let mut group = c.benchmark_group("mesh_torus");
     group.sample_size(10);

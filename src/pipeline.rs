@@ -8,6 +8,7 @@ use crate::settings::MeshSettings;
 use delamesh_core::complex::MeshComplex;
 use delamesh_core::mesh::component_euler_characteristics;
 use delamesh_core::mesh::{SurfaceMesh, TetMesh};
+use delamesh_core::optimize::{OptimizeOptions, OptimizeReport, optimize};
 use delamesh_core::oracle::Oracle;
 use delamesh_core::refine::criteria::MeshCriteria;
 use delamesh_core::refine::{MeshError, Progress, RefineError, RefineStats, mesh_domain};
@@ -51,6 +52,8 @@ pub struct Meshed {
     pub criteria: MeshCriteria,
     /// Wall time of each phase so far.
     pub times: Times,
+    /// Quality before and after each optimisation step.
+    pub optimization: OptimizeReport,
     domain: Domain,
     name: String,
     input: Option<SurfaceMesh>,
@@ -202,18 +205,24 @@ impl<'p> Mesher<'p> {
         let outcome = mesh_domain(oracle, &options, progress);
         domain.check()?;
         let mut warnings = Vec::new();
-        let (complex, stats, stopped) = match outcome {
+        let (complex, stats, stopped, optimization) = match outcome {
             Ok(o) => {
                 times.initial_points = o.times.initial_points;
                 times.refinement = o.times.refinement;
                 times.complex = o.times.complex;
                 warnings = validity_warnings(&o.validity, options.validity.manifold);
-                (o.complex, o.stats, None)
+                times.optimization = o.times.optimization;
+                (o.complex, o.stats, None, o.optimization)
             }
             Err(MeshError::Refinement {
                 source,
                 partial: Some(complex),
-            }) => (*complex, RefineStats::default(), Some(source)),
+            }) => {
+                // A partial mesh is not optimised; its report still gives its quality.
+                let none = OptimizeOptions::none();
+                let (complex, report) = optimize(*complex, &[], oracle, &options.criteria, &none);
+                (complex, RefineStats::default(), Some(source), report)
+            }
             Err(MeshError::Refinement {
                 source,
                 partial: None,
@@ -231,6 +240,7 @@ impl<'p> Mesher<'p> {
             stopped,
             criteria: options.criteria,
             times,
+            optimization,
             domain,
             name,
             input,
@@ -282,6 +292,7 @@ impl Meshed {
             criteria: &self.criteria,
             complex: &self.complex,
             stats: &self.stats,
+            optimization: &self.optimization,
         });
         self.times.quality = t.elapsed();
         self.times.total = self.started.elapsed();

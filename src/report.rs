@@ -4,6 +4,7 @@
 
 use delamesh_core::complex::{MeshComplex, VertexDimension};
 use delamesh_core::kernel::Point3;
+use delamesh_core::optimize::{OptimizeReport, Quality};
 use delamesh_core::oracle::Oracle;
 use delamesh_core::quality::{self, TetQuality};
 use delamesh_core::refine::RefineStats;
@@ -32,6 +33,8 @@ pub struct Report {
     pub times_s: TimesSeconds,
     /// Shape of the tetrahedra.
     pub quality: QualityReport,
+    /// Quality before and after each optimisation step.
+    pub optimization: OptimizationReport,
     /// How close the mesh is to the input.
     pub approximation: Approximation,
     /// Topology of the mesh boundary and of the input.
@@ -56,6 +59,8 @@ pub struct Times {
     pub refinement: Duration,
     /// Collecting the complex.
     pub complex: Duration,
+    /// Sliver perturbation, exudation and smoothing.
+    pub optimization: Duration,
     /// Computing the report.
     pub quality: Duration,
     /// Writing the mesh.
@@ -74,6 +79,7 @@ pub struct TimesSeconds {
     pub initial_points: f64,
     pub refinement: f64,
     pub complex: f64,
+    pub optimization: f64,
     pub write: f64,
     pub quality: f64,
     pub total: f64,
@@ -88,6 +94,7 @@ impl Times {
             initial_points: self.initial_points.as_secs_f64(),
             refinement: self.refinement.as_secs_f64(),
             complex: self.complex.as_secs_f64(),
+            optimization: self.optimization.as_secs_f64(),
             write: self.write.as_secs_f64(),
             quality: self.quality.as_secs_f64(),
             total: self.total.as_secs_f64(),
@@ -279,6 +286,79 @@ pub(crate) struct ReportInput<'a> {
     pub criteria: &'a MeshCriteria,
     pub complex: &'a MeshComplex,
     pub stats: &'a RefineStats,
+    pub optimization: &'a OptimizeReport,
+}
+
+/// The optimisation phase: quality of the refined mesh, then after each step.
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
+pub struct OptimizationReport {
+    /// The refined mesh.
+    pub before: StepQuality,
+    /// The steps run, in order.
+    pub steps: Vec<StepOutcome>,
+    /// Why the optimisers did not run, if they could not.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub skipped: Option<String>,
+}
+
+/// Dihedral-angle quality at one point of the optimisation phase.
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
+pub struct StepQuality {
+    /// Number of tetrahedra.
+    pub tets: usize,
+    /// Smallest dihedral angle (degrees).
+    pub min_dihedral_deg: f64,
+    /// Tetrahedra whose smallest dihedral angle is below 10°.
+    pub below_10_deg: usize,
+}
+
+/// What one optimisation step did.
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
+pub struct StepOutcome {
+    /// `lloyd`, `odt`, `perturb` or `exude`.
+    pub step: &'static str,
+    /// Moves or weight changes kept.
+    pub changes: usize,
+    /// Sweeps run (smoothing only).
+    pub sweeps: usize,
+    /// Wall time of the step.
+    pub seconds: f64,
+    /// Quality after the step.
+    pub after: StepQuality,
+}
+
+impl StepQuality {
+    fn new(q: &Quality) -> Self {
+        StepQuality {
+            tets: q.tets,
+            min_dihedral_deg: q.min_dihedral_deg,
+            below_10_deg: q.below_10_deg,
+        }
+    }
+}
+
+impl OptimizationReport {
+    /// The report section of the optimisation phase `r`.
+    pub fn new(r: &OptimizeReport) -> Self {
+        OptimizationReport {
+            before: StepQuality::new(&r.before),
+            steps: r
+                .steps
+                .iter()
+                .map(|s| StepOutcome {
+                    step: s.step.name(),
+                    changes: s.changes,
+                    sweeps: s.sweeps,
+                    seconds: s.time.as_secs_f64(),
+                    after: StepQuality::new(&s.quality),
+                })
+                .collect(),
+            skipped: r.skipped.map(|e| e.to_string()),
+        }
+    }
 }
 
 impl Report {
@@ -332,6 +412,7 @@ impl Report {
                 inverted_tets: q.inverted,
                 min_dihedral_histogram: q.min_dihedral_histogram.counts.clone(),
             },
+            optimization: OptimizationReport::new(r.optimization),
             approximation: Approximation {
                 hausdorff_mesh_to_input: to_input,
                 hausdorff_input_to_mesh: to_mesh,

@@ -9,6 +9,7 @@
 //! [`MeshSettings::mesh_options`] (or wherever the pipeline needs it), then the command-line flag
 //! in `src/cli/mesh.rs` (`MeshArgs` and `MeshArgs::settings`).
 
+use delamesh_core::optimize::OptimizeOptions;
 use delamesh_core::oracle::Aabb;
 use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
 use delamesh_core::refine::{Limits, MeshOptions, ValidityOptions};
@@ -56,6 +57,9 @@ pub struct MeshSettings {
     /// inconsistently oriented, self-intersecting, with degenerate triangles) instead of
     /// repairing it and meshing where its winding number is at least one.
     pub strict: bool,
+    /// The optimisers run after refinement (default: none; `OptimizeOptions::default()` is
+    /// CGAL's perturbation and exudation).
+    pub optimize: OptimizeOptions,
 }
 
 /// Options of segmented and gray-level 3D images (unused for surfaces and plugins).
@@ -105,6 +109,7 @@ impl Default for MeshSettings {
             features: FeatureSettings::default(),
             image: ImageSettings::default(),
             strict: false,
+            optimize: OptimizeOptions::none(),
         }
     }
 }
@@ -179,6 +184,12 @@ impl MeshSettings {
                 format!("must be a number, got {v}"),
             ));
         }
+        if self.optimize.time_limit.is_some_and(|t| t.is_zero()) {
+            return Err(SettingsError::new(
+                "optimize-time",
+                "must be a positive number of seconds",
+            ));
+        }
         Ok(())
     }
 
@@ -241,6 +252,7 @@ impl MeshSettings {
                 manifold: !self.non_manifold,
                 ..ValidityOptions::default()
             },
+            optimize: self.optimize.clone(),
         }
     }
 }
@@ -307,6 +319,12 @@ impl MeshSettingsBuilder {
         self.settings.max_vertices = n;
         self
     }
+    /// See [`MeshSettings::optimize`].
+    pub fn optimize(mut self, optimize: OptimizeOptions) -> Self {
+        self.settings.optimize = optimize;
+        self
+    }
+
     /// See [`MeshSettings::keep_partial`].
     pub fn keep_partial(mut self, keep: bool) -> Self {
         self.settings.keep_partial = keep;

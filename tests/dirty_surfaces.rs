@@ -33,6 +33,7 @@ fn mesh_of(oracle: &PolyhedralOracle, size: f64) -> MeshComplex {
         },
         keep_partial: false,
         validity: Default::default(),
+        optimize: delamesh_core::optimize::OptimizeOptions::none(),
     };
     mesh_domain(oracle, &options, &mut |_| {})
         .expect("refinement terminates")

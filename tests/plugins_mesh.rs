@@ -23,6 +23,7 @@ fn options(oracle: &dyn Oracle) -> MeshOptions {
         limits: Default::default(),
         keep_partial: false,
         validity: Default::default(),
+        optimize: delamesh_core::optimize::OptimizeOptions::default(),
     }
 }
 

@@ -93,6 +93,7 @@ fn sphere(c: &mut Criterion) {
         limits: Limits::default(),
         keep_partial: false,
         validity: Default::default(),
+        optimize: delamesh_core::optimize::OptimizeOptions::none(),
     };
     let mut group = c.benchmark_group("refine");
     group.sample_size(10);

@@ -6,6 +6,7 @@ pub mod complex;
 pub mod kernel;
 pub mod mesh;
 pub mod mesh2d;
+pub mod optimize;
 pub mod oracle;
 pub mod plugin;
 pub mod quality;

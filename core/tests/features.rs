@@ -272,6 +272,7 @@ fn options(size: f64) -> MeshOptions {
         },
         keep_partial: false,
         validity: Default::default(),
+        optimize: delamesh_core::optimize::OptimizeOptions::default(),
     }
 }
 
@@ -390,7 +391,22 @@ fn meshing_with_features_is_deterministic() {
 fn sharp_wedges_terminate_with_their_curves_and_corners() {
     for degrees in [20.0, 5.0] {
         let wedge = Polyhedron::wedge(degrees);
-        let m = mesh(&wedge, 0.2);
+        // Refinement alone keeps planar faces exactly; the optimisers move surface vertices
+        // within the facet distance (checked below).
+        let mut plain = options(0.2);
+        plain.optimize = delamesh_core::optimize::OptimizeOptions::none();
+        let m = mesh_domain(&wedge, &plain, &mut |_| {})
+            .expect("meshing succeeds")
+            .complex;
+        let optimised = mesh(&wedge, 0.2);
+        assert_positive_tets(&optimised);
+        let area: f64 = (0..optimised.facets.len())
+            .map(|f| {
+                let [a, b, c] = optimised.facet_points(f);
+                (b - a).cross(c - a).length() / 2.0
+            })
+            .sum();
+        assert!((volume(&optimised) - volume(&m)).abs() <= area * 0.02);
         assert_positive_tets(&m);
         assert_exact_corners(&m, &wedge.vertices);
         assert_straight_curves(&m, &wedge.feature_curves());
@@ -438,4 +454,28 @@ fn cylinder_rims_are_closed_chains_on_the_circles() {
             .iter()
             .all(|&d| d != VertexDimension::Corner)
     );
+}
+
+#[test]
+fn optimisation_keeps_corners_and_curve_vertices_and_lifts_the_smallest_angle() {
+    for (oracle, size) in [(&Polyhedron::cube() as &dyn Oracle, 0.3), (&Cylinder, 0.25)] {
+        let mut plain = options(size);
+        plain.optimize = delamesh_core::optimize::OptimizeOptions::none();
+        let refined = mesh_domain(oracle, &plain, &mut |_| {}).expect("meshing succeeds");
+        let optimised = mesh_domain(oracle, &options(size), &mut |_| {}).expect("meshing succeeds");
+        let (r, o) = (&refined.complex, &optimised.complex);
+        assert_positive_tets(o);
+        assert_eq!(r.vertex_dimension, o.vertex_dimension);
+        for (v, d) in o.vertex_dimension.iter().enumerate() {
+            if matches!(d, VertexDimension::Corner | VertexDimension::Curve) {
+                assert_eq!(r.points[v], o.points[v], "feature vertex {v} moved");
+            }
+        }
+        assert_eq!(r.feature_edges, o.feature_edges);
+        assert_eq!(r.corners, o.corners);
+        let report = &optimised.optimization;
+        assert!(report.skipped.is_none());
+        assert!(report.after().min_dihedral_deg >= report.before.min_dihedral_deg);
+        assert!(quality::surface_topology(&o.facets).is_closed_manifold());
+    }
 }

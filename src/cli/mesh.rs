@@ -90,6 +90,9 @@ pub struct MeshArgs {
     /// Options of segmented and gray-level 3D images (.inr .nii .vti .nrrd .nhdr, optionally .gz).
     #[command(flatten)]
     pub image: crate::cli::image::ImageArgs,
+    /// Optimisation after refinement.
+    #[command(flatten)]
+    pub optimize: crate::cli::optimize::OptimizeArgs,
 }
 
 impl MeshArgs {
@@ -106,9 +109,7 @@ impl MeshArgs {
             max_vertices: self.max_vertices,
             time_limit: match self.time_limit {
                 None => None,
-                Some(t) if t.is_finite() && t > 0.0 && t < 1e9 => {
-                    Some(Duration::from_secs_f64(t))
-                }
+                Some(t) if t.is_finite() && t > 0.0 && t < 1e9 => Some(Duration::from_secs_f64(t)),
                 Some(t) => bail!("--time-limit must be a positive number of seconds, got {t}"),
             },
             keep_partial: self.keep_partial,
@@ -120,6 +121,7 @@ impl MeshArgs {
             },
             image: self.image.settings()?,
             strict: self.strict,
+            optimize: self.optimize.options()?,
         })
     }
 }
@@ -139,6 +141,10 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     if let Some(report) = &args.report {
         delamesh_formats::check_document_output(report)?;
     }
+    if args.plugin.plugin.is_some() && args.optimize.report_plot.is_some() {
+        bail!("--report-plot is drawn for an input surface and is not available with --plugin");
+    }
+    args.optimize.check_plot_path()?;
     let settings = args.settings()?;
     settings.validate()?;
     for warning in settings.warnings() {
@@ -176,6 +182,10 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         let _ = std::fs::remove_file(&args.output);
         return Err(e.context(format!("{} was not kept", args.output.display())));
     }
+    if let Some(path) = &args.optimize.report_plot {
+        let title = format!("{}: {}", meshed.name(), criteria_title(&meshed));
+        crate::cli::optimize::write_plot(path, &meshed.optimization, &title)?;
+    }
     match meshed.stopped.take() {
         Some(e) => Err(anyhow::Error::new(e).context(format!(
             "{}: stopped early; the partial mesh was written to {}",
@@ -184,6 +194,21 @@ pub fn run(args: &MeshArgs) -> Result<()> {
         ))),
         None => Ok(()),
     }
+}
+
+/// The criteria in one line, for the plot's title.
+fn criteria_title(meshed: &Meshed) -> String {
+    let c = &meshed.criteria;
+    let center = meshed.domain().oracle().bounding_box().center();
+    format!(
+        "edge {:.3}, facet {}° / {:.3} / {:.4}, cell {} / {:.3}",
+        c.edge_size.at(center, 1),
+        c.facet.angle_deg,
+        c.facet.size.at(center, 1),
+        c.facet.distance.at(center, 1),
+        c.cell.radius_edge_ratio,
+        c.cell.size.at(center, 1),
+    )
 }
 
 /// Points an unmeshable surface's error at `delamesh info`, which diagnoses it in full.

@@ -19,6 +19,7 @@ mod image;
 mod info;
 mod mesh;
 mod mesh2d;
+mod optimize;
 mod plugins;
 
 use clap::{Parser, Subcommand};

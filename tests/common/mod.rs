@@ -116,6 +116,7 @@ pub fn mesh(surface: &Surface, criteria: MeshCriteria) -> (PolyhedralOracle, Mes
         },
         keep_partial: false,
         validity: Default::default(),
+        optimize: delamesh_core::optimize::OptimizeOptions::none(),
     };
     let outcome = mesh_domain(&oracle, &options, &mut |_| {}).expect("refinement terminates");
     (oracle, outcome.complex)

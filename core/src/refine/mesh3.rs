@@ -11,10 +11,12 @@ use super::protect::{ProtectError, ProtectLimits, protect};
 use super::repair::{Validity, ValidityOptions, find_defects};
 use crate::complex::MeshComplex;
 use crate::kernel::Point3;
+use crate::optimize::{OptimizeOptions, OptimizeReport, optimize};
 use crate::oracle::{FeatureCurve, Oracle};
 use crate::triangulation::{
     Delaunay3, InsertOutcome, InsertReport, Regular3, Triangulation, TriangulationError, VertexId,
 };
+use std::collections::HashMap;
 use std::time::{Duration, Instant};
 
 #[derive(Clone, Debug)]
@@ -25,6 +27,8 @@ pub struct MeshOptions {
     pub keep_partial: bool,
     /// Repairs after the criteria: flat cells, manifold boundary, input topology.
     pub validity: ValidityOptions,
+    /// The optimisers run on the refined mesh (not on a partial one).
+    pub optimize: OptimizeOptions,
 }
 
 /// Wall time of each phase.
@@ -33,6 +37,8 @@ pub struct PhaseTimes {
     pub initial_points: Duration,
     pub refinement: Duration,
     pub complex: Duration,
+    /// Sliver perturbation, exudation and smoothing.
+    pub optimization: Duration,
 }
 
 #[derive(Debug)]
@@ -42,6 +48,8 @@ pub struct MeshOutcome {
     pub times: PhaseTimes,
     /// What the validity repairs reached (see [`ValidityOptions`]).
     pub validity: Validity,
+    /// Quality before and after each optimisation step.
+    pub optimization: OptimizeReport,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -111,7 +119,16 @@ fn mesh_smooth(
         surface.mark_on_surface(v);
     }
     let initial_points = start.elapsed();
-    refine_and_collect(tr, surface, cells, None, options, initial_points, progress)
+    refine_and_collect(
+        oracle,
+        tr,
+        surface,
+        cells,
+        None,
+        options,
+        initial_points,
+        progress,
+    )
 }
 
 /// Inserts a protecting ball as a weighted vertex; `None` when the triangulation hides it.
@@ -159,6 +176,7 @@ pub fn mesh_with_features<T: Triangulation<Point = Point3>>(
     }
     let initial_points = start.elapsed();
     refine_and_collect(
+        oracle,
         tr,
         surface,
         cells,
@@ -169,8 +187,11 @@ pub fn mesh_with_features<T: Triangulation<Point = Point3>>(
     )
 }
 
-/// Run the level stack (curve balls first when given) and collect the complex.
+/// Run the level stack (curve balls first when given), collect the complex and optimise it.
+/// (The levels are the two meshers' own; bundling them would only move the argument list.)
+#[allow(clippy::too_many_arguments)]
 fn refine_and_collect<T: Triangulation<Point = Point3>>(
+    oracle: &dyn Oracle,
     mut tr: T,
     mut surface: SurfaceLevel<'_>,
     mut cells: CellLevel<'_>,
@@ -257,11 +278,22 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
         Ok(stats) => {
             let complex = collect();
             times.complex = start.elapsed();
+            let start = Instant::now();
+            let weights = vertex_weights(&tr, &complex);
+            let (complex, optimization) = optimize(
+                complex,
+                &weights,
+                oracle,
+                &options.criteria,
+                &options.optimize,
+            );
+            times.optimization = start.elapsed();
             Ok(MeshOutcome {
                 complex,
                 stats,
                 times,
                 validity,
+                optimization,
             })
         }
         Err(source) => {
@@ -269,4 +301,27 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
             Err(MeshError::Refinement { source, partial })
         }
     }
+}
+
+/// The weight each vertex of `complex` has in `tr` (the optimisers need the regular
+/// triangulation refinement built; the complex numbers vertices compactly, so they are matched by
+/// position: a hidden vertex at a visible one's position is the lighter of the two).
+fn vertex_weights<T: Triangulation<Point = Point3>>(tr: &T, complex: &MeshComplex) -> Vec<f64> {
+    let key = |p: Point3| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+    let mut weight: HashMap<[u64; 3], f64> = HashMap::new();
+    for v in tr.vertices() {
+        let w = tr.weight(v);
+        if w > 0.0 {
+            let e = weight.entry(key(tr.point(v))).or_insert(w);
+            *e = e.max(w);
+        }
+    }
+    if weight.is_empty() {
+        return Vec::new();
+    }
+    complex
+        .points
+        .iter()
+        .map(|&p| weight.get(&key(p)).copied().unwrap_or(0.0))
+        .collect()
 }

@@ -22,7 +22,7 @@ pub mod repair;
 pub use engine::{
     Candidate, Check, Engine, Limits, MesherLevel, Progress, RefineError, RefineStats,
 };
-pub(crate) use geometry::{cell_vertices, facet_vertices};
+pub(crate) use geometry::{cell_vertices, facet_vertices, triangle_circumcenter};
 pub use mesh3::{
     InsertBall, MeshError, MeshOptions, MeshOutcome, PhaseTimes, mesh_domain, mesh_with_features,
 };

@@ -24,7 +24,7 @@ pub mod triangulation3;
 pub mod validity;
 
 pub use delaunay2::Delaunay2;
-pub use triangulation3::{Delaunay3, Regular3, Triangulation3};
+pub use triangulation3::{Delaunay3, MoveReport, Regular3, Triangulation3};
 
 /// A vertex of a triangulation. Stable once assigned; finite vertices are numbered densely from 0
 /// (one-by-one insertions in insertion order; a bulk build numbers its points along a space-filling

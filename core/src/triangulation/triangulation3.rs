@@ -18,6 +18,7 @@ mod cavity;
 mod kernel;
 mod parallel;
 mod regular;
+mod relocate;
 
 use super::spatial_sort::{brio_order, brio_rounds, gather, hilbert_order};
 use super::{
@@ -27,6 +28,7 @@ use crate::kernel::{Point2, Point3, Sign, StaticFilter, WeightedPoint3, orient2d
 use cavity::{ByteMarks, CavityMarks, CellWriter, HashMarks, NewCell, Scratch, grow_cavity};
 pub use kernel::{ConflictKernel, Euclidean, Power};
 pub use regular::MAX_WEIGHT;
+pub use relocate::MoveReport;
 use std::collections::HashMap;
 
 /// Index of the infinite vertex in cell records.

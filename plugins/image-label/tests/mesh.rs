@@ -46,6 +46,7 @@ fn mesh(oracle: &ImageLabelOracle, criteria: MeshCriteria) -> MeshComplex {
         limits: Limits::default(),
         keep_partial: false,
         validity: Default::default(),
+        optimize: delamesh_core::optimize::OptimizeOptions::none(),
     };
     mesh_domain(oracle, &options, &mut |_| {})
         .expect("meshing succeeds")

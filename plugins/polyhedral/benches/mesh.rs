@@ -38,6 +38,7 @@ fn sphere_off(c: &mut Criterion) {
         limits: Limits::default(),
         keep_partial: false,
         validity: Default::default(),
+        optimize: delamesh_core::optimize::OptimizeOptions::none(),
     };
     let mut group = c.benchmark_group("mesh");
     group.sample_size(10);

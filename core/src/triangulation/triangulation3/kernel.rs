@@ -30,6 +30,10 @@ pub trait ConflictKernel: Clone + Debug + Default + Send + Sync + sealed::Sealed
     fn is_hidden(&self, v: u32) -> bool;
     /// Marks `v` hidden.
     fn hide(&mut self, v: u32);
+    /// Clears the hidden mark of `v` (before it is inserted again).
+    fn unhide(&mut self, v: u32);
+    /// Changes the weight of `v` (which must be in no cell).
+    fn set_weight(&mut self, v: u32, weight: f64);
     /// Whether `(p, w)` conflicts with the positively oriented finite cell `v`.
     fn in_conflict_finite(
         &self,
@@ -75,6 +79,12 @@ impl ConflictKernel for Euclidean {
 
     #[inline]
     fn hide(&mut self, _v: u32) {}
+
+    #[inline]
+    fn unhide(&mut self, _v: u32) {}
+
+    #[inline]
+    fn set_weight(&mut self, _v: u32, _weight: f64) {}
 
     #[inline]
     fn in_conflict_finite(
@@ -163,6 +173,14 @@ impl ConflictKernel for Power {
 
     fn hide(&mut self, v: u32) {
         self.hidden[v as usize] = true;
+    }
+
+    fn unhide(&mut self, v: u32) {
+        self.hidden[v as usize] = false;
+    }
+
+    fn set_weight(&mut self, v: u32, weight: f64) {
+        self.weights[v as usize] = weight;
     }
 
     fn in_conflict_finite(

@@ -9,7 +9,7 @@ use crate::triangulation::{CellId, InsertOutcome, InsertReport, TriangulationErr
 pub const MAX_WEIGHT: f64 = MAX_COORDINATE * MAX_COORDINATE;
 
 /// Rejects weights the power test cannot handle, and negative ones (a ball has a real radius).
-fn validate_weight(w: f64, index: usize) -> Result<(), TriangulationError> {
+pub(super) fn validate_weight(w: f64, index: usize) -> Result<(), TriangulationError> {
     if (0.0..=MAX_WEIGHT).contains(&w) {
         Ok(())
     } else {

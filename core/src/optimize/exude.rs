@@ -1,0 +1,101 @@
+//! Sliver exudation (Cheng, Dey, Edelsbrunner, Facello and Teng 2000): a vertex of a sliver gets
+//! a larger weight, which changes the regular triangulation around it and can flip the sliver
+//! away without moving any point. Weights stay below `DELTA²` times the squared distance from
+//! the vertex to the nearest ball of another vertex, the bound under which no vertex gets
+//! hidden and the weighted points stay close to the unweighted ones; the boundary facets are
+//! kept by the workspace, so the restricted surface does not change.
+
+use super::Deadline;
+use super::state::Workspace;
+use crate::complex::VertexDimension;
+use crate::triangulation::{CellId, Triangulation, VertexId};
+use std::collections::HashSet;
+
+/// The weight bound as a fraction of the distance to the nearest other ball (Cheng et al.
+/// require less than 1/2; CGAL uses 0.3).
+const DELTA: f64 = 0.35;
+/// Weights tried per vertex, as fractions of the interval between its weight and the bound.
+const PUMPS: [f64; 3] = [0.33, 0.67, 1.0];
+/// Sweeps over the slivers at most.
+const MAX_SWEEPS: usize = 3;
+
+/// Pumps the vertices of the cells below `bound` degrees, worst first, until a sweep improves
+/// nothing or the deadline passes. Returns the number of weight changes kept.
+pub(super) fn exude(ws: &mut Workspace<'_>, bound: f64, deadline: &Deadline) -> usize {
+    let mut kept = 0;
+    // Cells no pump improved: they are not tried again while they exist.
+    let mut stuck = HashSet::new();
+    for _ in 0..MAX_SWEEPS {
+        let mut improved = 0;
+        for (_, c, cell) in ws.slivers(bound) {
+            if deadline.passed() {
+                return kept + improved;
+            }
+            if !ws.rt.is_live(c) || ws.rt.cell(c) != cell || stuck.contains(&cell) {
+                continue;
+            }
+            if cell.iter().any(|&v| pump(ws, v)) {
+                improved += 1;
+            } else {
+                stuck.insert(cell);
+            }
+        }
+        kept += improved;
+        if improved == 0 {
+            break;
+        }
+    }
+    kept
+}
+
+/// Gives `v` the weight (among a few up to its bound) that most improves the smallest dihedral
+/// angle around it, if one does.
+fn pump(ws: &mut Workspace<'_>, v: VertexId) -> bool {
+    if !matches!(
+        ws.dimension[v.0 as usize],
+        VertexDimension::Volume | VertexDimension::Surface
+    ) {
+        return false;
+    }
+    let p = ws.rt.point(v);
+    let w0 = ws.rt.weight(v);
+    let Some(bound) = weight_bound(ws, v) else {
+        return false;
+    };
+    if bound <= w0 {
+        return false;
+    }
+    let mut best: Option<(f64, f64)> = None;
+    for f in PUMPS {
+        let w = w0 + (bound - w0) * f;
+        if let Some(change) = ws.try_move(v, p, w) {
+            if change.after > change.before && best.is_none_or(|(a, _)| change.after > a) {
+                best = Some((change.after, w));
+            }
+            ws.undo(change);
+        }
+    }
+    let Some((_, w)) = best else {
+        return false;
+    };
+    ws.try_move(v, p, w).is_some()
+}
+
+/// `DELTA²` times the squared distance from `v` to the nearest ball of a neighbour (`None` when
+/// it touches one).
+fn weight_bound(ws: &Workspace<'_>, v: VertexId) -> Option<f64> {
+    let mut cells: Vec<CellId> = Vec::new();
+    ws.rt.incident_cells(v, &mut cells);
+    let p = ws.rt.point(v);
+    let inf = ws.rt.infinite_vertex();
+    let mut nearest = f64::INFINITY;
+    for &c in &cells {
+        for u in ws.rt.cell(c) {
+            if u != v && u != inf {
+                let gap = p.distance(ws.rt.point(u)) - ws.rt.weight(u).sqrt();
+                nearest = nearest.min(gap);
+            }
+        }
+    }
+    (nearest > 0.0 && nearest.is_finite()).then_some(DELTA * DELTA * nearest * nearest)
+}

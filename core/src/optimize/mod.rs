@@ -1,0 +1,237 @@
+//! Mesh optimisation after refinement: Lloyd and ODT smoothing (off by default), then sliver
+//! perturbation and sliver exudation (on by default), as CGAL Mesh_3 orders them.
+//!
+//! Delaunay refinement bounds the radius-edge ratio but not the dihedral angles, so refined
+//! meshes keep slivers. The optimisers work on the regular triangulation of the mesh vertices
+//! ([`state::Workspace`]): every step moves vertices or changes weights through one primitive
+//! that keeps the triangulation regular and the boundary facets exactly as refinement left them
+//! (same triangles, patches and subdomains), so the optimised mesh has the same surface
+//! combinatorics, its surface vertices on the surface and its feature vertices in place.
+//! It depends only on the complex, the weights of its vertices and the oracle, not on how
+//! refinement built them. Every step is deterministic (fixed sweep orders and pseudo-random
+//! sequences); only a time limit can make two runs differ.
+
+mod exude;
+mod perturb;
+mod smooth;
+mod state;
+#[cfg(test)]
+mod tests;
+
+pub use state::WorkspaceError;
+
+use crate::complex::MeshComplex;
+use crate::oracle::Oracle;
+use crate::quality::Histogram;
+use crate::refine::criteria::MeshCriteria;
+use smooth::Smoother;
+use state::Workspace;
+use std::time::{Duration, Instant};
+
+/// Which optimisers run, and their bounds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OptimizeOptions {
+    /// Lloyd smoothing (centroidal Voronoi) of the interior vertices.
+    pub lloyd: bool,
+    /// ODT smoothing of the interior vertices.
+    pub odt: bool,
+    /// Sliver perturbation.
+    pub perturb: bool,
+    /// Sliver exudation.
+    pub exude: bool,
+    /// Wall-time bound of the whole phase (`None`: the steps stop by themselves). A bound makes
+    /// the result depend on the machine's speed.
+    pub time_limit: Option<Duration>,
+    /// Perturbation and exudation work on the cells whose smallest dihedral angle is below
+    /// this (degrees).
+    pub sliver_bound_deg: f64,
+    /// Smoothing sweeps at most (each of Lloyd and ODT).
+    pub max_smoothing_sweeps: usize,
+}
+
+impl Default for OptimizeOptions {
+    /// CGAL's defaults: perturbation and exudation, no smoothing, no time limit.
+    fn default() -> Self {
+        OptimizeOptions {
+            lloyd: false,
+            odt: false,
+            perturb: true,
+            exude: true,
+            time_limit: None,
+            sliver_bound_deg: 20.0,
+            max_smoothing_sweeps: 20,
+        }
+    }
+}
+
+impl OptimizeOptions {
+    /// No optimiser at all.
+    pub fn none() -> Self {
+        OptimizeOptions {
+            perturb: false,
+            exude: false,
+            ..OptimizeOptions::default()
+        }
+    }
+
+    /// Whether any optimiser runs.
+    pub fn any(&self) -> bool {
+        self.lloyd || self.odt || self.perturb || self.exude
+    }
+}
+
+/// An optimisation step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Step {
+    /// Lloyd smoothing.
+    Lloyd,
+    /// ODT smoothing.
+    Odt,
+    /// Sliver perturbation.
+    Perturb,
+    /// Sliver exudation.
+    Exude,
+}
+
+impl Step {
+    /// Lower-case name, as in the options.
+    pub fn name(self) -> &'static str {
+        match self {
+            Step::Lloyd => "lloyd",
+            Step::Odt => "odt",
+            Step::Perturb => "perturb",
+            Step::Exude => "exude",
+        }
+    }
+}
+
+/// Dihedral-angle quality of the mesh at one point of the phase.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Quality {
+    /// Number of tetrahedra.
+    pub tets: usize,
+    /// Smallest dihedral angle of the mesh (degrees).
+    pub min_dihedral_deg: f64,
+    /// Tetrahedra whose smallest dihedral angle is below 10°.
+    pub below_10_deg: usize,
+    /// Smallest dihedral angle of each tetrahedron, in 1° bins over [0°, 90°].
+    pub histogram: Histogram,
+}
+
+impl Quality {
+    fn of(angles: &[f64]) -> Self {
+        let mut histogram = Histogram::new(0.0, 90.0, 90);
+        for &a in angles {
+            histogram.add(a);
+        }
+        Quality {
+            tets: angles.len(),
+            min_dihedral_deg: angles.iter().copied().fold(180.0, f64::min),
+            below_10_deg: angles.iter().filter(|&&a| a < 10.0).count(),
+            histogram,
+        }
+    }
+}
+
+/// What one step did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepReport {
+    /// The step.
+    pub step: Step,
+    /// Moves or weight changes kept.
+    pub changes: usize,
+    /// Sweeps run (smoothing only; 0 otherwise).
+    pub sweeps: usize,
+    /// Wall time of the step.
+    pub time: Duration,
+    /// Quality after the step.
+    pub quality: Quality,
+}
+
+/// Quality before and after each step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OptimizeReport {
+    /// Quality of the refined mesh.
+    pub before: Quality,
+    /// The steps run, in order.
+    pub steps: Vec<StepReport>,
+    /// Why no step ran, if the mesh could not be taken over.
+    pub skipped: Option<WorkspaceError>,
+}
+
+impl OptimizeReport {
+    /// Quality at the end of the phase.
+    pub fn after(&self) -> &Quality {
+        self.steps.last().map_or(&self.before, |s| &s.quality)
+    }
+}
+
+/// The end of the phase, if bounded.
+pub(crate) struct Deadline(Option<Instant>);
+
+impl Deadline {
+    fn passed(&self) -> bool {
+        self.0.is_some_and(|d| Instant::now() >= d)
+    }
+}
+
+/// Optimises `complex`, whose vertex `i` had weight `weights[i]` in the triangulation refinement
+/// built (missing weights are 0), over the domain `oracle`; boundary facets the optimisers change
+/// meet the facet-distance criterion of `criteria`. Returns the optimised complex (the
+/// input unchanged when it could not be taken over; the report says why).
+pub fn optimize(
+    complex: MeshComplex,
+    weights: &[f64],
+    oracle: &dyn Oracle,
+    criteria: &MeshCriteria,
+    options: &OptimizeOptions,
+) -> (MeshComplex, OptimizeReport) {
+    let start = Instant::now();
+    let deadline = Deadline(options.time_limit.map(|t| start + t));
+    let angles: Vec<f64> = (0..complex.tets.len())
+        .map(|t| state::min_dihedral(&complex.tet_points(t)))
+        .collect();
+    let mut report = OptimizeReport {
+        before: Quality::of(&angles),
+        steps: Vec::new(),
+        skipped: None,
+    };
+    if !options.any() || complex.tets.is_empty() {
+        return (complex, report);
+    }
+    let mut ws = match Workspace::new(&complex, weights, oracle, criteria.facet.distance.clone()) {
+        Ok(ws) => ws,
+        Err(e) => {
+            report.skipped = Some(e);
+            return (complex, report);
+        }
+    };
+    let steps = [
+        (Step::Lloyd, options.lloyd),
+        (Step::Odt, options.odt),
+        (Step::Perturb, options.perturb),
+        (Step::Exude, options.exude),
+    ];
+    for (step, on) in steps {
+        if !on || deadline.passed() {
+            continue;
+        }
+        let t = Instant::now();
+        let bound = options.sliver_bound_deg;
+        let sweeps = options.max_smoothing_sweeps;
+        let (changes, sweeps) = match step {
+            Step::Lloyd => smooth::smooth(&mut ws, Smoother::Lloyd, sweeps, &deadline),
+            Step::Odt => smooth::smooth(&mut ws, Smoother::Odt, sweeps, &deadline),
+            Step::Perturb => (perturb::perturb(&mut ws, bound, &deadline), 0),
+            Step::Exude => (exude::exude(&mut ws, bound, &deadline), 0),
+        };
+        report.steps.push(StepReport {
+            step,
+            changes,
+            sweeps,
+            time: t.elapsed(),
+            quality: Quality::of(&ws.min_dihedrals()),
+        });
+    }
+    (ws.into_complex(complex), report)
+}

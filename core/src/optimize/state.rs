@@ -1,0 +1,666 @@
+//! The mesh the optimisers work on: the regular triangulation of the mesh vertices (with the
+//! weights refinement gave them), the subdomain of every cell, and the boundary facets with the
+//! subdomains they separate and their patches.
+//!
+//! Every vertex move and weight change goes through [`Workspace::try_move`], which keeps two
+//! invariants whatever the optimiser asks: the triangulation is the regular triangulation of the
+//! current weighted points, and the boundary facets are exactly the input's (same triangles,
+//! same patches, same subdomains on each side). New cells get their subdomain by crossing facets
+//! from the cells around them; a move after which no consistent labelling exists, or after
+//! which a boundary facet is no longer a facet, is undone.
+
+use crate::complex::{MeshComplex, VertexDimension};
+use crate::kernel::Point3;
+use crate::oracle::{OUTSIDE, PatchId, SubdomainId};
+use crate::quality::{dihedral_angles_deg, tet_volume};
+use crate::refine::criteria::Sizing;
+use crate::refine::{facet_vertices, triangle_circumcenter};
+use crate::triangulation::{CellId, MoveReport, Regular3, Triangulation, VertexId};
+use std::collections::HashMap;
+
+/// Why the optimisers cannot start from a complex (they then leave it as it is).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum WorkspaceError {
+    /// Two mesh vertices share a position, or one is hidden by the weights.
+    #[error("the mesh vertices are not the vertices of one regular triangulation")]
+    Vertices,
+    /// A tetrahedron of the mesh is not a cell of the regular triangulation of its vertices.
+    #[error("the mesh is not a subcomplex of the regular triangulation of its vertices")]
+    NotRegular,
+    /// The subdomains and the boundary facets do not agree.
+    #[error("the boundary facets do not separate the subdomains")]
+    Boundary,
+}
+
+/// A facet key: its three vertices, sorted.
+pub(super) type FacetKey = [u32; 3];
+
+/// A boundary facet: its patch and the two subdomains it separates, sorted.
+#[derive(Clone, Copy, Debug)]
+struct BoundaryFacet {
+    patch: PatchId,
+    sides: [SubdomainId; 2],
+}
+
+/// A move that passed the invariants: what it did, to compare or undo.
+#[derive(Clone, Debug)]
+pub(super) struct Change {
+    vertex: VertexId,
+    old_point: Point3,
+    old_weight: f64,
+    /// Subdomains of the destroyed cells, by sorted vertices (to restore them on undo).
+    saved: HashMap<[u32; 4], SubdomainId>,
+    /// Smallest dihedral angle of the destroyed cells inside the domain.
+    pub before: f64,
+    /// Smallest dihedral angle of the created cells inside the domain.
+    pub after: f64,
+}
+
+/// The triangulation, its labels and the boundary, with the per-vertex data of the mesh.
+pub(super) struct Workspace<'o> {
+    pub rt: Regular3,
+    /// Subdomain of each cell slot ([`OUTSIDE`] for infinite cells and cells outside).
+    label: Vec<SubdomainId>,
+    boundary: HashMap<FacetKey, BoundaryFacet>,
+    /// Dimension of each triangulation vertex.
+    pub dimension: Vec<VertexDimension>,
+    /// Feature edges (sorted triangulation vertex pairs): peeling may not flip them.
+    feature_edges: std::collections::HashSet<[u32; 2]>,
+    /// Boundary facets made by peeling: a cell under one is not peeled, so the surface moves
+    /// by one flat layer at most (peels would otherwise erode it step by step).
+    peeled: std::collections::HashSet<FacetKey>,
+    /// The domain, for the optimisers that re-project surface vertices.
+    pub oracle: &'o dyn crate::oracle::Oracle,
+    /// The facet-distance criterion of refinement, which boundary facets changed by the
+    /// optimisers must still meet.
+    facet_distance: Sizing,
+    /// The triangulation vertex of each mesh vertex.
+    vertex_of: Vec<VertexId>,
+    report: MoveReport,
+}
+
+/// Sorted vertices of a cell.
+fn quad_key(q: [VertexId; 4]) -> [u32; 4] {
+    let mut k = q.map(|v| v.0);
+    k.sort_unstable();
+    k
+}
+
+/// Sorted vertices of facet `i` of cell `q`.
+fn facet_key(q: [VertexId; 4], i: usize) -> FacetKey {
+    let mut k = [0u32; 3];
+    let mut n = 0;
+    for (j, v) in q.iter().enumerate() {
+        if j != i {
+            k[n] = v.0;
+            n += 1;
+        }
+    }
+    k.sort_unstable();
+    k
+}
+
+/// A cell's vertices in the order of positive volume: the triangulation orders them so that
+/// `orient3d` is positive, which is the opposite handedness of [`tet_volume`].
+pub(super) fn positive(mut q: [VertexId; 4]) -> [VertexId; 4] {
+    q.swap(0, 1);
+    q
+}
+
+/// Smallest dihedral angle (degrees) of the tetrahedron; 0 when flat or inverted.
+pub(super) fn min_dihedral(p: &[Point3; 4]) -> f64 {
+    if tet_volume(p) <= 0.0 {
+        return 0.0;
+    }
+    dihedral_angles_deg(p)
+        .into_iter()
+        .fold(f64::INFINITY, f64::min)
+        .max(0.0)
+}
+
+impl<'o> Workspace<'o> {
+    /// The workspace of `complex`, whose vertex `i` has weight `weights[i]` in the triangulation
+    /// refinement built.
+    pub fn new(
+        complex: &MeshComplex,
+        weights: &[f64],
+        oracle: &'o dyn crate::oracle::Oracle,
+        facet_distance: Sizing,
+    ) -> Result<Self, WorkspaceError> {
+        let points: Vec<(Point3, f64)> = complex
+            .points
+            .iter()
+            .zip(weights.iter().chain(std::iter::repeat(&0.0)))
+            .map(|(&p, &w)| (p, w))
+            .collect();
+        let (rt, vertex_of) =
+            Regular3::from_weighted_points(&points).map_err(|_| WorkspaceError::Vertices)?;
+        let mut seen = vec![false; rt.num_vertices()];
+        for &v in &vertex_of {
+            if rt.is_hidden(v) || std::mem::replace(&mut seen[v.0 as usize], true) {
+                return Err(WorkspaceError::Vertices);
+            }
+        }
+        let mut cell_of: HashMap<[u32; 4], CellId> = HashMap::with_capacity(rt.num_cells());
+        for c in rt.finite_cells() {
+            cell_of.insert(quad_key(rt.cell(c)), c);
+        }
+        let mut label = vec![OUTSIDE; rt.cell_capacity()];
+        for (t, &sub) in complex.tets.iter().zip(&complex.tet_subdomain) {
+            let key = quad_key(t.map(|i| vertex_of[i as usize]));
+            let c = cell_of.get(&key).ok_or(WorkspaceError::NotRegular)?;
+            label[c.0 as usize] = sub;
+        }
+        let mut boundary = HashMap::with_capacity(complex.facets.len());
+        for (k, f) in complex.facets.iter().enumerate() {
+            let mut key = f.map(|i| vertex_of[i as usize].0);
+            key.sort_unstable();
+            let mut sides = complex.facet_subdomains[k];
+            sides.sort_unstable();
+            let patch = complex.facet_patch[k];
+            boundary.insert(key, BoundaryFacet { patch, sides });
+        }
+        let mut dimension = vec![VertexDimension::Volume; rt.num_vertices()];
+        for (i, &v) in vertex_of.iter().enumerate() {
+            dimension[v.0 as usize] = complex.vertex_dimension[i];
+        }
+        let feature_edges = complex
+            .feature_edges
+            .iter()
+            .map(|e| {
+                let (a, b) = (vertex_of[e[0] as usize].0, vertex_of[e[1] as usize].0);
+                [a.min(b), a.max(b)]
+            })
+            .collect();
+        let ws = Workspace {
+            rt,
+            label,
+            boundary,
+            dimension,
+            feature_edges,
+            peeled: std::collections::HashSet::new(),
+            oracle,
+            facet_distance,
+            vertex_of,
+            report: MoveReport::default(),
+        };
+        let consistent = ws.rt.finite_cells().all(|c| {
+            (0..4).all(|i| {
+                let n = ws.rt.neighbor(c, i);
+                ws.across(facet_key(ws.rt.cell(c), i), ws.label(c)) == Some(ws.label(n))
+            })
+        });
+        if !consistent {
+            return Err(WorkspaceError::Boundary);
+        }
+        Ok(ws)
+    }
+
+    /// Subdomain of live cell `c`.
+    pub fn label(&self, c: CellId) -> SubdomainId {
+        self.label.get(c.0 as usize).copied().unwrap_or(OUTSIDE)
+    }
+
+    /// Whether live cell `c` is a tetrahedron of the mesh.
+    pub fn inside(&self, c: CellId) -> bool {
+        self.label(c) != OUTSIDE && !self.rt.is_infinite_cell(c)
+    }
+
+    /// The subdomain across facet `key` from a cell of subdomain `from`; `None` when `key` is a
+    /// boundary facet that does not bound `from`.
+    fn across(&self, key: FacetKey, from: SubdomainId) -> Option<SubdomainId> {
+        match self.boundary.get(&key) {
+            None => Some(from),
+            Some(b) if b.sides[0] == from => Some(b.sides[1]),
+            Some(b) if b.sides[1] == from => Some(b.sides[0]),
+            Some(_) => None,
+        }
+    }
+
+    /// Whether `key` is a boundary facet.
+    pub fn is_boundary(&self, key: &FacetKey) -> bool {
+        self.boundary.contains_key(key)
+    }
+
+    /// The patch of boundary facet `key`.
+    pub fn patch(&self, key: &FacetKey) -> Option<PatchId> {
+        self.boundary.get(key).map(|b| b.patch)
+    }
+
+    /// The corner points of finite cell `c`, positively oriented.
+    pub fn points(&self, c: CellId) -> [Point3; 4] {
+        positive(self.rt.cell(c)).map(|v| self.rt.point(v))
+    }
+
+    /// Smallest dihedral angle of finite cell `c`.
+    pub fn cell_min_dihedral(&self, c: CellId) -> f64 {
+        min_dihedral(&self.points(c))
+    }
+
+    /// Moves `v` to `p` with weight `w`. `Some` when the triangulation accepted the move and the
+    /// boundary survived it; otherwise the mesh is left as it was and `None` is returned.
+    pub fn try_move(&mut self, v: VertexId, p: Point3, w: f64) -> Option<Change> {
+        let old_point = self.rt.point(v);
+        let old_weight = self.rt.weight(v);
+        let moved = self.rt.move_vertex(v, p, w, &mut self.report).ok()?;
+        let saved = self.saved_labels();
+        if !moved {
+            self.restore(&saved);
+            return None;
+        }
+        let before = self.removed_min_dihedral(&saved, v, old_point);
+        match self.relabel() {
+            Some(after) => Some(Change {
+                vertex: v,
+                old_point,
+                old_weight,
+                saved,
+                before,
+                after,
+            }),
+            None => {
+                self.undo(Change {
+                    vertex: v,
+                    old_point,
+                    old_weight,
+                    saved,
+                    before,
+                    after: 0.0,
+                });
+                None
+            }
+        }
+    }
+
+    /// Puts the moved vertex back where it was, with the labels it had.
+    pub fn undo(&mut self, change: Change) {
+        let back = self
+            .rt
+            .move_vertex(
+                change.vertex,
+                change.old_point,
+                change.old_weight,
+                &mut self.report,
+            )
+            .unwrap_or(false);
+        if back {
+            self.restore(&change.saved);
+        } else {
+            // The old place lies on a facet of the new triangulation: the move (which passed the
+            // invariants) stays, and the refused undo rebuilt the same cells.
+            let saved = self.saved_labels();
+            self.restore(&saved);
+        }
+    }
+
+    /// The subdomains of the cells the last move destroyed, read before any is overwritten.
+    fn saved_labels(&self) -> HashMap<[u32; 4], SubdomainId> {
+        self.report
+            .removed
+            .iter()
+            .map(|&(c, q)| (quad_key(q), self.label(c)))
+            .collect()
+    }
+
+    /// Labels the created cells of the last move from `saved` (cells rebuilt as they were).
+    fn restore(&mut self, saved: &HashMap<[u32; 4], SubdomainId>) {
+        self.grow_labels();
+        for k in 0..self.report.created.len() {
+            let c = self.report.created[k];
+            let key = quad_key(self.rt.cell(c));
+            self.label[c.0 as usize] = if self.rt.is_infinite_cell(c) {
+                OUTSIDE
+            } else {
+                saved.get(&key).copied().unwrap_or(OUTSIDE)
+            };
+        }
+    }
+
+    fn grow_labels(&mut self) {
+        if self.label.len() < self.rt.cell_capacity() {
+            self.label.resize(self.rt.cell_capacity(), OUTSIDE);
+        }
+    }
+
+    /// Smallest dihedral angle of the destroyed cells inside the domain, `v` at `old`.
+    fn removed_min_dihedral(
+        &self,
+        saved: &HashMap<[u32; 4], SubdomainId>,
+        v: VertexId,
+        old: Point3,
+    ) -> f64 {
+        let inf = self.rt.infinite_vertex();
+        let mut min = 180.0f64;
+        for &(_, q) in &self.report.removed {
+            if q.contains(&inf) || saved.get(&quad_key(q)).copied().unwrap_or(OUTSIDE) == OUTSIDE {
+                continue;
+            }
+            let p = positive(q).map(|x| if x == v { old } else { self.rt.point(x) });
+            min = min.min(min_dihedral(&p));
+        }
+        min
+    }
+
+    /// Labels the created cells by crossing facets from the cells around them. Returns the
+    /// smallest dihedral angle of the created cells inside the domain, or `None` when the
+    /// boundary did not survive (no consistent labelling, a boundary facet gone, or a flat
+    /// cell inside).
+    fn relabel(&mut self) -> Option<f64> {
+        self.grow_labels();
+        let created = &self.report.created;
+        let index: HashMap<u32, usize> =
+            created.iter().enumerate().map(|(k, c)| (c.0, k)).collect();
+        let mut new_label: Vec<Option<SubdomainId>> = vec![None; created.len()];
+        let mut stack = Vec::new();
+        for (k, &c) in created.iter().enumerate() {
+            if self.rt.is_infinite_cell(c) {
+                new_label[k] = Some(OUTSIDE);
+                stack.push(k);
+                continue;
+            }
+            let q = self.rt.cell(c);
+            for i in 0..4 {
+                let n = self.rt.neighbor(c, i);
+                if index.contains_key(&n.0) {
+                    continue;
+                }
+                let l = self.across(facet_key(q, i), self.label(n))?;
+                match new_label[k] {
+                    None => {
+                        new_label[k] = Some(l);
+                        stack.push(k);
+                    }
+                    Some(m) if m != l => return None,
+                    Some(_) => {}
+                }
+            }
+        }
+        while let Some(k) = stack.pop() {
+            let c = created[k];
+            let from = new_label[k]?;
+            let q = self.rt.cell(c);
+            for i in 0..4 {
+                let n = self.rt.neighbor(c, i);
+                let Some(&kn) = index.get(&n.0) else {
+                    continue;
+                };
+                let l = self.across(facet_key(q, i), from)?;
+                match new_label[kn] {
+                    None => {
+                        new_label[kn] = Some(l);
+                        stack.push(kn);
+                    }
+                    Some(m) if m != l => return None,
+                    Some(_) => {}
+                }
+            }
+        }
+        if self
+            .report
+            .created
+            .iter()
+            .zip(&new_label)
+            .any(|(&c, l)| self.rt.is_infinite_cell(c) && *l != Some(OUTSIDE))
+        {
+            return None;
+        }
+        // Every boundary facet of a destroyed cell must be a facet of a created one.
+        let mut lost: Vec<FacetKey> = Vec::new();
+        for &(_, q) in &self.report.removed {
+            lost.extend(
+                (0..4)
+                    .map(|i| facet_key(q, i))
+                    .filter(|k| self.is_boundary(k)),
+            );
+        }
+        let mut found: Vec<FacetKey> = Vec::new();
+        let mut after = 180.0f64;
+        for (k, &c) in self.report.created.iter().enumerate() {
+            let q = self.rt.cell(c);
+            found.extend(
+                (0..4)
+                    .map(|i| facet_key(q, i))
+                    .filter(|k| self.is_boundary(k)),
+            );
+            if new_label[k]? != OUTSIDE {
+                let a = self.cell_min_dihedral(c);
+                if a <= 0.0 {
+                    return None;
+                }
+                after = after.min(a);
+            }
+        }
+        lost.sort_unstable();
+        lost.dedup();
+        found.sort_unstable();
+        found.dedup();
+        if lost != found {
+            return None;
+        }
+        for (k, &c) in self.report.created.iter().enumerate() {
+            self.label[c.0 as usize] = new_label[k].unwrap_or(OUTSIDE);
+        }
+        Some(after)
+    }
+
+    /// Peels a flat cell off the boundary: a cell with two boundary facets on one patch (and its
+    /// four vertices on the surface, none on a feature), between
+    /// its subdomain and the outside, becomes outside, and its two other facets take their place
+    /// (the surface edge the two facets share flips to the opposite edge of the cell). Refused
+    /// when the shared edge is a feature edge, when the opposite edge already lies on the surface
+    /// (the flip would make it non-manifold), when a new facet would face the other way from
+    /// the old ones, or when the cell is thicker than the facet distance (the surface would move
+    /// by more). Returns whether the cell was peeled.
+    pub fn peel(&mut self, c: CellId) -> bool {
+        if !self.inside(c) {
+            return false;
+        }
+        let q = self.rt.cell(c);
+        let sub = self.label(c);
+        let on_boundary: Vec<usize> = (0..4)
+            .filter(|&i| self.is_boundary(&facet_key(q, i)))
+            .collect();
+        let &[i, j] = on_boundary.as_slice() else {
+            return false;
+        };
+        if [i, j]
+            .iter()
+            .any(|&k| self.peeled.contains(&facet_key(q, k)))
+        {
+            return false;
+        }
+        let (old_i, old_j) = (
+            self.boundary[&facet_key(q, i)],
+            self.boundary[&facet_key(q, j)],
+        );
+        if old_i.patch != old_j.patch
+            || old_i.sides != [OUTSIDE, sub]
+            || old_j.sides != [OUTSIDE, sub]
+        {
+            return false;
+        }
+        // The facets opposite i and j share the edge (a, b); the new ones share (c, d) = (q[i], q[j]).
+        let shared: Vec<u32> = (0..4)
+            .filter(|&k| k != i && k != j)
+            .map(|k| q[k].0)
+            .collect();
+        let (a, b) = (shared[0].min(shared[1]), shared[0].max(shared[1]));
+        if self.feature_edges.contains(&[a, b]) || self.is_surface_edge(q[i], q[j]) {
+            return false;
+        }
+        // Near a feature the two facets may lie on either side of a sharp edge with one patch
+        // label: only cells with all four vertices inside a patch are peeled.
+        if q.iter()
+            .any(|v| self.dimension[v.0 as usize] != VertexDimension::Surface)
+        {
+            return false;
+        }
+        let normal = |k: usize| {
+            let f: Vec<Point3> = (0..4)
+                .filter(|&m| m != k)
+                .map(|m| self.rt.point(q[m]))
+                .collect();
+            let n = (f[1] - f[0]).cross(f[2] - f[0]);
+            // Outward from the cell.
+            if n.dot(self.rt.point(q[k]) - f[0]) > 0.0 {
+                -n
+            } else {
+                n
+            }
+        };
+        // The new facets face the outside through the peeled cell: against their normal out of it.
+        let old = normal(i) + normal(j);
+        let new: Vec<usize> = (0..4).filter(|&k| k != i && k != j).collect();
+        if new.iter().any(|&k| normal(k).dot(old) >= 0.0) {
+            return false;
+        }
+        // Every point of the new facets lies within the cell's thickness of the old ones (the
+        // four vertices are on the old facets): the surface moves by at most that much.
+        let p = self.points(c);
+        let largest_face = (0..4)
+            .map(|k| {
+                let f: Vec<Point3> = (0..4).filter(|&m| m != k).map(|m| p[m]).collect();
+                (f[1] - f[0]).cross(f[2] - f[0]).length() / 2.0
+            })
+            .fold(0.0, f64::max);
+        let thickness = 3.0 * tet_volume(&p) / largest_face;
+        let centroid = (p[0] + p[1] + p[2] + p[3]) / 4.0;
+        let allowed = self.facet_distance.at(centroid, old_i.patch);
+        if !(thickness <= allowed || !(allowed > 0.0 && allowed.is_finite())) {
+            return false;
+        }
+        self.boundary.remove(&facet_key(q, i));
+        self.boundary.remove(&facet_key(q, j));
+        for k in new {
+            let sides = [OUTSIDE, sub];
+            self.peeled.insert(facet_key(q, k));
+            self.boundary.insert(
+                facet_key(q, k),
+                BoundaryFacet {
+                    patch: old_i.patch,
+                    sides,
+                },
+            );
+        }
+        self.label[c.0 as usize] = OUTSIDE;
+        true
+    }
+
+    /// Whether triangle `t` on `patch` meets the facet-distance criterion: its circumcentre lies
+    /// within that distance of the surface along the triangle's normal.
+    pub fn near_surface(&self, t: [Point3; 3], patch: PatchId) -> bool {
+        let center = triangle_circumcenter(t[0], t[1], t[2]);
+        let d = self.facet_distance.at(center, patch);
+        if !(d > 0.0 && d.is_finite()) {
+            return true;
+        }
+        let n = (t[1] - t[0]).cross(t[2] - t[0]);
+        if n.length() == 0.0 {
+            return false;
+        }
+        let n = n.normalize() * d;
+        self.oracle
+            .first_segment_hit(center - n, center + n)
+            .is_some()
+    }
+
+    /// Whether every boundary facet around `v` meets the facet-distance criterion.
+    pub fn surface_near_around(&self, v: VertexId) -> bool {
+        let mut cells = Vec::new();
+        self.rt.incident_cells(v, &mut cells);
+        cells.iter().filter(|&&c| self.inside(c)).all(|&c| {
+            let q = self.rt.cell(c);
+            (0..4).filter(|&i| q[i] != v).all(|i| {
+                let Some(patch) = self.patch(&facet_key(q, i)) else {
+                    return true;
+                };
+                let f: Vec<Point3> = (0..4)
+                    .filter(|&m| m != i)
+                    .map(|m| self.rt.point(q[m]))
+                    .collect();
+                self.near_surface([f[0], f[1], f[2]], patch)
+            })
+        })
+    }
+
+    /// Whether the edge `(u, v)` is an edge of a boundary facet.
+    fn is_surface_edge(&self, u: VertexId, v: VertexId) -> bool {
+        let mut cells = Vec::new();
+        self.rt.incident_cells(u, &mut cells);
+        cells.iter().any(|&c| {
+            let q = self.rt.cell(c);
+            q.contains(&v)
+                && (0..4).any(|i| q[i] != u && q[i] != v && self.is_boundary(&facet_key(q, i)))
+        })
+    }
+
+    /// The inside cells whose smallest dihedral angle is below `bound`, worst first (ties by
+    /// sorted vertices, so the order does not depend on cell slots).
+    pub fn slivers(&self, bound: f64) -> Vec<(f64, CellId, [VertexId; 4])> {
+        let mut s: Vec<(f64, [u32; 4], CellId)> = self
+            .rt
+            .finite_cells()
+            .filter(|&c| self.inside(c))
+            .filter_map(|c| {
+                let a = self.cell_min_dihedral(c);
+                (a < bound).then(|| (a, quad_key(self.rt.cell(c)), c))
+            })
+            .collect();
+        s.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        s.into_iter()
+            .map(|(a, _, c)| (a, c, self.rt.cell(c)))
+            .collect()
+    }
+
+    /// Smallest dihedral angle of every tetrahedron of the mesh, in cell order.
+    pub fn min_dihedrals(&self) -> Vec<f64> {
+        self.rt
+            .finite_cells()
+            .filter(|&c| self.inside(c))
+            .map(|c| self.cell_min_dihedral(c))
+            .collect()
+    }
+
+    /// The optimised mesh: `complex` with the new positions, tetrahedra and boundary facets (the
+    /// same facets, in the order and orientation the tetrahedra give them).
+    pub fn into_complex(self, mut complex: MeshComplex) -> MeshComplex {
+        let mut mesh_index = vec![u32::MAX; self.rt.num_vertices()];
+        for (i, &v) in self.vertex_of.iter().enumerate() {
+            mesh_index[v.0 as usize] = i as u32;
+            complex.points[i] = self.rt.point(v);
+        }
+        complex.tets.clear();
+        complex.tet_subdomain.clear();
+        complex.facets.clear();
+        complex.facet_patch.clear();
+        complex.facet_subdomains.clear();
+        for c in self.rt.finite_cells() {
+            let sub = self.label(c);
+            if sub == OUTSIDE {
+                continue;
+            }
+            let cell = self.rt.cell(c);
+            complex
+                .tets
+                .push(positive(cell).map(|v| mesh_index[v.0 as usize]));
+            complex.tet_subdomain.push(sub);
+            for (i, &apex) in cell.iter().enumerate() {
+                let other = self.label(self.rt.neighbor(c, i));
+                if other >= sub {
+                    continue;
+                }
+                let mut f = facet_vertices(&cell, i);
+                let [a, b, d] = f.map(|v| self.rt.point(v));
+                if (b - a).cross(d - a).dot(self.rt.point(apex) - a) > 0.0 {
+                    f.swap(0, 1);
+                }
+                complex.facets.push(f.map(|v| mesh_index[v.0 as usize]));
+                complex
+                    .facet_patch
+                    .push(self.patch(&facet_key(cell, i)).unwrap_or(0));
+                complex.facet_subdomains.push([sub, other]);
+            }
+        }
+        complex
+    }
+}

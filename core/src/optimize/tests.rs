@@ -1,0 +1,212 @@
+//! The optimisers on an analytic ball: the triangulation stays exactly regular, the mesh stays a
+//! valid mesh of the ball, and the smallest dihedral angle improves.
+
+use super::state::{Workspace, min_dihedral};
+use super::{Deadline, OptimizeOptions, exude, optimize, perturb, smooth};
+use crate::complex::{MeshComplex, VertexDimension};
+use crate::kernel::Point3;
+use crate::oracle::{Aabb, OUTSIDE, Oracle, SubdomainId, SurfaceHit, SurfacePoint};
+use crate::quality::surface_topology;
+use crate::refine::criteria::{CellCriteria, FacetCriteria, MeshCriteria, Sizing};
+use crate::refine::{Limits, MeshOptions, mesh_domain};
+use crate::triangulation::validity::check_regular3;
+
+/// The unit ball.
+struct Ball;
+
+impl Ball {
+    /// Parameters where `o + t d` crosses the unit sphere.
+    fn crossings(o: Point3, d: Point3) -> Vec<f64> {
+        let (a, b, c) = (d.dot(d), 2.0 * o.dot(d), o.dot(o) - 1.0);
+        let disc = b * b - 4.0 * a * c;
+        if a == 0.0 || disc < 0.0 {
+            return Vec::new();
+        }
+        let s = disc.sqrt();
+        vec![(-b - s) / (2.0 * a), (-b + s) / (2.0 * a)]
+    }
+
+    fn hits(o: Point3, d: Point3, range: impl Fn(f64) -> bool, out: &mut Vec<SurfaceHit>) {
+        for t in Self::crossings(o, d).into_iter().filter(|&t| range(t)) {
+            out.push(SurfaceHit {
+                point: o + d * t,
+                t,
+                patch: 1,
+            });
+        }
+    }
+}
+
+impl Oracle for Ball {
+    fn bounding_box(&self) -> Aabb {
+        Aabb {
+            min: Point3::splat(-1.0),
+            max: Point3::splat(1.0),
+        }
+    }
+
+    fn subdomain(&self, p: Point3) -> SubdomainId {
+        if p.length_squared() < 1.0 { 1 } else { OUTSIDE }
+    }
+
+    fn segment_hits(&self, a: Point3, b: Point3, out: &mut Vec<SurfaceHit>) {
+        Self::hits(a, b - a, |t| (0.0..=1.0).contains(&t), out);
+    }
+
+    fn ray_hits(&self, origin: Point3, dir: Point3, out: &mut Vec<SurfaceHit>) {
+        Self::hits(origin, dir, |t| t >= 0.0, out);
+    }
+
+    fn initial_points(&self) -> Vec<SurfacePoint> {
+        (0..20)
+            .map(|i| {
+                // A Fibonacci spiral.
+                let z = 1.0 - (2.0 * i as f64 + 1.0) / 20.0;
+                let phi = i as f64 * 2.399_963_229_728_653;
+                let r = (1.0 - z * z).sqrt();
+                SurfacePoint {
+                    point: Point3::new(r * phi.cos(), r * phi.sin(), z),
+                    patch: 1,
+                }
+            })
+            .collect()
+    }
+}
+
+const DISTANCE: f64 = 0.02;
+
+fn criteria() -> MeshCriteria {
+    MeshCriteria {
+        edge_size: Sizing::Constant(0.3),
+        edge_min_size: 0.0,
+        facet: FacetCriteria {
+            angle_deg: 25.0,
+            size: Sizing::Constant(0.3),
+            distance: Sizing::Constant(DISTANCE),
+        },
+        cell: CellCriteria {
+            radius_edge_ratio: 3.0,
+            size: Sizing::Constant(0.3),
+        },
+    }
+}
+
+/// The refined mesh of the ball, not optimised.
+fn refined() -> MeshComplex {
+    let options = MeshOptions {
+        criteria: criteria(),
+        limits: Limits::default(),
+        keep_partial: false,
+        optimize: OptimizeOptions::none(),
+        validity: Default::default(),
+    };
+    mesh_domain(&Ball, &options, &mut |_| {})
+        .expect("the ball is meshed")
+        .complex
+}
+
+fn smallest(c: &MeshComplex) -> f64 {
+    (0..c.tets.len())
+        .map(|t| min_dihedral(&c.tet_points(t)))
+        .fold(180.0, f64::min)
+}
+
+/// A valid mesh of the ball: positive tetrahedra, a closed 2-manifold sphere as boundary with
+/// its vertices on the sphere, the volume of the refined mesh up to the facet distance.
+fn assert_valid_ball(c: &MeshComplex, refined_volume: f64) {
+    for t in 0..c.tets.len() {
+        assert!(
+            min_dihedral(&c.tet_points(t)) > 0.0,
+            "tet {t} is flat or inverted"
+        );
+    }
+    let topology = surface_topology(&c.facets);
+    assert!(topology.is_closed_manifold());
+    assert_eq!(topology.euler_characteristic, 2);
+    for f in &c.facets {
+        for &v in f {
+            let r = c.points[v as usize].length();
+            assert!((r - 1.0).abs() <= DISTANCE, "boundary vertex at radius {r}");
+        }
+    }
+    let volume: f64 = (0..c.tets.len())
+        .map(|t| crate::quality::tet_volume(&c.tet_points(t)))
+        .sum();
+    let area = 4.0 * std::f64::consts::PI;
+    assert!(
+        (volume - refined_volume).abs() <= area * DISTANCE,
+        "volume {volume}"
+    );
+}
+
+fn volume(c: &MeshComplex) -> f64 {
+    (0..c.tets.len())
+        .map(|t| crate::quality::tet_volume(&c.tet_points(t)))
+        .sum()
+}
+
+#[test]
+fn every_step_keeps_the_triangulation_regular_and_the_mesh_valid() {
+    let mesh = refined();
+    let refined_volume = volume(&mesh);
+    let before = smallest(&mesh);
+    let mut ws = Workspace::new(&mesh, &[], &Ball, Sizing::Constant(DISTANCE)).expect("taken over");
+    let deadline = Deadline(None);
+    smooth::smooth(&mut ws, smooth::Smoother::Odt, 3, &deadline);
+    assert_eq!(check_regular3(&ws.rt), Ok(()));
+    smooth::smooth(&mut ws, smooth::Smoother::Lloyd, 3, &deadline);
+    assert_eq!(check_regular3(&ws.rt), Ok(()));
+    perturb::perturb(&mut ws, 20.0, &deadline);
+    assert_eq!(check_regular3(&ws.rt), Ok(()));
+    exude::exude(&mut ws, 20.0, &deadline);
+    assert_eq!(check_regular3(&ws.rt), Ok(()));
+    let after = ws.into_complex(mesh.clone());
+    assert_valid_ball(&after, refined_volume);
+    assert!(
+        smallest(&after) > before,
+        "{} -> {}",
+        before,
+        smallest(&after)
+    );
+    // Interior vertices may move, nothing is added or removed, and the numbering is kept.
+    assert_eq!(after.points.len(), mesh.points.len());
+    assert_eq!(after.vertex_dimension, mesh.vertex_dimension);
+}
+
+#[test]
+fn the_default_optimisers_lift_the_smallest_angle_and_repeat_exactly() {
+    let mesh = refined();
+    let options = OptimizeOptions::default();
+    let (a, report) = optimize(mesh.clone(), &[], &Ball, &criteria(), &options);
+    assert!(report.skipped.is_none());
+    assert_valid_ball(&a, volume(&mesh));
+    assert!(report.after().min_dihedral_deg > report.before.min_dihedral_deg);
+    assert!(report.after().below_10_deg <= report.before.below_10_deg);
+    assert!(
+        smallest(&a) >= 5.0,
+        "smallest dihedral angle {}",
+        smallest(&a)
+    );
+    let (b, _) = optimize(mesh.clone(), &[], &Ball, &criteria(), &options);
+    assert_eq!(a, b);
+    // Surface vertices stay surface vertices, on the sphere.
+    for (p, d) in a.points.iter().zip(&a.vertex_dimension) {
+        if *d == VertexDimension::Surface {
+            assert!((p.length() - 1.0).abs() <= DISTANCE);
+        }
+    }
+}
+
+#[test]
+fn no_optimiser_leaves_the_mesh_as_it_is() {
+    let mesh = refined();
+    let (same, report) = optimize(
+        mesh.clone(),
+        &[],
+        &Ball,
+        &criteria(),
+        &OptimizeOptions::none(),
+    );
+    assert_eq!(same, mesh);
+    assert!(report.steps.is_empty());
+}

@@ -1,0 +1,366 @@
+//! Moving a vertex (new position, new weight) of a 3D triangulation, as mesh optimisation needs.
+//!
+//! The vertex is first removed: its star is re-triangulated by the cells of the triangulation of
+//! its link vertices that the vertex conflicts with. Those cells fill the hole exactly, because
+//! the cells of the triangulation without the vertex that it conflicts with are empty of every
+//! other point, so they belong to the small triangulation too, and the symbolic perturbation
+//! orders points by position, so both triangulations break ties alike. It is then inserted at
+//! its new place under the same id, so data indexed by vertex stays valid. The result is the
+//! unique (perturbed) Delaunay or regular triangulation of the moved points.
+
+use super::cavity::HashMarks;
+use super::regular::validate_weight;
+use super::{ConflictKernel, NO_CELL, Triangulation3, pack, validate_point};
+use crate::kernel::{Point3, Sign, WeightedPoint3, orient3d};
+use crate::triangulation::{CellId, InsertReport, Triangulation, TriangulationError, VertexId};
+use std::collections::HashMap;
+
+/// The net change of one [`Triangulation3::move_vertex`], refused moves included (a refused move
+/// rebuilds the same cells, usually in other slots).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct MoveReport {
+    /// Every destroyed cell that existed before the move: its slot (which the move may have
+    /// reused) and its vertices in the orientation they had.
+    pub removed: Vec<(CellId, [VertexId; 4])>,
+    /// The cells created by the move and still live after it.
+    pub created: Vec<CellId>,
+}
+
+impl MoveReport {
+    fn clear(&mut self) {
+        self.removed.clear();
+        self.created.clear();
+    }
+}
+
+/// One cell filling the hole of a removed vertex: its vertices and, for each facet, either the
+/// index of another filling cell with the facet's index there, or the packed outside neighbour.
+struct FillCell {
+    verts: [u32; 4],
+    links: [Link; 4],
+}
+
+#[derive(Clone, Copy)]
+enum Link {
+    Fill(usize, usize),
+    Outside(u32),
+}
+
+impl<K: ConflictKernel> Triangulation3<K> {
+    /// Moves finite vertex `v` to `p` with weight `w` (the weight is ignored by a Delaunay
+    /// triangulation). Returns `Ok(true)` when done; `Ok(false)`, with the triangulation as it
+    /// was (cells possibly in other slots), when `v` is a vertex of the convex hull, when `p` is
+    /// not strictly inside a finite cell (a move may not change the hull or hit a vertex), or
+    /// when the moved vertex would be hidden or would hide another one. `report` gets the net
+    /// change either way.
+    pub fn move_vertex(
+        &mut self,
+        v: VertexId,
+        p: Point3,
+        w: f64,
+        report: &mut MoveReport,
+    ) -> Result<bool, TriangulationError> {
+        report.clear();
+        let index = v.0 as usize;
+        validate_point(p, index)?;
+        if K::WEIGHTED {
+            validate_weight(w, index)?;
+        }
+        if self.lower.is_some() || index >= self.points.len() || self.is_hidden(v) {
+            return Ok(false);
+        }
+        let (old_p, old_w) = (self.pt(v.0), self.kernel.weight(v.0));
+        if p != old_p && !self.strictly_inside_a_cell(p, v) {
+            return Ok(false);
+        }
+        if !self.remove_interior(v.0, report) {
+            return Ok(false);
+        }
+        match self.reinsert(v.0, p, w, report) {
+            Some(hidden) if hidden.is_empty() => return Ok(true),
+            Some(hidden) => {
+                // It hid vertices: take it out again and bring them back, then put it back.
+                let removed = self.remove_interior(v.0, report);
+                debug_assert!(
+                    removed,
+                    "a vertex strictly inside a cell is not on the hull"
+                );
+                for x in hidden {
+                    self.reinsert(x.0, self.pt(x.0), self.kernel.weight(x.0), report);
+                }
+            }
+            None => {}
+        }
+        self.reinsert(v.0, old_p, old_w, report);
+        Ok(false)
+    }
+
+    /// Whether `p` lies strictly inside a finite cell, found by walking from a cell of `v`.
+    fn strictly_inside_a_cell(&self, p: Point3, v: VertexId) -> bool {
+        let c = self.locate_cell(p, self.vertex_cell(v).map(|c| c.0));
+        let r = self.cells[c as usize];
+        if Self::is_infinite_record(&r) {
+            return false;
+        }
+        (0..4).all(|i| {
+            let mut t = r.v.map(|x| self.pt(x));
+            t[i] = p;
+            orient3d(t[0], t[1], t[2], t[3]) == Sign::Positive
+        })
+    }
+
+    /// Removes interior vertex `v` (no-op returning false for a hull vertex or when the fill
+    /// cannot be found), recording the change in `report`. `v` keeps its point and weight but is
+    /// in no cell (hidden, for the weighted kernel).
+    fn remove_interior(&mut self, v: u32, report: &mut MoveReport) -> bool {
+        let Some(fill) = self.plan_fill(v) else {
+            return false;
+        };
+        let mut star = Vec::new();
+        self.incident_cells(VertexId(v), &mut star);
+        for &c in &star {
+            self.destroy(c.0, report);
+        }
+        self.num_finite -= star.len();
+        let ids: Vec<u32> = fill.iter().map(|f| self.alloc_cell(f.verts)).collect();
+        for (k, f) in fill.iter().enumerate() {
+            for (i, link) in f.links.iter().enumerate() {
+                self.cells[ids[k] as usize].n[i] = match *link {
+                    Link::Fill(other, j) => pack(ids[other], j),
+                    Link::Outside(out) => {
+                        self.cells[(out >> 2) as usize].n[(out & 3) as usize] = pack(ids[k], i);
+                        out
+                    }
+                };
+            }
+            self.touch_vertices(ids[k]);
+        }
+        self.num_finite += ids.len();
+        self.vertex_cell[v as usize] = NO_CELL;
+        self.kernel.hide(v);
+        self.last = ids[0];
+        report.created.extend(ids.into_iter().map(CellId));
+        true
+    }
+
+    /// The cells filling the star of interior vertex `v` once removed, computed without touching
+    /// the triangulation; `None` for a hull vertex (or, defensively, an inconsistent fill).
+    fn plan_fill(&self, v: u32) -> Option<Vec<FillCell>> {
+        let mut star = Vec::new();
+        self.incident_cells(VertexId(v), &mut star);
+        let mut outside: HashMap<[u32; 3], u32> = HashMap::with_capacity(star.len());
+        let mut link = Vec::with_capacity(star.len());
+        for &c in &star {
+            let r = self.cells[c.0 as usize];
+            if Self::is_infinite_record(&r) {
+                return None;
+            }
+            let i = r.v.iter().position(|&x| x == v)?;
+            let mut f: Vec<u32> = (0..4).filter(|&j| j != i).map(|j| r.v[j]).collect();
+            link.extend_from_slice(&f);
+            f.sort_unstable();
+            outside.insert([f[0], f[1], f[2]], r.n[i]);
+        }
+        link.sort_unstable();
+        link.dedup();
+        let mut small = Self::new();
+        for &x in &link {
+            let id = small.push_vertex(self.pt(x), self.kernel.weight(x));
+            small.insert_new_vertex(id, None, None);
+            if small.is_hidden(VertexId(id)) {
+                return None;
+            }
+        }
+        if small.lower.is_some() {
+            return None;
+        }
+        let q = WeightedPoint3::new(self.pt(v), self.kernel.weight(v));
+        let start = small.locate_cell(q.point, None);
+        if !small.in_conflict(start, q.point, q.weight) {
+            return None;
+        }
+        let (mut stack, mut cavity, mut boundary) = (Vec::new(), Vec::new(), Vec::new());
+        let mut marks = HashMarks::default();
+        small.find_cavity(q, start, &mut marks, &mut stack, &mut cavity, &mut boundary);
+        if boundary.len() != star.len() {
+            return None;
+        }
+        let position: HashMap<u32, usize> =
+            cavity.iter().enumerate().map(|(k, &c)| (c, k)).collect();
+        let mut fill = Vec::with_capacity(cavity.len());
+        for &c in &cavity {
+            let r = small.cells[c as usize];
+            if Self::is_infinite_record(&r) {
+                return None;
+            }
+            let verts = r.v.map(|x| link[x as usize]);
+            let mut links = [Link::Outside(0); 4];
+            for (i, l) in links.iter_mut().enumerate() {
+                let nb = r.n[i] >> 2;
+                *l = match position.get(&nb) {
+                    Some(&k) => Link::Fill(k, (r.n[i] & 3) as usize),
+                    None => {
+                        let mut f: Vec<u32> =
+                            (0..4).filter(|&j| j != i).map(|j| verts[j]).collect();
+                        f.sort_unstable();
+                        Link::Outside(*outside.get(&[f[0], f[1], f[2]])?)
+                    }
+                };
+            }
+            fill.push(FillCell { verts, links });
+        }
+        Some(fill)
+    }
+
+    /// Frees cell `c`, recording it in `report` as removed if it existed before the move (or
+    /// forgetting it if the move created it).
+    fn destroy(&mut self, c: u32, report: &mut MoveReport) {
+        if let Some(k) = report.created.iter().position(|&x| x.0 == c) {
+            report.created.swap_remove(k);
+        } else {
+            let verts = self.cells[c as usize].v.map(VertexId);
+            report.removed.push((CellId(c), verts));
+        }
+        self.free_cell(c);
+    }
+
+    /// Inserts `v`, which is in no cell, at `p` with weight `w`, recording the change in
+    /// `report`. Returns the vertices the insertion hid, or `None` when `v` itself is hidden.
+    fn reinsert(
+        &mut self,
+        v: u32,
+        p: Point3,
+        w: f64,
+        report: &mut MoveReport,
+    ) -> Option<Vec<VertexId>> {
+        self.points[v as usize] = p;
+        self.filter.include(p);
+        self.kernel.set_weight(v, w);
+        self.kernel.unhide(v);
+        let hint = report.created.last().copied();
+        let start = self.locate_cell(p, hint.map(|c| c.0));
+        if K::WEIGHTED && !self.in_conflict(start, p, w) {
+            self.kernel.hide(v);
+            return None;
+        }
+        let (mut stack, mut cavity, mut boundary) = (Vec::new(), Vec::new(), Vec::new());
+        let mut marks = HashMarks::default();
+        self.find_cavity(
+            WeightedPoint3::new(p, w),
+            start,
+            &mut marks,
+            &mut stack,
+            &mut cavity,
+            &mut boundary,
+        );
+        for &c in &cavity {
+            if let Some(k) = report.created.iter().position(|&x| x.0 == c) {
+                report.created.swap_remove(k);
+            } else {
+                let verts = self.cells[c as usize].v.map(VertexId);
+                report.removed.push((CellId(c), verts));
+            }
+        }
+        let mut inserted = InsertReport::default();
+        self.star_from(v, start, Some(&mut inserted));
+        report.created.extend_from_slice(&inserted.created);
+        Some(inserted.hidden)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::triangulation::validity::{check_delaunay3, check_regular3};
+    use crate::triangulation::{Delaunay3, Regular3};
+
+    /// Deterministic pseudo-random numbers in [0, 1).
+    fn rng(seed: &mut u64) -> f64 {
+        *seed ^= *seed << 13;
+        *seed ^= *seed >> 7;
+        *seed ^= *seed << 17;
+        (*seed >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    fn cube_points(n: usize, seed: &mut u64) -> Vec<Point3> {
+        (0..n)
+            .map(|_| Point3::new(rng(seed), rng(seed), rng(seed)))
+            .collect()
+    }
+
+    /// The finite cells as sorted vertex quadruples, sorted.
+    fn cell_sets<K: ConflictKernel>(t: &Triangulation3<K>) -> Vec<[u32; 4]> {
+        let mut cells: Vec<[u32; 4]> = t
+            .finite_cells()
+            .map(|c| {
+                let mut q = t.cell(c).map(|v| v.0);
+                q.sort_unstable();
+                q
+            })
+            .collect();
+        cells.sort_unstable();
+        cells
+    }
+
+    #[test]
+    fn moved_delaunay_vertices_give_the_triangulation_of_the_moved_points() {
+        let mut seed = 0x1234_5678_9abc_def1;
+        let mut pts = cube_points(300, &mut seed);
+        let mut dt = Delaunay3::new();
+        for &p in &pts {
+            dt.insert(p).unwrap();
+        }
+        let mut report = MoveReport::default();
+        let (mut moved, mut refused) = (0, 0);
+        for k in 0..200 {
+            let v = VertexId((k * 7 % 300) as u32);
+            let delta = Point3::new(rng(&mut seed), rng(&mut seed), rng(&mut seed)) - 0.5;
+            let p = dt.point(v) + 0.1 * delta;
+            if dt.move_vertex(v, p, 0.0, &mut report).unwrap() {
+                pts[v.0 as usize] = p;
+                moved += 1;
+            } else {
+                refused += 1;
+            }
+            assert!(report.created.iter().all(|&c| dt.is_live(c)));
+        }
+        assert!(moved > 0 && refused > 0, "{moved} moved, {refused} refused");
+        assert_eq!(check_delaunay3(&dt), Ok(()));
+        let mut fresh = Delaunay3::new();
+        for &p in &pts {
+            fresh.insert(p).unwrap();
+        }
+        assert_eq!(cell_sets(&dt), cell_sets(&fresh));
+    }
+
+    #[test]
+    fn reweighted_regular_vertices_keep_the_triangulation_regular() {
+        let mut seed = 0x0fed_cba9_8765_4321;
+        let pts = cube_points(300, &mut seed);
+        let mut rt = Regular3::new();
+        let mut report = InsertReport::default();
+        for &p in &pts {
+            rt.insert_weighted(p, 0.0, None, &mut report).unwrap();
+        }
+        let mut weights = vec![0.0; pts.len()];
+        let mut moved = MoveReport::default();
+        let mut changed = 0;
+        for k in 0..300 {
+            let v = VertexId(k as u32);
+            // Large enough weights to hide neighbours now and then: those moves are refused.
+            let w = 0.01 * rng(&mut seed);
+            if rt.move_vertex(v, pts[k], w, &mut moved).unwrap() {
+                weights[k] = w;
+                changed += 1;
+            }
+        }
+        assert!(changed > 0);
+        assert_eq!(check_regular3(&rt), Ok(()));
+        assert_eq!(rt.hidden_vertices().count(), 0);
+        let mut fresh = Regular3::new();
+        for (&p, &w) in pts.iter().zip(&weights) {
+            fresh.insert_weighted(p, w, None, &mut report).unwrap();
+        }
+        assert_eq!(cell_sets(&rt), cell_sets(&fresh));
+    }
+}
