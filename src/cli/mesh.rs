@@ -50,7 +50,7 @@ pub struct MeshArgs {
     #[arg(long, default_value_t = delamesh::DEFAULT_MAX_VERTICES)]
     pub max_vertices: usize,
     /// Stop with an error when meshing takes longer than this many seconds.
-    #[arg(long, value_name = "SECONDS")]
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     pub time_limit: Option<f64>,
     /// When --max-vertices or --time-limit stops refinement, still write the mesh reached.
     #[arg(long)]

@@ -119,7 +119,7 @@ impl MeshCriteria {
 
 /// Why a set of criteria was refused before meshing (see [`MeshCriteria::validate`]).
 #[derive(Debug, thiserror::Error)]
-#[error("{criterion} {value}: {problem}")]
+#[error("{criterion} {value:?}: {problem}")]
 pub struct CriteriaError {
     /// The criterion, named as the command line's option (`facet-angle`, `cell-size`...).
     pub criterion: &'static str,
@@ -209,14 +209,20 @@ impl MeshCriteria {
                     return Err(refuse(criterion, v, "must be a positive number".into()));
                 }
                 // The distance bound says nothing about flat parts: no count follows from it.
-                let needed = span / (2.0 * v);
+                // Protecting balls never shrink below the smallest edge size.
+                let effective = if criterion == "edge-size" {
+                    v.max(self.edge_min_size_for(bbox))
+                } else {
+                    v
+                };
+                let needed = span / (2.0 * effective);
                 if criterion != "facet-distance" && needed > max_vertices as f64 {
                     return Err(refuse(
                         criterion,
                         v,
                         format!(
                             "needs at least {needed:.1e} vertices across the {span:.3e} box, \
-                             more than max-vertices {max_vertices}"
+                             more than --max-vertices {max_vertices}"
                         ),
                     ));
                 }

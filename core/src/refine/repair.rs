@@ -267,10 +267,11 @@ mod tests {
         assert_eq!(unmatched, vec![1]);
         let (offending, unmatched) = match_components(&[0, 2], &[2, 0], &[10, 10]);
         assert!(offending.is_empty() && unmatched.is_empty());
-        // A missing component is named even with nothing to refine.
+        // A missing component is named even with nothing to refine (input components of the
+        // same Euler characteristic are matched lowest index first).
         let (offending, unmatched) = match_components(&[2, 2], &[2], &[10]);
         assert!(offending.is_empty());
-        assert_eq!(unmatched, vec![0]);
+        assert_eq!(unmatched, vec![1]);
     }
 
     #[test]
