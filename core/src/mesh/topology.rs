@@ -116,30 +116,9 @@ pub fn surface_topology(positions: &[DVec3], triangles: &[[u32; 3]]) -> Topology
     }
 
     // Vertex fans: around v, the opposite sides of its triangles must form one connected link.
-    let mut corners: Vec<(u32, u32, u32)> = Vec::with_capacity(faces.len() * 3);
-    for &[a, b, c] in &faces {
-        corners.extend([(a, b, c), (b, c, a), (c, a, b)]);
-    }
-    corners.sort_unstable();
-    let mut non_manifold_vertices = 0;
-    let mut used_vertices = 0;
-    let mut link: Vec<u32> = Vec::new();
-    for fan in corners.chunk_by(|x, y| x.0 == y.0) {
-        used_vertices += 1;
-        link.clear();
-        link.extend(fan.iter().flat_map(|&(_, u, w)| [u, w]));
-        link.sort_unstable();
-        link.dedup();
-        let mut uf = UnionFind::new(link.len());
-        let local = |x: u32| link.binary_search(&x).map_or(0, |i| i as u32);
-        for &(_, u, w) in fan {
-            uf.union(local(u), local(w));
-        }
-        let pieces = (0..link.len() as u32).filter(|&i| uf.find(i) == i).count();
-        if pieces > 1 {
-            non_manifold_vertices += 1;
-        }
-    }
+    let fans = link_pieces(&faces);
+    let used_vertices = fans.len();
+    let non_manifold_vertices = fans.iter().filter(|&&(_, pieces)| pieces > 1).count();
 
     let mut uf = UnionFind::new(positions.len());
     for &[a, b, c] in &faces {
@@ -195,28 +174,39 @@ pub fn non_manifold_elements(triangles: &[[u32; 3]]) -> (Vec<[u32; 2]>, Vec<u32>
         .filter(|g| g.len() > 2)
         .map(|g| g[0])
         .collect();
-    let mut corners: Vec<(u32, u32, u32)> = faces
-        .iter()
-        .flat_map(|&[a, b, c]| [(a, b, c), (b, c, a), (c, a, b)])
+    let vertices = link_pieces(&faces)
+        .into_iter()
+        .filter(|&(_, pieces)| pieces > 1)
+        .map(|(v, _)| v)
         .collect();
-    corners.sort_unstable();
-    let mut vertices = Vec::new();
-    let mut link: Vec<u32> = Vec::new();
-    for fan in corners.chunk_by(|x, y| x.0 == y.0) {
-        link.clear();
-        link.extend(fan.iter().flat_map(|&(_, u, w)| [u, w]));
-        link.sort_unstable();
-        link.dedup();
-        let mut uf = UnionFind::new(link.len());
-        let local = |x: u32| link.binary_search(&x).map_or(0, |i| i as u32);
-        for &(_, u, w) in fan {
-            uf.union(local(u), local(w));
-        }
-        if (0..link.len() as u32).filter(|&i| uf.find(i) == i).count() > 1 {
-            vertices.push(fan[0].0);
-        }
-    }
     (edges, vertices)
+}
+
+/// Each used vertex with the number of connected pieces of its link (the opposite sides of its
+/// triangles), in vertex order: a vertex is manifold when its triangles form one fan, one piece.
+fn link_pieces(faces: &[[u32; 3]]) -> Vec<(u32, usize)> {
+    let mut corners: Vec<(u32, u32, u32)> = Vec::with_capacity(faces.len() * 3);
+    for &[a, b, c] in faces {
+        corners.extend([(a, b, c), (b, c, a), (c, a, b)]);
+    }
+    corners.sort_unstable();
+    let mut link: Vec<u32> = Vec::new();
+    corners
+        .chunk_by(|x, y| x.0 == y.0)
+        .map(|fan| {
+            link.clear();
+            link.extend(fan.iter().flat_map(|&(_, u, w)| [u, w]));
+            link.sort_unstable();
+            link.dedup();
+            let mut uf = UnionFind::new(link.len());
+            let local = |x: u32| link.binary_search(&x).map_or(0, |i| i as u32);
+            for &(_, u, w) in fan {
+                uf.union(local(u), local(w));
+            }
+            let pieces = (0..link.len() as u32).filter(|&i| uf.find(i) == i).count();
+            (fan[0].0, pieces)
+        })
+        .collect()
 }
 
 /// The connected components of a triangle surface (triangles sharing a vertex are connected) and

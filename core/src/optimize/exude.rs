@@ -9,7 +9,6 @@ use super::Deadline;
 use super::state::Workspace;
 use crate::complex::VertexDimension;
 use crate::triangulation::{CellId, Triangulation, VertexId};
-use std::collections::HashSet;
 
 /// The weight bound as a fraction of the distance to the nearest other ball (Cheng et al.
 /// require less than 1/2; CGAL uses 0.3).
@@ -22,30 +21,10 @@ const MAX_SWEEPS: usize = 3;
 /// Pumps the vertices of the cells below `bound` degrees, worst first, until a sweep improves
 /// nothing or the deadline passes. Returns the number of weight changes kept.
 pub(super) fn exude(ws: &mut Workspace<'_>, bound: f64, deadline: &Deadline) -> usize {
-    let mut kept = 0;
-    // Cells no pump improved: they are not tried again while they exist.
-    let mut stuck = HashSet::new();
-    for _ in 0..MAX_SWEEPS {
-        let mut improved = 0;
-        for (_, c, cell) in ws.slivers(bound) {
-            if deadline.passed() {
-                return kept + improved;
-            }
-            if !ws.rt.is_live(c) || ws.rt.cell(c) != cell || stuck.contains(&cell) {
-                continue;
-            }
-            if cell.iter().any(|&v| pump(ws, v)) {
-                improved += 1;
-            } else {
-                stuck.insert(cell);
-            }
-        }
-        kept += improved;
-        if improved == 0 {
-            break;
-        }
-    }
-    kept
+    ws.sweep_slivers(bound, deadline, MAX_SWEEPS, |ws, c| {
+        let cell = ws.rt.cell(c);
+        cell.iter().any(|&v| pump(ws, v))
+    })
 }
 
 /// Gives `v` the weight (among a few up to its bound) that most improves the smallest dihedral

@@ -13,7 +13,6 @@ use crate::complex::VertexDimension;
 use crate::kernel::Point3;
 use crate::oracle::{OUTSIDE, PatchId, SurfaceHit};
 use crate::triangulation::{CellId, Triangulation, VertexId};
-use std::collections::HashSet;
 
 /// Step lengths tried along a direction, as fractions of the distance to the nearest other
 /// vertex of the sliver (smallest last: a small step is the likeliest to be accepted but gains
@@ -30,31 +29,10 @@ const MAX_SWEEPS: usize = 6;
 /// Perturbs the vertices of the cells below `bound` degrees, worst first, until a sweep improves
 /// nothing or the deadline passes. Returns the number of moves kept.
 pub(super) fn perturb(ws: &mut Workspace<'_>, bound: f64, deadline: &Deadline) -> usize {
-    let mut kept = 0;
     let mut rng = 0x9E37_79B9_7F4A_7C15u64;
-    // Cells no move improved: they are not tried again while they exist.
-    let mut stuck = HashSet::new();
-    for _ in 0..MAX_SWEEPS {
-        let mut improved = 0;
-        for (_, c, cell) in ws.slivers(bound) {
-            if deadline.passed() {
-                return kept + improved;
-            }
-            if !ws.rt.is_live(c) || ws.rt.cell(c) != cell || stuck.contains(&cell) {
-                continue;
-            }
-            if ws.peel(c) || perturb_cell(ws, c, &mut rng) {
-                improved += 1;
-            } else {
-                stuck.insert(cell);
-            }
-        }
-        kept += improved;
-        if improved == 0 {
-            break;
-        }
-    }
-    kept
+    ws.sweep_slivers(bound, deadline, MAX_SWEEPS, |ws, c| {
+        ws.peel(c) || perturb_cell(ws, c, &mut rng)
+    })
 }
 
 /// Tries to improve sliver `c` by moving one of its vertices.

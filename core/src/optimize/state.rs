@@ -612,6 +612,42 @@ impl<'o> Workspace<'o> {
             .collect()
     }
 
+    /// Sweeps over the slivers below `bound` degrees, worst first, trying `improve` on each
+    /// (perturbation and exudation differ only in that step), until a sweep improves nothing,
+    /// `max_sweeps` are done or the deadline passes. A cell `improve` could not help is not tried
+    /// again while it exists. Returns the number of improvements kept.
+    pub fn sweep_slivers(
+        &mut self,
+        bound: f64,
+        deadline: &super::Deadline,
+        max_sweeps: usize,
+        mut improve: impl FnMut(&mut Self, CellId) -> bool,
+    ) -> usize {
+        let mut kept = 0;
+        let mut stuck = std::collections::HashSet::new();
+        for _ in 0..max_sweeps {
+            let mut improved = 0;
+            for (_, c, cell) in self.slivers(bound) {
+                if deadline.passed() {
+                    return kept + improved;
+                }
+                if !self.rt.is_live(c) || self.rt.cell(c) != cell || stuck.contains(&cell) {
+                    continue;
+                }
+                if improve(self, c) {
+                    improved += 1;
+                } else {
+                    stuck.insert(cell);
+                }
+            }
+            kept += improved;
+            if improved == 0 {
+                break;
+            }
+        }
+        kept
+    }
+
     /// Smallest dihedral angle of every tetrahedron of the mesh, in cell order.
     pub fn min_dihedrals(&self) -> Vec<f64> {
         self.rt
