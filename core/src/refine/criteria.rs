@@ -2,38 +2,59 @@
 
 use crate::kernel::Point3;
 use crate::oracle::Aabb;
+use crate::refine::sizing::SizingField;
 use std::collections::BTreeMap;
 use std::fmt;
 use std::sync::Arc;
 
 /// A bound that may vary in space: a mesh size, an approximation distance.
 ///
-/// `label` is the subdomain for cell criteria and the surface patch for facet criteria.
+/// `label` is the subdomain for cell criteria, the surface patch for facet criteria and the curve
+/// for edge sizes.
 #[derive(Clone)]
 pub enum Sizing {
     /// No bound.
     Unbounded,
+    /// The same bound everywhere.
     Constant(f64),
     /// A value per label, `default` elsewhere.
     PerLabel {
+        /// The value of labels not in `values`.
         default: f64,
+        /// The value of each label given.
         values: BTreeMap<u32, f64>,
     },
-    Function(Arc<dyn Fn(Point3, u32) -> f64 + Send + Sync>),
+    /// A sizing field: a background mesh, a size image, sizes at points, a closure (see
+    /// [`sizing`](super::sizing)).
+    Field(Arc<dyn SizingField>),
 }
 
 impl Sizing {
+    /// A field from a closure of the point and the label.
+    pub fn function(f: impl Fn(Point3, u32) -> f64 + Send + Sync + 'static) -> Self {
+        Sizing::Field(Arc::new(f))
+    }
+
+    /// The bound at `p` in `label`.
     pub fn at(&self, p: Point3, label: u32) -> f64 {
         match self {
             Sizing::Unbounded => f64::INFINITY,
             Sizing::Constant(v) => *v,
             Sizing::PerLabel { default, values } => values.get(&label).copied().unwrap_or(*default),
-            Sizing::Function(f) => f(p, label),
+            Sizing::Field(f) => f.size_at(p, label),
         }
     }
 
+    /// Whether there is a bound at all.
     pub fn is_bounded(&self) -> bool {
         !matches!(self, Sizing::Unbounded)
+    }
+
+    /// Whether the bound may differ between labels at the same point: sampling it then needs
+    /// the label of the point (fields may use labels too; those given by the command line do
+    /// not).
+    pub fn depends_on_label(&self) -> bool {
+        matches!(self, Sizing::PerLabel { .. })
     }
 }
 
@@ -43,7 +64,7 @@ impl fmt::Debug for Sizing {
             Sizing::Unbounded => write!(f, "Unbounded"),
             Sizing::Constant(v) => write!(f, "Constant({v})"),
             Sizing::PerLabel { default, values } => write!(f, "PerLabel({default}, {values:?})"),
-            Sizing::Function(_) => write!(f, "Function"),
+            Sizing::Field(_) => write!(f, "Field"),
         }
     }
 }
@@ -202,7 +223,9 @@ impl MeshCriteria {
                 Sizing::PerLabel { default, values } => std::iter::once(*default)
                     .chain(values.values().copied())
                     .collect(),
-                Sizing::Unbounded | Sizing::Function(_) => Vec::new(),
+                // A field's values were checked when it was built; its smallest bounds the count.
+                Sizing::Field(field) => field.smallest().into_iter().collect(),
+                Sizing::Unbounded => Vec::new(),
             };
             for v in values {
                 if !(v.is_finite() && v > 0.0) {

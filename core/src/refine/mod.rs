@@ -18,6 +18,7 @@ mod mesh3;
 pub(crate) mod protect;
 mod queue;
 pub mod repair;
+pub mod sizing;
 
 pub use engine::{
     Candidate, Check, Engine, Limits, MesherLevel, Progress, RefineError, RefineStats,
