@@ -19,6 +19,7 @@ mod ply;
 mod points;
 pub mod poly;
 pub mod pslg;
+mod sizing;
 mod stl;
 mod text;
 mod vtk;
@@ -27,7 +28,8 @@ mod vtu;
 
 pub use error::{Error, Location, Problem, Result};
 pub use format::{Format, UnknownFormat};
-pub use points::{parse_xyz, read_points};
+pub use points::{parse_point_sizes, parse_xyz, read_point_sizes, read_points};
+pub use sizing::{NodeField, read_node_field};
 
 use delamesh_core::mesh::{PatchId, SurfaceMesh, TetMesh, weld_exact};
 use std::io::Write;

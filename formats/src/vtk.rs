@@ -27,6 +27,14 @@ pub(crate) fn read_cells(
     bytes: &[u8],
     format: Format,
 ) -> Result<(TetMesh, Vec<String>, bool), Problem> {
+    read_cells_and_point_fields(bytes, format).map(|(m, _, w, poly)| (m, w, poly))
+}
+
+/// [`read_cells`] with the one-component point arrays (NaN in pieces that lack one).
+pub(crate) fn read_cells_and_point_fields(
+    bytes: &[u8],
+    format: Format,
+) -> Result<(TetMesh, Vec<CellField>, Vec<String>, bool), Problem> {
     let start = bytes.trim_ascii_start();
     let magic_ok = match format {
         Format::Vtk => start.starts_with(b"# vtk DataFile"),
@@ -83,7 +91,12 @@ pub(crate) fn read_cells(
                         cells.len()
                     )));
                 }
-                b.piece(&p.points, cells.iter().zip(types), &p.data.cell)?;
+                b.piece(
+                    &p.points,
+                    cells.iter().zip(types),
+                    &p.data.cell,
+                    &p.data.point,
+                )?;
             }
         }
         DataSet::PolyData { pieces, .. } => {
@@ -101,7 +114,12 @@ pub(crate) fn read_cells(
                         all.extend(cell_list(t)?.into_iter().map(|c| (c, ty as u8)));
                     }
                 }
-                b.piece(&p.points, all.iter().map(|(c, t)| (c, *t)), &p.data.cell)?;
+                b.piece(
+                    &p.points,
+                    all.iter().map(|(c, t)| (c, *t)),
+                    &p.data.cell,
+                    &p.data.point,
+                )?;
             }
         }
         _ => {
@@ -112,13 +130,14 @@ pub(crate) fn read_cells(
     }
     let Builder {
         mesh,
+        point_fields,
         mut warnings,
         skipped,
     } = b;
     for (ty, n) in skipped {
         warnings.push(format!("skipped {n} cells of VTK type {ty}"));
     }
-    Ok((mesh, warnings, poly))
+    Ok((mesh, point_fields, warnings, poly))
 }
 
 /// vtkio's messages in plain words: its errors end in `Debug` dumps of nested library errors
@@ -468,6 +487,18 @@ fn cell_list(v: VertexNumbers) -> Result<Vec<Vec<u64>>, Problem> {
     Ok(cells)
 }
 
+/// Every array with its name and component count, whether SCALARS / DataArray or legacy FIELD
+/// arrays.
+fn named_arrays(data: &[Attribute]) -> impl Iterator<Item = (&str, usize, &IOBuffer)> {
+    data.iter().flat_map(|attr| match attr {
+        Attribute::DataArray(a) => vec![(a.name.as_str(), a.num_comp(), &a.data)],
+        Attribute::Field { data_array, .. } => data_array
+            .iter()
+            .map(|f| (f.name.as_str(), f.num_comp(), &f.data))
+            .collect(),
+    })
+}
+
 /// Where a file cell went in the mesh, to distribute cell data.
 #[derive(Clone, Copy)]
 enum Slot {
@@ -480,6 +511,8 @@ enum Slot {
 #[derive(Default)]
 struct Builder {
     mesh: TetMesh,
+    /// One-component point arrays, one value per point of `mesh`.
+    point_fields: Vec<CellField>,
     warnings: Vec<String>,
     /// Skipped cells per VTK type, sorted so warnings come out in a fixed order.
     skipped: std::collections::BTreeMap<u8, usize>,
@@ -491,10 +524,51 @@ impl Builder {
         points: &IOBuffer,
         cells: impl Iterator<Item = (&'a Vec<u64>, u8)>,
         cell_data: &[Attribute],
+        point_data: &[Attribute],
     ) -> Result<(), Problem> {
         let (base, n) = self.add_points(points)?;
         let slots = self.add_cells(cells, base, n)?;
-        self.add_cell_data(&slots, cell_data)
+        self.add_cell_data(&slots, cell_data)?;
+        self.add_point_data(base, n, point_data)
+    }
+
+    /// Keeps the piece's one-component point arrays (points `base..base + n`).
+    fn add_point_data(
+        &mut self,
+        base: usize,
+        n: usize,
+        point_data: &[Attribute],
+    ) -> Result<(), Problem> {
+        let total = self.mesh.positions.len();
+        for field in &mut self.point_fields {
+            field.values.resize(total, f64::NAN);
+        }
+        for (name, components, data) in named_arrays(point_data) {
+            if components != 1 {
+                continue;
+            }
+            let Some(values) = data.cast_into::<f64>() else {
+                continue;
+            };
+            if values.len() != n {
+                return Err(Problem::bad(format!(
+                    "point array {name:?} has {} values for {n} points",
+                    values.len()
+                )));
+            }
+            let at = match self.point_fields.iter().position(|f| f.name == name) {
+                Some(i) => i,
+                None => {
+                    self.point_fields.push(CellField {
+                        name: name.into(),
+                        values: vec![f64::NAN; total],
+                    });
+                    self.point_fields.len() - 1
+                }
+            };
+            self.point_fields[at].values[base..base + n].copy_from_slice(&values);
+        }
+        Ok(())
     }
 
     /// Appends the piece's points; returns the index of its first point and its point count.
@@ -596,15 +670,7 @@ impl Builder {
         for field in &mut m.cell_fields {
             field.values.resize(m.tets.len(), f64::NAN);
         }
-        // Arrays of one component, whether SCALARS / DataArray or legacy FIELD arrays.
-        let arrays = cell_data.iter().flat_map(|attr| match attr {
-            Attribute::DataArray(a) => vec![(a.name.as_str(), a.num_comp(), &a.data)],
-            Attribute::Field { data_array, .. } => data_array
-                .iter()
-                .map(|f| (f.name.as_str(), f.num_comp(), &f.data))
-                .collect(),
-        });
-        for (name, components, data) in arrays {
+        for (name, components, data) in named_arrays(cell_data) {
             if components != 1 {
                 continue;
             }
