@@ -13,6 +13,10 @@ pub enum Error {
     /// An option has a value it cannot take.
     #[error(transparent)]
     Settings(#[from] SettingsError),
+    /// A sizing field could not be read, holds a bad value, gave one while meshing, or does not
+    /// cover the domain.
+    #[error(transparent)]
+    Sizing(#[from] crate::sizing::SizingFieldError),
     /// Reading the input or writing the output failed.
     #[error(transparent)]
     Format(#[from] delamesh_formats::Error),

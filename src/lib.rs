@@ -100,6 +100,7 @@ mod pipeline;
 pub mod plugins;
 pub mod report;
 mod settings;
+mod sizing;
 
 pub use delamesh_core as core;
 pub use delamesh_formats as formats;
@@ -120,3 +121,4 @@ pub use settings::{
     DEFAULT_MAX_VERTICES, FeatureSettings, ImageSettings, MeshSettings, MeshSettingsBuilder,
     SettingsError,
 };
+pub use sizing::{COVER_TOLERANCE, SizeSource, SizingFieldError, SizingSettings};

@@ -5,6 +5,7 @@ use crate::domain::Domain;
 use crate::error::Error;
 use crate::report::{Report, ReportInput, Times};
 use crate::settings::MeshSettings;
+use crate::sizing::{Fields, grade};
 use delamesh_core::complex::MeshComplex;
 use delamesh_core::mesh::component_euler_characteristics;
 use delamesh_core::mesh::{SurfaceMesh, TetMesh};
@@ -180,12 +181,25 @@ impl<'p> Mesher<'p> {
     ) -> Result<Meshed, Error> {
         let oracle = domain.oracle();
         let bbox = oracle.bounding_box();
+        let fields = Fields::load(&self.settings.sizing)?;
         let mut options = self.settings.mesh_options(&bbox);
+        options.criteria = self
+            .settings
+            .criteria_with(&bbox, fields.size(), fields.distance());
         if let Some(surface) = &input {
             options.validity.input_euler =
                 Some(component_euler_characteristics(&surface.triangles).1);
         }
-        if let (Domain::Image(image), None) = (&domain, self.settings.facet_distance) {
+        let boundary: Vec<_> = match &input {
+            Some(surface) => surface.positions.clone(),
+            None => oracle.initial_points().iter().map(|p| p.point).collect(),
+        };
+        fields.check_cover(&boundary, &bbox)?;
+        if let Some(gradation) = self.settings.sizing.gradation {
+            grade(&mut options.criteria, oracle, gradation)?;
+        }
+        let no_distance = self.settings.facet_distance.is_none() && fields.distance().is_none();
+        if let (Domain::Image(image), true) = (&domain, no_distance) {
             // Finer than the voxels, the facet distance would chase their staircase.
             options.criteria.facet.distance = image.default_criteria().facet.distance;
         }
@@ -204,6 +218,8 @@ impl<'p> Mesher<'p> {
         };
         let outcome = mesh_domain(oracle, &options, progress);
         domain.check()?;
+        // A closure or an expression may have given a bad value on the way: no mesh then.
+        fields.check_values()?;
         let mut warnings = Vec::new();
         let (complex, stats, stopped, optimization) = match outcome {
             Ok(o) => {

@@ -9,6 +9,7 @@
 //! [`MeshSettings::mesh_options`] (or wherever the pipeline needs it), then the command-line flag
 //! in `src/cli/mesh.rs` (`MeshArgs` and `MeshArgs::settings`).
 
+use crate::sizing::{SizeSource, SizingSettings, min_of, per_label};
 use delamesh_core::optimize::OptimizeOptions;
 use delamesh_core::oracle::Aabb;
 use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
@@ -60,6 +61,8 @@ pub struct MeshSettings {
     /// The optimisers run after refinement (default: none; `OptimizeOptions::default()` is
     /// CGAL's perturbation and exudation).
     pub optimize: OptimizeOptions,
+    /// Sizing fields, per-subdomain and per-patch sizes, gradation.
+    pub sizing: SizingSettings,
 }
 
 /// Options of segmented and gray-level 3D images (unused for surfaces and plugins).
@@ -110,6 +113,7 @@ impl Default for MeshSettings {
             image: ImageSettings::default(),
             strict: false,
             optimize: OptimizeOptions::none(),
+            sizing: SizingSettings::default(),
         }
     }
 }
@@ -184,11 +188,31 @@ impl MeshSettings {
                 format!("must be a number, got {v}"),
             ));
         }
+        self.validate_sizing()?;
         if self.optimize.time_limit.is_some_and(|t| t.is_zero()) {
             return Err(SettingsError::new(
                 "optimize-time",
                 "must be a positive number of seconds",
             ));
+        }
+        Ok(())
+    }
+
+    /// The checks of [`SizingSettings`] that need no file: sizes, gradation, expressions.
+    fn validate_sizing(&self) -> Result<(), SettingsError> {
+        let s = &self.sizing;
+        for &size in s.per_subdomain.values() {
+            positive("size-per-subdomain", Some(size))?;
+        }
+        for &size in s.per_patch.values() {
+            positive("size-per-patch", Some(size))?;
+        }
+        positive("size-gradation", s.gradation)?;
+        for (option, source) in [("sizing-expr", &s.field), ("distance-expr", &s.distance)] {
+            if let Some(SizeSource::Expression(e)) = source {
+                crate::sizing::check_expression(e)
+                    .map_err(|problem| SettingsError::new(option, format!("{e:?}: {problem}")))?;
+            }
         }
         Ok(())
     }
@@ -205,35 +229,52 @@ impl MeshSettings {
     }
 
     /// The CGAL-style criteria for a domain in `bbox`: defaults scaled by the box, overridden by
-    /// the settings.
+    /// the settings' constant, per-subdomain and per-patch sizes. The pipeline adds the sizing
+    /// fields and the gradation once it has loaded them and built the domain.
     pub fn criteria(&self, bbox: &Aabb) -> MeshCriteria {
+        self.criteria_with(bbox, None, None)
+    }
+
+    /// [`criteria`](Self::criteria) with a size field and a distance field (see
+    /// [`crate::sizing`] for how they combine with the other sizes).
+    pub(crate) fn criteria_with(
+        &self,
+        bbox: &Aabb,
+        size: Option<Sizing>,
+        distance: Option<Sizing>,
+    ) -> MeshCriteria {
         let mut c = MeshCriteria::default_for(bbox);
-        if let Some(v) = self.edge_size {
-            c.edge_size = Sizing::Constant(v);
-        }
+        // A number given caps a field; without one the field replaces the default.
+        let base =
+            |given: Option<f64>, default: Sizing, field: &Option<Sizing>| match (given, field) {
+                (Some(v), _) => Sizing::Constant(v),
+                (None, Some(_)) => Sizing::Unbounded,
+                (None, None) => default,
+            };
+        c.edge_size = base(self.edge_size, c.edge_size, &size);
         if let Some(v) = self.edge_min_size {
             c.edge_min_size = v;
         }
         if let Some(v) = self.facet_angle {
             c.facet.angle_deg = v;
         }
-        if let Some(v) = self.facet_size {
-            c.facet.size = Sizing::Constant(v);
-        }
-        if let Some(v) = self.facet_distance {
-            c.facet.distance = Sizing::Constant(v);
-        }
+        let facet = base(self.facet_size, c.facet.size, &size);
+        c.facet.size = per_label(facet, &self.sizing.per_patch);
+        c.facet.distance = base(self.facet_distance, c.facet.distance, &distance);
         if let Some(v) = self.cell_radius_edge_ratio {
             c.cell.radius_edge_ratio = v;
         }
-        if let Some(v) = self.cell_size {
-            c.cell.size = Sizing::Constant(v);
+        let mut per_subdomain = self.image.cell_size_per_label.clone();
+        per_subdomain.extend(&self.sizing.per_subdomain);
+        let cell = base(self.cell_size, c.cell.size, &size);
+        c.cell.size = per_label(cell, &per_subdomain);
+        if let Some(field) = size {
+            c.edge_size = min_of(c.edge_size, field.clone());
+            c.facet.size = min_of(c.facet.size, field.clone());
+            c.cell.size = min_of(c.cell.size, field);
         }
-        if !self.image.cell_size_per_label.is_empty() {
-            c.cell.size = Sizing::PerLabel {
-                default: c.cell.size.at(bbox.center(), 0),
-                values: self.image.cell_size_per_label.clone(),
-            };
+        if let Some(field) = distance {
+            c.facet.distance = min_of(c.facet.distance, field);
         }
         c
     }
@@ -358,6 +399,31 @@ impl MeshSettingsBuilder {
     /// See [`ImageSettings::cell_size_per_label`].
     pub fn cell_size_for_label(mut self, label: u32, size: f64) -> Self {
         self.settings.image.cell_size_per_label.insert(label, size);
+        self
+    }
+    /// See [`SizingSettings::field`].
+    pub fn sizing(mut self, source: SizeSource) -> Self {
+        self.settings.sizing.field = Some(source);
+        self
+    }
+    /// See [`SizingSettings::per_subdomain`].
+    pub fn size_for_subdomain(mut self, subdomain: u32, size: f64) -> Self {
+        self.settings.sizing.per_subdomain.insert(subdomain, size);
+        self
+    }
+    /// See [`SizingSettings::per_patch`].
+    pub fn size_for_patch(mut self, patch: u32, size: f64) -> Self {
+        self.settings.sizing.per_patch.insert(patch, size);
+        self
+    }
+    /// See [`SizingSettings::gradation`].
+    pub fn size_gradation(mut self, gradation: f64) -> Self {
+        self.settings.sizing.gradation = Some(gradation);
+        self
+    }
+    /// See [`SizingSettings::distance`].
+    pub fn distance_field(mut self, source: SizeSource) -> Self {
+        self.settings.sizing.distance = Some(source);
         self
     }
     /// See [`MeshSettings::strict`].

@@ -47,15 +47,16 @@ impl ImageArgs {
                 },
             },
             cell_size_per_label: match &self.cell_size_per_label {
-                Some(spec) => per_label(spec)?,
+                Some(spec) => per_label("cell-size-per-label", spec)?,
                 None => BTreeMap::new(),
             },
         })
     }
 }
 
-/// Parses `1=2,3=8` into label → size (the sizes are validated with the other settings).
-fn per_label(spec: &str) -> Result<BTreeMap<u32, f64>> {
+/// Parses `1=2,3=8` given to `--option` into label → size (the sizes are validated with the
+/// other settings).
+pub fn per_label(option: &str, spec: &str) -> Result<BTreeMap<u32, f64>> {
     let mut values = BTreeMap::new();
     for item in spec.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         let parsed = item.split_once('=').and_then(|(l, s)| {
@@ -65,7 +66,7 @@ fn per_label(spec: &str) -> Result<BTreeMap<u32, f64>> {
             Some((label, size)) => {
                 values.insert(label, size);
             }
-            None => bail!("--cell-size-per-label: {item:?} is not LABEL=SIZE (e.g. 1=2,3=8)"),
+            None => bail!("--{option}: {item:?} is not LABEL=SIZE (e.g. 1=2,3=8)"),
         }
     }
     Ok(values)

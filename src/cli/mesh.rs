@@ -93,6 +93,9 @@ pub struct MeshArgs {
     /// Optimisation after refinement.
     #[command(flatten)]
     pub optimize: crate::cli::optimize::OptimizeArgs,
+    /// Sizing fields, per-subdomain and per-patch sizes, gradation.
+    #[command(flatten)]
+    pub sizing: crate::cli::sizing::SizingArgs,
 }
 
 impl MeshArgs {
@@ -122,6 +125,7 @@ impl MeshArgs {
             image: self.image.settings()?,
             strict: self.strict,
             optimize: self.optimize.options()?,
+            sizing: self.sizing.settings()?,
         })
     }
 }

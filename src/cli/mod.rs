@@ -21,6 +21,7 @@ mod mesh;
 mod mesh2d;
 mod optimize;
 mod plugins;
+mod sizing;
 
 use clap::{Parser, Subcommand};
 use std::process::ExitCode;

@@ -220,7 +220,9 @@ impl MeshCriteria {
         for (criterion, sizing) in sizes {
             let values: Vec<f64> = match sizing {
                 Sizing::Constant(v) => vec![*v],
+                // An infinite default: no bound outside the labels given.
                 Sizing::PerLabel { default, values } => std::iter::once(*default)
+                    .filter(|d| *d != f64::INFINITY)
                     .chain(values.values().copied())
                     .collect(),
                 // A field's values were checked when it was built; its smallest bounds the count.

@@ -103,9 +103,19 @@ impl BackgroundMesh {
             .find_map(|b| self.barycentric(b.data, p).map(|l| (b.data, l)))
     }
 
-    /// Whether some tet contains `p`: the check that the mesh covers a domain.
+    /// Whether some tet contains `p`.
     pub fn covers(&self, p: Point3) -> bool {
         self.locate(p).is_some()
+    }
+
+    /// The distance from `p` to the nearest tet's bounding box (0 inside
+    /// one), a cheap lower bound of the distance to the mesh for the check that it covers a
+    /// domain up to the gap between a curved surface and its chords.
+    pub fn box_distance(&self, p: Point3) -> f64 {
+        use rstar::PointDistance;
+        self.cells
+            .nearest_neighbor(p.to_array())
+            .map_or(f64::INFINITY, |b| b.geom().distance_2(&p.to_array()).sqrt())
     }
 
     /// The value at `p` (see the type's documentation).

@@ -23,7 +23,7 @@ pub use gradation::{DEFAULT_GRADATION_NODES, Graded, graded};
 pub use grid::SizeGrid;
 
 use crate::kernel::Point3;
-use std::sync::OnceLock;
+use std::sync::{Arc, OnceLock};
 
 /// A size (or distance bound) that varies in space. `label` is the subdomain for cell criteria,
 /// the surface patch for facet criteria and the curve for edge sizes; most fields ignore it.
@@ -64,14 +64,14 @@ pub(crate) fn check_value(v: f64, at: impl FnOnce() -> String) -> Result<(), Siz
 /// not finite and positive counts as no bound, and the first one met is kept for
 /// [`Checked::first_bad`], so the caller can refuse the mesh with the point and the value.
 /// Refinement is sequential, so the point kept is the same on every run.
-pub struct Checked<F> {
-    inner: F,
+pub struct Checked {
+    inner: Arc<dyn SizingField>,
     bad: OnceLock<(Point3, f64)>,
 }
 
-impl<F: SizingField> Checked<F> {
+impl Checked {
     /// Wraps `inner`.
-    pub fn new(inner: F) -> Self {
+    pub fn new(inner: Arc<dyn SizingField>) -> Self {
         Checked {
             inner,
             bad: OnceLock::new(),
@@ -85,7 +85,7 @@ impl<F: SizingField> Checked<F> {
     }
 }
 
-impl<F: SizingField> SizingField for Checked<F> {
+impl SizingField for Checked {
     fn size_at(&self, p: Point3, label: u32) -> f64 {
         let v = self.inner.size_at(p, label);
         if v.is_finite() && v > 0.0 {

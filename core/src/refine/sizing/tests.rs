@@ -187,7 +187,11 @@ fn gradation_bounds_the_growth_and_never_exceeds_the_field() {
 
 #[test]
 fn checked_fields_remember_the_first_bad_value() {
-    let checked = Checked::new(|p: Point3, _: u32| if p.x < 0.0 { -1.0 } else { 0.5 });
+    let checked = Checked::new(std::sync::Arc::new(
+        |p: Point3, _: u32| {
+            if p.x < 0.0 { -1.0 } else { 0.5 }
+        },
+    ));
     assert_eq!(checked.size_at(Point3::X, 1), 0.5);
     assert!(checked.first_bad().is_none());
     assert_eq!(checked.size_at(-Point3::X, 1), f64::INFINITY);
