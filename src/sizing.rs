@@ -292,7 +292,7 @@ impl Fields {
             if let Some(bg) = &loaded.background
                 && let Some(p) = points
                     .iter()
-                    .find(|&&p| !bg.covers(p) && bg.box_distance(p) > tolerance)
+                    .find(|&&p| !bg.covers(p) && !bg.near(p, tolerance))
             {
                 return Err(SizingFieldError {
                     source_name: loaded.name.clone(),

@@ -2,10 +2,9 @@
 
 use super::{SizingError, SizingField, check_value, show};
 use crate::kernel::Point3;
-use rstar::primitives::{GeomWithData, Rectangle};
-use rstar::{AABB, RTree};
+use rstar::RTree;
+use rstar::primitives::GeomWithData;
 
-type TetBox = GeomWithData<Rectangle<[f64; 3]>, u32>;
 type Node = GeomWithData<[f64; 3], u32>;
 
 /// Barycentric coordinates may be this much below zero (relative) and still count as inside:
@@ -13,13 +12,15 @@ type Node = GeomWithData<[f64; 3], u32>;
 const INSIDE_TOLERANCE: f64 = 1e-9;
 
 /// Sizes at the nodes of a tetrahedral mesh: linear interpolation in the tet containing the
-/// point (found through an R*-tree of the tets' boxes), the nearest node's value outside every
-/// tet. Flat tets are never "containing": their neighbours or the nearest node answer.
+/// point (the first, by index, of the tets listed in the point's bucket of a uniform grid), the
+/// nearest node's value outside every tet (through an R*-tree of the nodes). Flat tets are never
+/// "containing": their neighbours or the nearest node answer. A bucket grid rather than a tree
+/// of tet boxes: refinement asks millions of times, and a bucket costs one division per axis.
 pub struct BackgroundMesh {
     positions: Vec<Point3>,
     tets: Vec<[u32; 4]>,
     values: Vec<f64>,
-    cells: RTree<TetBox>,
+    buckets: Buckets,
     nodes: RTree<Node>,
     smallest: f64,
 }
@@ -46,7 +47,7 @@ impl BackgroundMesh {
         for (n, &v) in values.iter().enumerate() {
             check_value(v, || format!("node {n} {}", show(positions[n])))?;
         }
-        let mut boxes = Vec::with_capacity(tets.len());
+        let mut boxes: Vec<(Point3, Point3)> = Vec::with_capacity(tets.len());
         for (t, tet) in tets.iter().enumerate() {
             let mut corners = [Point3::ZERO; 4];
             for (c, &v) in corners.iter_mut().zip(tet) {
@@ -59,8 +60,7 @@ impl BackgroundMesh {
             }
             let lo = corners.iter().fold(corners[0], |a, &b| a.min(b));
             let hi = corners.iter().fold(corners[0], |a, &b| a.max(b));
-            let rect = Rectangle::from_corners(lo.to_array(), hi.to_array());
-            boxes.push(GeomWithData::new(rect, t as u32));
+            boxes.push((lo, hi));
         }
         let nodes = positions
             .iter()
@@ -69,7 +69,7 @@ impl BackgroundMesh {
             .collect();
         let smallest = values.iter().copied().fold(f64::INFINITY, f64::min);
         Ok(BackgroundMesh {
-            cells: RTree::bulk_load(boxes),
+            buckets: Buckets::new(&boxes),
             nodes: RTree::bulk_load(nodes),
             positions,
             tets,
@@ -97,10 +97,10 @@ impl BackgroundMesh {
 
     /// The containing tet and the coordinates of `p` in it.
     fn locate(&self, p: Point3) -> Option<(u32, [f64; 4])> {
-        let q = AABB::from_point(p.to_array());
-        self.cells
-            .locate_in_envelope_intersecting(q)
-            .find_map(|b| self.barycentric(b.data, p).map(|l| (b.data, l)))
+        self.buckets
+            .tets_near(p)
+            .iter()
+            .find_map(|&t| self.barycentric(t, p).map(|l| (t, l)))
     }
 
     /// Whether some tet contains `p`.
@@ -108,14 +108,19 @@ impl BackgroundMesh {
         self.locate(p).is_some()
     }
 
-    /// The distance from `p` to the nearest tet's bounding box (0 inside
-    /// one), a cheap lower bound of the distance to the mesh for the check that it covers a
-    /// domain up to the gap between a curved surface and its chords.
-    pub fn box_distance(&self, p: Point3) -> f64 {
-        use rstar::PointDistance;
-        self.cells
-            .nearest_neighbor(p.to_array())
-            .map_or(f64::INFINITY, |b| b.geom().distance_2(&p.to_array()).sqrt())
+    /// Whether some tet's bounding box lies within `tolerance` of `p`: the check that the mesh
+    /// covers a domain up to the gap between a curved surface and its chords.
+    pub fn near(&self, p: Point3, tolerance: f64) -> bool {
+        self.buckets
+            .tets_around(p, tolerance)
+            .any(|t| self.box_distance(t, p) <= tolerance)
+    }
+
+    fn box_distance(&self, t: u32, p: Point3) -> f64 {
+        let corners = self.tets[t as usize].map(|v| self.positions[v as usize]);
+        let lo = corners.iter().fold(corners[0], |a, &b| a.min(b));
+        let hi = corners.iter().fold(corners[0], |a, &b| a.max(b));
+        (lo - p).max(p - hi).max(Point3::ZERO).length()
     }
 
     /// The value at `p` (see the type's documentation).
@@ -128,6 +133,131 @@ impl BackgroundMesh {
             Some(n) => self.values[n.data as usize],
             None => self.smallest,
         }
+    }
+}
+
+/// Tets listed by the cells of a uniform grid their bounding boxes overlap.
+struct Buckets {
+    origin: Point3,
+    /// 1 / the cells' side.
+    scale: f64,
+    dims: [usize; 3],
+    /// Bucket `b` lists `items[start[b]..start[b + 1]]`, in increasing tet order.
+    start: Vec<u32>,
+    items: Vec<u32>,
+}
+
+impl Buckets {
+    /// About one bucket per tet; coarser when big tets would be listed in too many buckets, so
+    /// the lists stay within a few entries per tet.
+    fn new(boxes: &[(Point3, Point3)]) -> Buckets {
+        let lo = boxes
+            .iter()
+            .fold(Point3::splat(f64::INFINITY), |a, b| a.min(b.0));
+        let hi = boxes
+            .iter()
+            .fold(Point3::splat(f64::NEG_INFINITY), |a, b| a.max(b.1));
+        let extent = (hi - lo).max(Point3::splat(f64::MIN_POSITIVE));
+        let target = (boxes.len() as f64).clamp(1.0, (1u64 << 22) as f64);
+        let mut side = (extent.x * extent.y * extent.z / target).cbrt();
+        side = side.max(extent.max_element() / 4096.0);
+        // Each round doubles the side: at most a few dozen rounds to reach one bucket.
+        for _ in 0..64 {
+            let b = Buckets::with_side(boxes, lo, extent, side);
+            if b.items.len() <= 16 * boxes.len() + b.start.len() || b.start.len() <= 2 {
+                return b;
+            }
+            side *= 2.0;
+        }
+        Buckets::with_side(boxes, lo, extent, extent.max_element())
+    }
+
+    fn with_side(boxes: &[(Point3, Point3)], origin: Point3, extent: Point3, side: f64) -> Buckets {
+        let dims = extent
+            .to_array()
+            .map(|e| ((e / side).floor() as usize + 1).max(1));
+        let scale = 1.0 / side;
+        let n = dims[0] * dims[1] * dims[2];
+        let range = |b: &(Point3, Point3)| {
+            let a = ((b.0 - origin) * scale).to_array();
+            let z = ((b.1 - origin) * scale).to_array();
+            [0, 1, 2].map(|k| {
+                let clamp = |x: f64| (x.max(0.0) as usize).min(dims[k] - 1);
+                (clamp(a[k]), clamp(z[k]))
+            })
+        };
+        let mut count = vec![0u32; n + 1];
+        let mut visit = |t: usize, f: &mut dyn FnMut(usize, u32)| {
+            let [(i0, i1), (j0, j1), (k0, k1)] = range(&boxes[t]);
+            for k in k0..=k1 {
+                for j in j0..=j1 {
+                    for i in i0..=i1 {
+                        f(i + dims[0] * (j + dims[1] * k), t as u32);
+                    }
+                }
+            }
+        };
+        for t in 0..boxes.len() {
+            visit(t, &mut |b, _| count[b + 1] += 1);
+        }
+        for b in 0..n {
+            count[b + 1] += count[b];
+        }
+        let mut items = vec![0u32; count[n] as usize];
+        let mut fill = count.clone();
+        for t in 0..boxes.len() {
+            visit(t, &mut |b, t| {
+                items[fill[b] as usize] = t;
+                fill[b] += 1;
+            });
+        }
+        Buckets {
+            origin,
+            scale,
+            dims,
+            start: count,
+            items,
+        }
+    }
+
+    /// The tets listed in the buckets within `r` of `p` (with repeats).
+    fn tets_around(&self, p: Point3, r: f64) -> impl Iterator<Item = u32> + '_ {
+        let lo = ((p - Point3::splat(r) - self.origin) * self.scale).to_array();
+        let hi = ((p + Point3::splat(r) - self.origin) * self.scale).to_array();
+        let span = [0, 1, 2].map(|k| {
+            let clamp = |x: f64| (x.max(0.0) as usize).min(self.dims[k] - 1);
+            let outside = hi[k] < 0.0 || lo[k] > self.dims[k] as f64;
+            (
+                clamp(lo[k]),
+                if outside { 0 } else { clamp(hi[k]) + 1 },
+                outside,
+            )
+        });
+        let empty = span.iter().any(|s| s.2);
+        let [(i0, i1, _), (j0, j1, _), (k0, k1, _)] = span;
+        let (ni, nj) = (self.dims[0], self.dims[1]);
+        (k0..if empty { k0 } else { k1 })
+            .flat_map(move |k| {
+                (j0..j1).flat_map(move |j| (i0..i1).map(move |i| i + ni * (j + nj * k)))
+            })
+            .flat_map(move |b| {
+                self.items[self.start[b] as usize..self.start[b + 1] as usize]
+                    .iter()
+                    .copied()
+            })
+    }
+
+    /// The tets whose boxes may contain `p` (none outside the grid).
+    fn tets_near(&self, p: Point3) -> &[u32] {
+        let q = ((p - self.origin) * self.scale).to_array();
+        let mut b = 0;
+        for k in (0..3).rev() {
+            if !(q[k] >= 0.0 && q[k] < self.dims[k] as f64 + 1e-9) {
+                return &[];
+            }
+            b = b * self.dims[k] + (q[k] as usize).min(self.dims[k] - 1);
+        }
+        &self.items[self.start[b] as usize..self.start[b + 1] as usize]
     }
 }
 

@@ -69,9 +69,7 @@ fn grid_refuses_bad_values_naming_the_node() {
     let map = DAffine3::IDENTITY;
     let mut values = vec![1.0; 8];
     values[5] = -2.0;
-    let e = SizeGrid::new([2, 2, 2], map, values)
-        .err()
-        .expect("refused");
+    let e = SizeGrid::new([2, 2, 2], map, values).expect_err("refused");
     assert!(e.0.contains("node (1, 0, 1)") && e.0.contains("-2"), "{e}");
     assert!(SizeGrid::new([2, 2, 2], map, vec![f64::NAN; 8]).is_err());
     assert!(SizeGrid::new([2, 2, 3], map, vec![1.0; 8]).is_err());
@@ -89,6 +87,7 @@ fn background_mesh_interpolates_linearly_and_takes_the_nearest_node_outside() {
     }
     let out = Point3::new(1.4, 1.3, -0.2);
     assert!(!bg.covers(out));
+    assert!(bg.near(out, 0.55) && !bg.near(out, 0.5));
     assert_eq!(bg.at(out), linear(Point3::new(1.0, 1.0, 0.0)));
 }
 
