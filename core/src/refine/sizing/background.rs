@@ -11,6 +11,11 @@ type Node = GeomWithData<[f64; 3], u32>;
 /// points on a shared face belong to both tets, whichever is found first.
 const INSIDE_TOLERANCE: f64 = 1e-9;
 
+/// Six times the signed volume of a tet.
+fn volume([a, b, c, d]: &[Point3; 4]) -> f64 {
+    (b - a).dot((c - a).cross(d - a))
+}
+
 /// Sizes at the nodes of a tetrahedral mesh: linear interpolation in the tet containing the
 /// point (the first, by index, of the tets listed in the point's bucket of a uniform grid), the
 /// nearest node's value outside every tet (through an R*-tree of the nodes). Flat tets are never
@@ -21,6 +26,8 @@ pub struct BackgroundMesh {
     tets: Vec<[u32; 4]>,
     values: Vec<f64>,
     buckets: Buckets,
+    /// Six times each tet's signed volume.
+    volumes: Vec<f64>,
     nodes: RTree<Node>,
     smallest: f64,
 }
@@ -70,6 +77,10 @@ impl BackgroundMesh {
         let smallest = values.iter().copied().fold(f64::INFINITY, f64::min);
         Ok(BackgroundMesh {
             buckets: Buckets::new(&boxes),
+            volumes: tets
+                .iter()
+                .map(|t| volume(&t.map(|v| positions[v as usize])))
+                .collect(),
             nodes: RTree::bulk_load(nodes),
             positions,
             tets,
@@ -80,19 +91,24 @@ impl BackgroundMesh {
 
     /// The barycentric coordinates of `p` in tet `t`, if it contains `p`.
     fn barycentric(&self, t: u32, p: Point3) -> Option<[f64; 4]> {
-        let [a, b, c, d] = self.tets[t as usize].map(|v| self.positions[v as usize]);
-        let volume = |a: Point3, b: Point3, c: Point3, d: Point3| (b - a).dot((c - a).cross(d - a));
-        let total = volume(a, b, c, d);
+        let total = self.volumes[t as usize];
         if total == 0.0 || !total.is_finite() {
             return None;
         }
-        let l = [
-            volume(p, b, c, d) / total,
-            volume(a, p, c, d) / total,
-            volume(a, b, p, d) / total,
-            volume(a, b, c, p) / total,
-        ];
-        l.iter().all(|&x| x >= -INSIDE_TOLERANCE).then_some(l)
+        let [a, b, c, d] = self.tets[t as usize].map(|v| self.positions[v as usize]);
+        // One coordinate at a time: most candidates fail on the first or second.
+        let mut l = [0.0; 4];
+        for (k, corners) in [[p, b, c, d], [a, p, c, d], [a, b, p, d]]
+            .iter()
+            .enumerate()
+        {
+            l[k] = volume(corners) / total;
+            if l[k] < -INSIDE_TOLERANCE {
+                return None;
+            }
+        }
+        l[3] = 1.0 - l[0] - l[1] - l[2];
+        (l[3] >= -INSIDE_TOLERANCE).then_some(l)
     }
 
     /// The containing tet and the coordinates of `p` in it.
@@ -136,6 +152,9 @@ impl BackgroundMesh {
     }
 }
 
+/// At most this many buckets (4 M): 16 MB of list starts.
+const MAX_BUCKETS: u64 = 1 << 22;
+
 /// Tets listed by the cells of a uniform grid their bounding boxes overlap.
 struct Buckets {
     origin: Point3,
@@ -158,34 +177,61 @@ impl Buckets {
             .iter()
             .fold(Point3::splat(f64::NEG_INFINITY), |a, b| a.max(b.1));
         let extent = (hi - lo).max(Point3::splat(f64::MIN_POSITIVE));
-        let target = (boxes.len() as f64).clamp(1.0, (1u64 << 22) as f64);
-        let mut side = (extent.x * extent.y * extent.z / target).cbrt();
-        side = side.max(extent.max_element() / 4096.0);
-        // Each round doubles the side: at most a few dozen rounds to reach one bucket.
-        for _ in 0..64 {
-            let b = Buckets::with_side(boxes, lo, extent, side);
-            if b.items.len() <= 16 * boxes.len() + b.start.len() || b.start.len() <= 2 {
-                return b;
+        let target = (boxes.len() as f64).clamp(1.0, MAX_BUCKETS as f64);
+        let base = (extent.x * extent.y * extent.z / target).cbrt();
+        // The side among a few around one bucket per tet with the shortest lists on average
+        // (what a query scans), within a memory bound: counting costs one pass per side.
+        let mut best = (f64::INFINITY, extent.max_element());
+        for k in -4..=4 {
+            let side = (base * 2f64.powf(f64::from(k) / 2.0)).max(extent.max_element() / 4096.0);
+            let dims = Buckets::dims_for(extent, side);
+            let buckets = dims.iter().map(|&d| d as u64).product::<u64>();
+            if buckets > MAX_BUCKETS {
+                continue;
             }
-            side *= 2.0;
+            let items: u64 = boxes
+                .iter()
+                .map(|b| {
+                    Buckets::range(b, lo, 1.0 / side, dims)
+                        .iter()
+                        .map(|(a, z)| (z - a + 1) as u64)
+                        .product::<u64>()
+                })
+                .sum();
+            let mean = items as f64 / buckets as f64;
+            if items <= 32 * boxes.len() as u64 + buckets && mean < best.0 {
+                best = (mean, side);
+            }
         }
-        Buckets::with_side(boxes, lo, extent, extent.max_element())
+        Buckets::with_side(boxes, lo, extent, best.1)
+    }
+
+    fn dims_for(extent: Point3, side: f64) -> [usize; 3] {
+        extent
+            .to_array()
+            .map(|e| ((e / side).floor() as usize + 1).max(1))
+    }
+
+    /// The buckets a box overlaps, per axis (first, last).
+    fn range(
+        b: &(Point3, Point3),
+        origin: Point3,
+        scale: f64,
+        dims: [usize; 3],
+    ) -> [(usize, usize); 3] {
+        let a = ((b.0 - origin) * scale).to_array();
+        let z = ((b.1 - origin) * scale).to_array();
+        [0, 1, 2].map(|k| {
+            let clamp = |x: f64| (x.max(0.0) as usize).min(dims[k] - 1);
+            (clamp(a[k]), clamp(z[k]))
+        })
     }
 
     fn with_side(boxes: &[(Point3, Point3)], origin: Point3, extent: Point3, side: f64) -> Buckets {
-        let dims = extent
-            .to_array()
-            .map(|e| ((e / side).floor() as usize + 1).max(1));
+        let dims = Buckets::dims_for(extent, side);
         let scale = 1.0 / side;
         let n = dims[0] * dims[1] * dims[2];
-        let range = |b: &(Point3, Point3)| {
-            let a = ((b.0 - origin) * scale).to_array();
-            let z = ((b.1 - origin) * scale).to_array();
-            [0, 1, 2].map(|k| {
-                let clamp = |x: f64| (x.max(0.0) as usize).min(dims[k] - 1);
-                (clamp(a[k]), clamp(z[k]))
-            })
-        };
+        let range = |b: &(Point3, Point3)| Buckets::range(b, origin, scale, dims);
         let mut count = vec![0u32; n + 1];
         let mut visit = |t: usize, f: &mut dyn FnMut(usize, u32)| {
             let [(i0, i1), (j0, j1), (k0, k1)] = range(&boxes[t]);
