@@ -233,7 +233,7 @@ impl Buckets {
         let n = dims[0] * dims[1] * dims[2];
         let range = |b: &(Point3, Point3)| Buckets::range(b, origin, scale, dims);
         let mut count = vec![0u32; n + 1];
-        let mut visit = |t: usize, f: &mut dyn FnMut(usize, u32)| {
+        let visit = |t: usize, f: &mut dyn FnMut(usize, u32)| {
             let [(i0, i1), (j0, j1), (k0, k1)] = range(&boxes[t]);
             for k in k0..=k1 {
                 for j in j0..=j1 {

@@ -39,7 +39,11 @@ impl SizingField for Graded {
         self.field.at(p, label).min(self.grid.at(p))
     }
     fn smallest(&self) -> Option<f64> {
-        self.grid.smallest()
+        let grid = self.grid.smallest();
+        match self.field.smallest() {
+            Some(f) => grid.map(|g| g.min(f)),
+            None => grid,
+        }
     }
 }
 
