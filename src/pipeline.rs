@@ -11,7 +11,7 @@ use delamesh_core::mesh::{SurfaceMesh, TetMesh};
 use delamesh_core::optimize::{OptimizeOptions, OptimizeReport, optimize};
 use delamesh_core::oracle::Oracle;
 use delamesh_core::refine::criteria::MeshCriteria;
-use delamesh_core::refine::{MeshError, Progress, RefineError, RefineStats, mesh_domain};
+use delamesh_core::refine::{Cancel, MeshError, Progress, RefineError, RefineStats, mesh_domain};
 use delamesh_formats::image::{is_image_path, read_image};
 use delamesh_formats::{WriteOptions, read_surface, write_tet_mesh};
 use std::path::Path;
@@ -33,6 +33,7 @@ pub type ProgressFn<'p> = dyn FnMut(&Progress) + 'p;
 pub struct Mesher<'p> {
     settings: MeshSettings,
     progress: Option<Box<ProgressFn<'p>>>,
+    cancel: Option<Cancel>,
 }
 
 /// A finished run: the mesh, what refinement did, and whether a guard stopped it early.
@@ -67,7 +68,15 @@ impl<'p> Mesher<'p> {
         Mesher {
             settings,
             progress: None,
+            cancel: None,
         }
+    }
+
+    /// Stops refinement with [`RefineError::Cancelled`] once `flag` is raised (from another
+    /// thread, or from the progress callback: a user's interrupt).
+    pub fn cancel_on(mut self, flag: Cancel) -> Self {
+        self.cancel = Some(flag);
+        self
     }
 
     /// Calls `f` now and then during refinement (vertex count, queue lengths).
@@ -181,6 +190,7 @@ impl<'p> Mesher<'p> {
         let oracle = domain.oracle();
         let bbox = oracle.bounding_box();
         let mut options = self.settings.mesh_options(&bbox);
+        options.limits.cancel = self.cancel.clone();
         if let Some(surface) = &input {
             options.validity.input_euler =
                 Some(component_euler_characteristics(&surface.triangles).1);
