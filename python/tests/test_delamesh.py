@@ -382,3 +382,18 @@ def test_ctrl_c_interrupts_a_long_run():
             delamesh.mesh(SPHERE, **LONG)
     finally:
         timer.cancel()
+
+
+def test_the_readme_example_runs(tmp_path, monkeypatch):
+    readme = (ROOT / "README.md").read_text()
+    section = readme[readme.index("## From Python"):]
+    code = section[section.index("```python\n") + len("```python\n"):]
+    code = code[: code.index("```")]
+    for folder in ("models", "tests"):
+        (tmp_path / folder).symlink_to(ROOT / folder)
+    monkeypatch.chdir(tmp_path)
+    scope: dict = {}
+    exec(compile(code, "README.md", "exec"), scope)
+    torus = meshio.read(tmp_path / "torus.vtu")
+    assert len(scope["labels"]) == len(torus.cells_dict["tetra"]) > 0
+    assert (tet_volumes(torus) > 0).all() and scope["tets"].shape[1] == 4
