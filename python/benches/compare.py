@@ -41,11 +41,17 @@ def main() -> None:
     ap.add_argument("cli", type=Path)
     ap.add_argument("models", type=Path, nargs="+")
     ap.add_argument("--pygalmesh", help="a python interpreter where pygalmesh imports")
-    ap.add_argument("--finer", type=float, default=1.0,
-                    help="divide the sizes and distance of the pygalmesh comparison by this")
+    ap.add_argument(
+        "--finer",
+        type=float,
+        default=1.0,
+        help="divide the sizes and distance of the pygalmesh comparison by this",
+    )
     args = ap.parse_args()
-    print("model  cli_s  py_mesh_s  py_mesh+write_s  ratio(py/cli)  ratio(py+write/cli)  pyvertices"
-          + ("  pygalmesh_s  pygalmesh_vertices  delamesh/pygalmesh" if args.pygalmesh else ""))
+    print(
+        "model  cli_s  py_mesh_s  py_mesh+write_s  ratio(py/cli)  ratio(py+write/cli)  pyvertices"
+        + ("  pygalmesh_s  pygalmesh_vertices  delamesh/pygalmesh" if args.pygalmesh else "")
+    )
     with tempfile.TemporaryDirectory() as tmp:
         for model in args.models:
             out = Path(tmp) / "cli.vtu"
@@ -58,23 +64,42 @@ def main() -> None:
             t = time.perf_counter()
             delamesh.write(Path(tmp) / "py.vtu", m)
             write_s = time.perf_counter() - t
-            row = (f"{model.stem}  {cli_s:.2f}  {py_s:.2f}  {py_s + write_s:.2f}  {py_s / cli_s:.3f}  "
-                   f"{(py_s + write_s) / cli_s:.3f}  {len(m.points)}")
+            row = (
+                f"{model.stem}  {cli_s:.2f}  {py_s:.2f}  {py_s + write_s:.2f}  {py_s / cli_s:.3f}  "
+                f"{(py_s + write_s) / cli_s:.3f}  {len(m.points)}"
+            )
             if args.pygalmesh:
                 d = diagonal(model) / args.finer
-                same = {"facet_angle": 25.0, "facet_size": d / 20, "facet_distance": d / 400,
-                        "cell_radius_edge_ratio": 3.0, "cell_size": d / 20, "edge_size": d / 20}
-                kw = {"min_facet_angle": 25.0, "max_radius_surface_delaunay_ball": d / 20,
-                      "max_facet_distance": d / 400, "max_circumradius_edge_ratio": 3.0,
-                      "max_cell_circumradius": d / 20, "max_edge_size_at_feature_edges": d / 20,
-                      "perturb": False, "exude": False}
-                done = subprocess.run([args.pygalmesh, "-c", PYGALMESH, str(model), repr(kw)],
-                                      check=True, capture_output=True, text=True)
+                same = {
+                    "facet_angle": 25.0,
+                    "facet_size": d / 20,
+                    "facet_distance": d / 400,
+                    "cell_radius_edge_ratio": 3.0,
+                    "cell_size": d / 20,
+                    "edge_size": d / 20,
+                }
+                kw = {
+                    "min_facet_angle": 25.0,
+                    "max_radius_surface_delaunay_ball": d / 20,
+                    "max_facet_distance": d / 400,
+                    "max_circumradius_edge_ratio": 3.0,
+                    "max_cell_circumradius": d / 20,
+                    "max_edge_size_at_feature_edges": d / 20,
+                    "perturb": False,
+                    "exude": False,
+                }
+                done = subprocess.run(
+                    [args.pygalmesh, "-c", PYGALMESH, str(model), repr(kw)],
+                    check=True,
+                    capture_output=True,
+                    text=True,
+                )
                 pg_s, pg_v, _ = done.stdout.split()
                 t = time.perf_counter()
                 m2 = delamesh.mesh(model, **same)
                 eq_s = time.perf_counter() - t
-                row += f"  {float(pg_s):.2f}  {pg_v}  {eq_s:.2f}/{float(pg_s):.2f}={eq_s / float(pg_s):.3f} ({len(m2.points)} v)"
+                pg = float(pg_s)
+                row += f"  {pg:.2f}  {pg_v}  {eq_s:.2f}/{pg:.2f}={eq_s / pg:.3f} ({len(m2.points)} v)"
             print(row, flush=True)
 
 

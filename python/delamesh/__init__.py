@@ -57,7 +57,8 @@ def mesh(
 
     ``progress``, if given, is called about ten times a second during refinement with a dict
     ``{"vertices": int, "insertions": int, "pending": {level: queued}}``; an exception it raises
-    stops meshing and is raised here.
+    stops meshing and is raised here. Ctrl-C (any pending signal whose handler raises) stops
+    meshing the same way; both are looked at during refinement, the phase that takes the time.
 
     The result has blocks ``tetra``, ``triangle`` (the boundary) and ``line`` (sharp feature
     edges, if any) and the cell data of the .vtu files: ``subdomain``, ``patch``, ``curve`` (int32,
@@ -66,6 +67,8 @@ def mesh(
     warnings (repairs of the input, a run stopped early with ``keep_partial=True``) is issued with
     :func:`warnings.warn`.
     """
+    if progress is not None and not callable(progress):
+        raise Error(f"progress: expected a callable, got {type(progress).__name__}")
     if isinstance(source, (str, os.PathLike)):
         raw = _delamesh.mesh_file(os.fspath(source), options, progress)
     elif isinstance(source, meshio.Mesh):
@@ -78,9 +81,7 @@ def mesh(
         )
     elif isinstance(source, tuple) and len(source) == 2:
         vertices = _floats(source[0], "vertices")
-        raw = _delamesh.mesh_surface(
-            vertices, _indices(source[1], 3, "faces"), options, progress
-        )
+        raw = _delamesh.mesh_surface(vertices, _indices(source[1], 3, "faces"), options, progress)
     else:
         raise Error(
             "mesh: the source must be a path, a meshio.Mesh or a (vertices, faces) pair, "
@@ -204,7 +205,6 @@ def _meshio(raw: Dict[str, Any]) -> meshio.Mesh:
     for name, values in raw["fields"]:
         per_tet = np.frombuffer(values, dtype=np.float64)
         cell_data["_".join(name.split())] = [
-            per_tet if kind == "tetra" else np.full(len(c), np.nan)
-            for kind, _, c, _ in blocks
+            per_tet if kind == "tetra" else np.full(len(c), np.nan) for kind, _, c, _ in blocks
         ]
     return meshio.Mesh(points, cells, cell_data=cell_data)

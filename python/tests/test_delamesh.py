@@ -73,7 +73,7 @@ def cli_error(*args: str) -> str:
     assert done.returncode != 0
     line = done.stderr.strip().splitlines()[0]
     assert line.startswith("error: ")
-    return line[len("error: "):]
+    return line[len("error: ") :]
 
 
 def assert_same_mesh(a: meshio.Mesh, b: meshio.Mesh) -> None:
@@ -92,7 +92,9 @@ def assert_same_mesh(a: meshio.Mesh, b: meshio.Mesh) -> None:
 
 def tet_volumes(m: meshio.Mesh) -> np.ndarray:
     p = m.points[m.cells_dict["tetra"]]
-    return np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0]) / 6
+    return (
+        np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0]) / 6
+    )
 
 
 def surface(path: Path) -> tuple[np.ndarray, np.ndarray]:
@@ -106,7 +108,11 @@ def surface(path: Path) -> tuple[np.ndarray, np.ndarray]:
 @needs_cli
 @pytest.mark.parametrize(
     "path, options",
-    [(SPHERE, SPHERE_OPTIONS), (BOX, BOX_OPTIONS), (SPHERE, {"cell_size": 0.4, "no_features": True, "facet_angle": 20})],
+    [
+        (SPHERE, SPHERE_OPTIONS),
+        (BOX, BOX_OPTIONS),
+        (SPHERE, {"cell_size": 0.4, "no_features": True, "facet_angle": 20}),
+    ],
 )
 def test_same_mesh_as_the_command_line(path, options, tmp_path):
     assert_same_mesh(delamesh.mesh(path, **options), cli_mesh(path, options, tmp_path))
@@ -166,7 +172,9 @@ def test_the_result_is_writable_and_wraps_in_pyvista(tmp_path):
     grid = pv.wrap(m)
     assert grid.n_points == len(m.points)
     assert grid.n_cells == sum(len(c.data) for c in m.cells)
-    np.testing.assert_array_equal(grid.cell_data["subdomain"], np.concatenate(m.cell_data["subdomain"]))
+    np.testing.assert_array_equal(
+        grid.cell_data["subdomain"], np.concatenate(m.cell_data["subdomain"])
+    )
     grid.save(tmp_path / "pv.vtu")
     assert_same_mesh(delamesh.read(tmp_path / "pv.vtu"), delamesh.read(tmp_path / "out.vtu"))
 
@@ -236,7 +244,10 @@ def test_read_a_surface_and_write_it(tmp_path):
     s = delamesh.read(SPHERE)
     assert [c.type for c in s.cells] == ["triangle"] and list(s.cell_data) == ["patch"]
     delamesh.write(tmp_path / "s.stl", s)
-    np.testing.assert_array_equal(delamesh.read(tmp_path / "s.stl").cells_dict["triangle"].shape, s.cells_dict["triangle"].shape)
+    np.testing.assert_array_equal(
+        delamesh.read(tmp_path / "s.stl").cells_dict["triangle"].shape,
+        s.cells_dict["triangle"].shape,
+    )
 
 
 # --- errors --------------------------------------------------------------------------------------
@@ -278,7 +289,9 @@ def test_other_functions_carry_the_message_of_the_command_line(tmp_path):
     np.savetxt(tmp_path / "flat.xyz", [[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]])
     with pytest.raises(delamesh.Error) as e:
         delamesh.delaunay(np.loadtxt(tmp_path / "flat.xyz"))
-    assert str(e.value) == cli_error("delaunay", str(tmp_path / "flat.xyz"), "-o", str(tmp_path / "d.vtu")).replace(str(tmp_path / "flat.xyz"), "points")
+    assert str(e.value) == cli_error(
+        "delaunay", str(tmp_path / "flat.xyz"), "-o", str(tmp_path / "d.vtu")
+    ).replace(str(tmp_path / "flat.xyz"), "points")
 
 
 def open_box():
@@ -296,6 +309,7 @@ def open_box():
         lambda: delamesh.mesh(SPHERE, label_interpolation="cubic"),
         lambda: delamesh.mesh(SPHERE, cell_size_per_label={1: -2.0}),
         lambda: delamesh.mesh(42),
+        lambda: delamesh.mesh(SPHERE, progress="tqdm"),
         lambda: delamesh.mesh(meshio.Mesh(np.zeros((4, 3)), [("tetra", np.array([[0, 1, 2, 3]]))])),
         lambda: delamesh.mesh((np.zeros((4, 2)), np.array([[0, 1, 2]]))),
         lambda: delamesh.mesh((np.zeros((4, 3)), np.array([[0, 1, 2.0]]))),
@@ -312,11 +326,19 @@ def open_box():
         lambda: delamesh.read(ROOT / "missing.vtu"),
         lambda: delamesh.write(ROOT / "out.unknown", delamesh.read(SPHERE)),
         lambda: delamesh.write(ROOT / "missing-dir" / "out.vtu", delamesh.read(SPHERE)),
-        lambda: delamesh.write("x.vtu", meshio.Mesh(np.zeros((3, 3)), [("triangle", np.array([[0, 1, 3]]))])),
-        lambda: delamesh.write("x.vtu", meshio.Mesh(np.zeros((4, 3)), [("quad", np.array([[0, 1, 2, 3]]))])),
+        lambda: delamesh.write(
+            "x.vtu", meshio.Mesh(np.zeros((3, 3)), [("triangle", np.array([[0, 1, 3]]))])
+        ),
+        lambda: delamesh.write(
+            "x.vtu", meshio.Mesh(np.zeros((4, 3)), [("quad", np.array([[0, 1, 2, 3]]))])
+        ),
         lambda: delamesh.write(
             "x.vtu",
-            meshio.Mesh(np.zeros((3, 3)), [("triangle", np.array([[0, 1, 2]]))], cell_data={"patch": [np.array([-3])]}),
+            meshio.Mesh(
+                np.zeros((3, 3)),
+                [("triangle", np.array([[0, 1, 2]]))],
+                cell_data={"patch": [np.array([-3])]},
+            ),
         ),
     ],
 )
@@ -349,7 +371,12 @@ def test_the_same_call_gives_the_same_mesh():
 def test_two_meshes_at_once_in_threads():
     alone = [delamesh.mesh(SPHERE, **SPHERE_OPTIONS), delamesh.mesh(BOX, **BOX_OPTIONS)]
     with ThreadPoolExecutor(2) as pool:
-        together = list(pool.map(lambda a: delamesh.mesh(a[0], **a[1]), [(SPHERE, SPHERE_OPTIONS), (BOX, BOX_OPTIONS)]))
+        together = list(
+            pool.map(
+                lambda a: delamesh.mesh(a[0], **a[1]),
+                [(SPHERE, SPHERE_OPTIONS), (BOX, BOX_OPTIONS)],
+            )
+        )
     for a, b in zip(alone, together):
         assert_same_mesh(a, b)
 
@@ -373,7 +400,10 @@ def test_progress_is_called_and_its_exception_stops_meshing():
     assert set(seen[0]) == {"vertices", "insertions", "pending"}
 
 
-@pytest.mark.skipif(threading.current_thread() is not threading.main_thread(), reason="signals go to the main thread")
+@pytest.mark.skipif(
+    threading.current_thread() is not threading.main_thread(),
+    reason="signals go to the main thread",
+)
 def test_ctrl_c_interrupts_a_long_run():
     timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
@@ -386,8 +416,8 @@ def test_ctrl_c_interrupts_a_long_run():
 
 def test_the_readme_example_runs(tmp_path, monkeypatch):
     readme = (ROOT / "README.md").read_text()
-    section = readme[readme.index("## From Python"):]
-    code = section[section.index("```python\n") + len("```python\n"):]
+    section = readme[readme.index("## From Python") :]
+    code = section[section.index("```python\n") + len("```python\n") :]
     code = code[: code.index("```")]
     for folder in ("models", "tests"):
         (tmp_path / folder).symlink_to(ROOT / folder)
@@ -397,3 +427,27 @@ def test_the_readme_example_runs(tmp_path, monkeypatch):
     torus = meshio.read(tmp_path / "torus.vtu")
     assert len(scope["labels"]) == len(torus.cells_dict["tetra"]) > 0
     assert (tet_volumes(torus) > 0).all() and scope["tets"].shape[1] == 4
+
+
+def test_the_gil_is_released_while_meshing():
+    # The main thread counts while another meshes; with the GIL held by the mesher it could
+    # only count during the progress callbacks, which take microseconds.
+    counts = []
+    counter = [0]
+
+    class Enough(Exception):
+        pass
+
+    def progress(_):
+        counts.append(counter[0])
+        if len(counts) == 3:
+            raise Enough
+
+    worker = ThreadPoolExecutor(1)
+    job = worker.submit(delamesh.mesh, SPHERE, progress=progress, **LONG)
+    while not job.done():
+        counter[0] += 1
+    with pytest.raises(Enough):
+        job.result()
+    worker.shutdown()
+    assert counts[2] - counts[1] > 1000, counts
