@@ -40,14 +40,18 @@ def mesh(
     source: Source,
     *,
     progress: Optional[Callable[[Dict[str, Any]], Any]] = None,
+    voxel_size: Optional[Union[float, Tuple[float, float, float]]] = None,
+    origin: Optional[Tuple[float, float, float]] = None,
     **options: Any,
 ) -> meshio.Mesh:
     """A quality tetrahedral mesh of the volume bounded by a closed surface, or of a 3D image.
 
     ``source`` is a file path (any surface format the command line reads, or a segmented image:
-    .inr .nii .vti .nrrd .nhdr, optionally .gz), a ``meshio.Mesh`` (its triangle cells), or a
+    .inr .nii .vti .nrrd .nhdr, optionally .gz), a ``meshio.Mesh`` (its triangle cells), a
     ``(vertices, faces)`` pair: an ``(n, 3)`` float array and an ``(m, 3)`` integer array of
-    vertex indices, triangles oriented either way.
+    vertex indices, triangles oriented either way, or a 3D array of voxel labels indexed
+    ``[x, y, z]`` (one subdomain per label, ``background`` outside), its voxel centres at
+    ``origin + index * voxel_size`` (defaults: 0 and 1; ``voxel_size`` a number or three).
 
     ``options`` are the long options of ``delamesh mesh`` with underscores: ``edge_size``,
     ``facet_size``, ``facet_distance``, ``facet_angle``, ``cell_size``,
@@ -69,6 +73,9 @@ def mesh(
     """
     if progress is not None and not callable(progress):
         raise Error(f"progress: expected a callable, got {type(progress).__name__}")
+    image = isinstance(source, np.ndarray) and source.ndim == 3
+    if not image and (voxel_size is not None or origin is not None):
+        raise Error("voxel_size and origin are those of an image: give a 3D array of labels")
     if isinstance(source, (str, os.PathLike)):
         raw = _delamesh.mesh_file(os.fspath(source), options, progress)
     elif isinstance(source, meshio.Mesh):
@@ -79,6 +86,8 @@ def mesh(
         raw = _delamesh.mesh_surface(
             vertices, _indices(np.concatenate(faces), 3, "faces"), options, progress
         )
+    elif isinstance(source, np.ndarray) and source.ndim == 3:
+        raw = _mesh_image(source, voxel_size, origin, options, progress)
     elif isinstance(source, tuple) and len(source) == 2:
         vertices = _floats(source[0], "vertices")
         raw = _delamesh.mesh_surface(vertices, _indices(source[1], 3, "faces"), options, progress)
@@ -148,6 +157,30 @@ def write(path: Union[str, "os.PathLike[str]"], mesh: meshio.Mesh, *, ascii: boo
     if other:
         raise Error(f"cannot write cells of type {', '.join(other)} (only tetra, triangle, line)")
     _delamesh.write(os.fspath(path), raw, ascii)
+
+
+def _mesh_image(
+    labels: np.ndarray, voxel_size: Any, origin: Any, options: Dict[str, Any], progress: Any
+) -> Dict[str, Any]:
+    """Meshes a 3D array of labels indexed ``[x, y, z]``."""
+    if labels.dtype.kind == "b":
+        labels = labels.astype(np.uint8)
+    code = f"{labels.dtype.kind}{labels.dtype.itemsize}"
+    spacing = _triple(1.0 if voxel_size is None else voxel_size, "voxel_size")
+    start = _triple(0.0 if origin is None else origin, "origin")
+    native = labels.astype(labels.dtype.newbyteorder("="), copy=False)
+    voxels = native.ravel(order="F").tobytes()  # x fastest
+    dims = tuple(int(n) for n in labels.shape)
+    return _delamesh.mesh_image(dims, spacing, start, code, voxels, options, progress)
+
+
+def _triple(v: Any, what: str) -> Tuple[float, float, float]:
+    """A number or three, as three floats."""
+    try:
+        x = np.broadcast_to(np.asarray(v, dtype=np.float64), (3,))
+    except (TypeError, ValueError):
+        raise Error(f"{what}: expected a number or three, got {v!r}") from None
+    return (float(x[0]), float(x[1]), float(x[2]))
 
 
 def _floats(a: Any, what: str) -> bytes:

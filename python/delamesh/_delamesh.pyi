@@ -44,6 +44,18 @@ def mesh_surface(
 ) -> MeshResult:
     """Meshes the closed surface of ``vertices`` (3 float64 each) and ``faces`` (3 int64 each)."""
 
+def mesh_image(
+    dims: Tuple[int, int, int],
+    spacing: Tuple[float, float, float],
+    origin: Tuple[float, float, float],
+    dtype: str,
+    voxels: bytes,
+    options: Optional[Mapping[str, Any]] = None,
+    progress: Optional[Progress] = None,
+) -> MeshResult:
+    """Meshes the labels of a 3D image: ``dims`` voxels of numpy type ``dtype`` (``u1`` ...
+    ``f8``), x fastest, centres at ``origin + index * spacing``."""
+
 def delaunay(points: bytes) -> bytearray:
     """The Delaunay tetrahedra of ``points`` (3 float64 each): 4 int64 indices per tetrahedron."""
 

@@ -3,6 +3,7 @@
 
 use crate::Error;
 use delamesh::core::mesh::{CurveId, PatchId, SubdomainId};
+use delamesh::formats::image::{Image, Voxels};
 use delamesh::{Point3, SurfaceMesh, TetMesh};
 use pyo3::prelude::*;
 use pyo3::types::{PyByteArray, PyBytes, PyDict, PyList};
@@ -253,4 +254,59 @@ pub fn tet_mesh_of_raw(raw: &Raw) -> PyResult<TetMesh> {
         feature_edges,
         cell_fields: Vec::new(),
     })
+}
+
+/// The image of `dims` voxels of numpy type `dtype` in `bytes` (x fastest), every size checked.
+pub fn image(
+    dims: [usize; 3],
+    spacing: [f64; 3],
+    origin: [f64; 3],
+    dtype: &str,
+    bytes: &[u8],
+) -> PyResult<Image> {
+    let count = dims
+        .iter()
+        .try_fold(1usize, |n, &d| n.checked_mul(d))
+        .filter(|&n| n > 0)
+        .ok_or_else(|| Error::new_err(format!("image: {dims:?} voxels is no image")))?;
+    if let Some(s) = spacing.iter().find(|s| !(s.is_finite() && **s > 0.0)) {
+        return Err(Error::new_err(format!(
+            "voxel_size: must be positive numbers, got {s}"
+        )));
+    }
+    if origin.iter().any(|o| !o.is_finite()) {
+        return Err(Error::new_err("origin: must be finite numbers"));
+    }
+    macro_rules! voxels {
+        ($variant:ident, $t:ty) => {
+            Voxels::$variant(chunks(bytes, "image")?.map(<$t>::from_ne_bytes).collect())
+        };
+    }
+    let voxels = match dtype {
+        "u1" => voxels!(U8, u8),
+        "i1" => voxels!(I8, i8),
+        "u2" => voxels!(U16, u16),
+        "i2" => voxels!(I16, i16),
+        "u4" => voxels!(U32, u32),
+        "i4" => voxels!(I32, i32),
+        "f4" => voxels!(F32, f32),
+        "f8" => voxels!(F64, f64),
+        _ => {
+            return Err(Error::new_err(format!(
+                "image: voxels of type {dtype} are not read (integers of 8 to 32 bits, floats)"
+            )));
+        }
+    };
+    if voxels.len() != count {
+        return Err(Error::new_err(format!(
+            "image: {} voxels for dims {dims:?}",
+            voxels.len()
+        )));
+    }
+    Ok(Image::axis_aligned(
+        dims,
+        Point3::from_array(spacing),
+        Point3::from_array(origin),
+        voxels,
+    ))
 }

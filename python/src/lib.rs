@@ -8,6 +8,7 @@ mod buffers;
 mod options;
 
 use buffers::{Raw, raw_of_surface, raw_of_tet_mesh, read_f64, read_index, tet_mesh_of_raw};
+use delamesh::formats::image::Image;
 use delamesh::formats::{AnyMesh, WriteOptions};
 use delamesh::{Cancel, Mesher, Point3, Progress, SurfaceMesh};
 use pyo3::exceptions::PyValueError;
@@ -42,6 +43,7 @@ const CHECK_EVERY: Duration = Duration::from_millis(100);
 enum Source {
     File(PathBuf),
     Surface(SurfaceMesh),
+    Image(Image),
 }
 
 /// Meshes `source` with `options` with the GIL released; every [`CHECK_EVERY`] the progress
@@ -81,6 +83,7 @@ fn run(
         let meshed = match source {
             Source::File(path) => mesher.mesh_file(&path),
             Source::Surface(surface) => mesher.mesh_surface(SURFACE, surface),
+            Source::Image(image) => mesher.mesh_image(IMAGE, image),
         }?;
         let mut notes = warnings;
         let repairs = meshed.domain().repairs();
@@ -115,6 +118,8 @@ fn run(
 
 /// The name of an in-memory surface in messages.
 const SURFACE: &str = "the input surface";
+/// The name of an in-memory image in messages.
+const IMAGE: &str = "the input image";
 
 fn progress_dict<'py>(py: Python<'py>, p: &Progress) -> PyResult<Bound<'py, PyDict>> {
     let d = PyDict::new(py);
@@ -164,6 +169,26 @@ fn mesh_surface(
             .collect(),
     );
     run(py, Source::Surface(surface), options, progress)
+}
+
+/// Meshes the labels of a 3D image: `dims` voxels (x, y, z) of numpy type `dtype` (`u1`, `i1`,
+/// `u2`, `i2`, `u4`, `i4`, `f4`, `f8`) in native-endian bytes, x fastest; voxel centres at
+/// `origin + index * spacing`.
+#[pyfunction]
+#[pyo3(signature = (dims, spacing, origin, dtype, voxels, options=None, progress=None))]
+#[allow(clippy::too_many_arguments)] // the image's own description, then the call's
+fn mesh_image(
+    py: Python<'_>,
+    dims: [usize; 3],
+    spacing: [f64; 3],
+    origin: [f64; 3],
+    dtype: &str,
+    voxels: &[u8],
+    options: Option<&Bound<'_, PyDict>>,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Py<PyDict>> {
+    let image = buffers::image(dims, spacing, origin, dtype, voxels)?;
+    run(py, Source::Image(image), options, progress)
 }
 
 /// The Delaunay tetrahedra of `points` (float64 bytes, 3 per point), as int64 bytes, 4 indices
@@ -250,6 +275,7 @@ fn _delamesh(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("Error", m.py().get_type::<Error>())?;
     m.add_function(wrap_pyfunction!(mesh_file, m)?)?;
     m.add_function(wrap_pyfunction!(mesh_surface, m)?)?;
+    m.add_function(wrap_pyfunction!(mesh_image, m)?)?;
     m.add_function(wrap_pyfunction!(delaunay, m)?)?;
     m.add_function(wrap_pyfunction!(info, m)?)?;
     m.add_function(wrap_pyfunction!(read, m)?)?;

@@ -139,6 +139,45 @@ def test_arrays_and_meshio_input_give_the_mesh_of_the_file():
     assert_same_mesh(delamesh.mesh((fortran, faces32), **SPHERE_OPTIONS), from_file)
 
 
+def two_balls() -> np.ndarray:
+    """Labels indexed [x, y, z]: a ball of label 2 inside a ball of label 1."""
+    x, y, z = np.mgrid[0:20, 0:24, 0:28]
+    r2 = (x - 10) ** 2 + (y - 12) ** 2 + (z - 14) ** 2
+    labels = (r2 < 64).astype(np.uint8)
+    labels[r2 < 16] = 2
+    return labels
+
+
+IMAGE_OPTIONS = {"facet_size": 1.0, "cell_size": 1.0}
+
+
+@needs_cli
+def test_an_image_array_gives_the_mesh_of_its_file(tmp_path):
+    nib = pytest.importorskip("nibabel")
+    labels = two_balls()
+    nib.save(nib.Nifti1Image(labels, np.diag([0.5, 0.5, 0.5, 1.0])), tmp_path / "balls.nii")
+    from_array = delamesh.mesh(labels, voxel_size=0.5, **IMAGE_OPTIONS)
+    assert_same_mesh(from_array, cli_mesh(tmp_path / "balls.nii", IMAGE_OPTIONS, tmp_path))
+    # Any integer type, the same labels: the same mesh.
+    assert_same_mesh(
+        delamesh.mesh(labels.astype(np.int32), voxel_size=0.5, **IMAGE_OPTIONS), from_array
+    )
+
+
+def test_an_image_array_is_meshed_where_its_labels_are():
+    labels = two_balls()
+    origin = (10.0, -5.0, 2.0)
+    m = delamesh.mesh(labels, voxel_size=(0.5, 0.5, 0.5), origin=origin, **IMAGE_OPTIONS)
+    assert set(np.unique(m.cell_data["subdomain"][0])) == {1, 2}
+    v = tet_volumes(m)
+    assert (v > 0).all()
+    # Axes in [x, y, z] order: the outer ball's centre is voxel (10, 12, 14), radius 8 voxels.
+    centre = np.asarray(origin) + 0.5 * np.array([10, 12, 14])
+    np.testing.assert_allclose(m.points.mean(0), centre, atol=0.5)
+    ball = 4 / 3 * np.pi * 4.0**3
+    assert abs(v.sum() - ball) < 0.15 * ball
+
+
 # --- arrays out: dtypes, shapes, orientation -----------------------------------------------------
 
 
@@ -310,6 +349,13 @@ def open_box():
         lambda: delamesh.mesh(SPHERE, cell_size_per_label={1: -2.0}),
         lambda: delamesh.mesh(42),
         lambda: delamesh.mesh(SPHERE, progress="tqdm"),
+        lambda: delamesh.mesh(SPHERE, voxel_size=0.5),
+        lambda: delamesh.mesh(two_balls(), voxel_size=-1),
+        lambda: delamesh.mesh(two_balls(), voxel_size=(1, 2)),
+        lambda: delamesh.mesh(two_balls(), origin=(np.nan, 0, 0)),
+        lambda: delamesh.mesh(two_balls().astype(np.complex64)),
+        lambda: delamesh.mesh(np.zeros((0, 4, 4), dtype=np.uint8)),
+        lambda: delamesh.mesh(np.zeros((4, 4, 4), dtype=np.uint8)),  # background only
         lambda: delamesh.mesh(meshio.Mesh(np.zeros((4, 3)), [("tetra", np.array([[0, 1, 2, 3]]))])),
         lambda: delamesh.mesh((np.zeros((4, 2)), np.array([[0, 1, 2]]))),
         lambda: delamesh.mesh((np.zeros((4, 3)), np.array([[0, 1, 2.0]]))),
