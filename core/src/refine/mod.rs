@@ -21,7 +21,7 @@ mod queue;
 pub mod repair;
 
 pub use engine::{
-    Candidate, Check, Engine, Limits, MesherLevel, Progress, RefineError, RefineStats,
+    Cancel, Candidate, Check, Engine, Limits, MesherLevel, Progress, RefineError, RefineStats,
 };
 pub(crate) use geometry::{cell_vertices, facet_vertices, triangle_circumcenter};
 pub use manifold::Relabelling;
