@@ -464,7 +464,10 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for SurfaceLevel<'o> {
                 continue;
             }
             for i in 0..4 {
+                // A ball below the floor is never refined, so it cannot refuse a point either
+                // (the point's cell would be proposed again and again).
                 if let Some(ball) = self.balls[cell.0 as usize][i]
+                    && ball.radius2 >= self.min_radius2
                     && ball.center.distance_squared(c.point) < ball.radius2
                 {
                     let vertices = cell_vertices(tr, cell);

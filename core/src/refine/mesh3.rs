@@ -235,7 +235,7 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
         &mut surface,
         &mut cells,
         curves.as_mut(),
-        options.limits,
+        options.limits.clone(),
         true,
     );
     // Validity repairs, in bounded rounds and within a vertex budget (refinement near tiny
@@ -243,7 +243,7 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
     let budget = (options.validity.max_vertex_growth * tr.num_vertices() as f64) as usize;
     let repair_limits = Limits {
         max_vertices: budget.min(options.limits.max_vertices),
-        ..options.limits
+        ..options.limits.clone()
     };
     let mut validity = Validity::default();
     if let Ok(stats) = result.as_mut() {
@@ -260,7 +260,7 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
                 &mut surface,
                 &mut cells,
                 curves.as_mut(),
-                repair_limits,
+                repair_limits.clone(),
                 false,
             ) {
                 Ok(more) => stats.absorb(&more),

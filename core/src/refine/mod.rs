@@ -22,7 +22,7 @@ pub mod repair;
 pub mod sizing;
 
 pub use engine::{
-    Candidate, Check, Engine, Limits, MesherLevel, Progress, RefineError, RefineStats,
+    Cancel, Candidate, Check, Engine, Limits, MesherLevel, Progress, RefineError, RefineStats,
 };
 pub(crate) use geometry::{cell_vertices, facet_vertices, triangle_circumcenter};
 pub use manifold::Relabelling;
