@@ -13,7 +13,7 @@ use delamesh_core::oracle::Oracle;
 use delamesh_core::refine::criteria::MeshCriteria;
 use delamesh_core::refine::{MeshError, Progress, RefineError, RefineStats, mesh_domain};
 use delamesh_formats::image::{is_image_path, read_image};
-use delamesh_formats::{WriteOptions, read_surface, write_tet_mesh};
+use delamesh_formats::{WriteOptions, read_polygons, read_surface, write_tet_mesh};
 use std::path::Path;
 use std::time::Instant;
 
@@ -88,6 +88,9 @@ impl<'p> Mesher<'p> {
         if is_image_path(path) {
             return self.mesh_image_file(path);
         }
+        if self.settings.subdivision.is_some() {
+            return self.mesh_control_mesh_file(path);
+        }
         let started = Instant::now();
         let surface = read_surface(path, None)?.mesh;
         let read = started.elapsed();
@@ -126,6 +129,27 @@ impl<'p> Mesher<'p> {
         let name = path.display().to_string();
         let domain = Domain::from_image(&name, &image, &self.settings.image.options)?;
         drop(image);
+        let times = Times {
+            read,
+            oracle: t.elapsed(),
+            ..Times::default()
+        };
+        self.mesh_domain(name, domain, None, started, times)
+    }
+
+    /// Meshes the inside of the limit surface of the subdivision control mesh in the file `path`
+    /// (OBJ, OFF or PLY polygons), with [`MeshSettings::subdivision`]'s options (default ones
+    /// when unset); `--features` polylines add creases.
+    pub fn mesh_control_mesh_file(&mut self, path: &Path) -> Result<Meshed, Error> {
+        self.settings.validate()?;
+        let started = Instant::now();
+        let (mesh, _warnings) = read_polygons(path, None)?;
+        let read = started.elapsed();
+        let t = Instant::now();
+        let name = path.display().to_string();
+        let options = self.settings.subdivision.clone().unwrap_or_default();
+        let polylines = self.settings.features.polylines.as_deref();
+        let domain = Domain::from_control_mesh(&name, &mesh, &options, polylines)?;
         let times = Times {
             read,
             oracle: t.elapsed(),
@@ -184,6 +208,10 @@ impl<'p> Mesher<'p> {
         if let Some(surface) = &input {
             options.validity.input_euler =
                 Some(component_euler_characteristics(&surface.triangles).1);
+        }
+        if let Domain::Subdivision(o) = &domain {
+            // The limit surface has the control mesh's topology.
+            options.validity.input_euler = Some(o.euler_characteristics().to_vec());
         }
         if let (Domain::Image(image), None) = (&domain, self.settings.facet_distance) {
             // Finer than the voxels, the facet distance would chase their staircase.

@@ -18,6 +18,7 @@ mod off;
 mod ply;
 mod points;
 pub mod poly;
+mod polygons;
 pub mod pslg;
 mod stl;
 mod text;
@@ -28,6 +29,7 @@ mod vtu;
 pub use error::{Error, Location, Problem, Result};
 pub use format::{Format, UnknownFormat};
 pub use points::{parse_xyz, read_points};
+pub use polygons::{PolygonMesh, read_polygon_bytes, read_polygons};
 
 use delamesh_core::mesh::{PatchId, SurfaceMesh, TetMesh, weld_exact};
 use std::io::Write;
