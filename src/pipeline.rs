@@ -13,7 +13,7 @@ use delamesh_core::oracle::Oracle;
 use delamesh_core::refine::criteria::MeshCriteria;
 use delamesh_core::refine::{MeshError, Progress, RefineError, RefineStats, mesh_domain};
 use delamesh_formats::image::{is_image_path, read_image};
-use delamesh_formats::{WriteOptions, read_polygons, read_surface, write_tet_mesh};
+use delamesh_formats::{PolygonMesh, WriteOptions, read_polygons, read_surface, write_tet_mesh};
 use std::path::Path;
 use std::time::Instant;
 
@@ -145,11 +145,27 @@ impl<'p> Mesher<'p> {
         let started = Instant::now();
         let (mesh, _warnings) = read_polygons(path, None)?;
         let read = started.elapsed();
+        self.mesh_control_mesh_from(path.display().to_string(), &mesh, started, read)
+    }
+
+    /// [`Mesher::mesh_control_mesh_file`] of a control mesh in memory; `name` names it in errors.
+    pub fn mesh_control_mesh(&mut self, name: &str, mesh: &PolygonMesh) -> Result<Meshed, Error> {
+        self.settings.validate()?;
+        let started = Instant::now();
+        self.mesh_control_mesh_from(name.to_string(), mesh, started, Default::default())
+    }
+
+    fn mesh_control_mesh_from(
+        &mut self,
+        name: String,
+        mesh: &PolygonMesh,
+        started: Instant,
+        read: std::time::Duration,
+    ) -> Result<Meshed, Error> {
         let t = Instant::now();
-        let name = path.display().to_string();
         let options = self.settings.subdivision.clone().unwrap_or_default();
         let polylines = self.settings.features.polylines.as_deref();
-        let domain = Domain::from_control_mesh(&name, &mesh, &options, polylines)?;
+        let domain = Domain::from_control_mesh(&name, mesh, &options, polylines)?;
         let times = Times {
             read,
             oracle: t.elapsed(),

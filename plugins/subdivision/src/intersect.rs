@@ -9,7 +9,7 @@ use glam::{DMat3, DVec2, DVec3};
 
 /// Splits of a polynomial piece before Newton's method is tried (smaller pieces give a better
 /// start), and at most (when Newton's method does not converge in a piece, it is split more).
-const NEWTON_DEPTH: u32 = 2;
+const NEWTON_DEPTH: u32 = 1;
 const MAX_SPLITS: u32 = 12;
 /// Newton iterations at most.
 const NEWTON_STEPS: u32 = 16;

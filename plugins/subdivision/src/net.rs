@@ -330,20 +330,31 @@ impl Net {
                 }
             }
         }
-        let n = star.valence as f64;
-        match star.creases {
-            0 | 1 if star.valence > 0 => match scheme {
-                Scheme::CatmullClark => {
-                    (n * n * p + 4.0 * star.neighbours + diagonal) / (n * (n + 5.0))
+        limit_mask(scheme, &star, diagonal, p)
+    }
+
+    /// [`Net::limit_position`] of every vertex at once (all rings complete: a closed mesh).
+    pub fn limit_positions(&self, scheme: Scheme) -> Vec<DVec3> {
+        let Ok(edges) = self.edges() else {
+            return self.points.clone();
+        };
+        let stars = self.vertex_stars(&edges);
+        let mut diagonals = vec![DVec3::ZERO; self.points.len()];
+        if scheme == Scheme::CatmullClark {
+            for f in 0..self.face_count() {
+                for h in self.halves(f) {
+                    let opposite = self.next(f, self.next(f, h));
+                    diagonals[self.corners[h] as usize] +=
+                        self.points[self.corners[opposite] as usize];
                 }
-                Scheme::Loop => {
-                    let chi = 1.0 / (3.0 / (8.0 * loop_beta(star.valence)) + n);
-                    (1.0 - n * chi) * p + chi * star.neighbours
-                }
-            },
-            2 => (star.crease_ends[0] + star.crease_ends[1] + 4.0 * p) / 6.0,
-            _ => p,
+            }
         }
+        stars
+            .iter()
+            .zip(&diagonals)
+            .zip(&self.points)
+            .map(|((s, &diagonal), &p)| limit_mask(scheme, s, diagonal, p))
+            .collect()
     }
 
     /// The faces incident to any vertex of face `f`, face `f` first, renumbered compactly (its
@@ -387,6 +398,25 @@ struct Star {
     creases: u32,
     crease_ends: [DVec3; 2],
     neighbours: DVec3,
+}
+
+/// The limit position of a vertex at `p` with this star (and, for Catmull–Clark quads, the sum
+/// of the corners diagonally opposite in its faces).
+fn limit_mask(scheme: Scheme, star: &Star, diagonal: DVec3, p: DVec3) -> DVec3 {
+    let n = star.valence as f64;
+    match star.creases {
+        0 | 1 if star.valence > 0 => match scheme {
+            Scheme::CatmullClark => {
+                (n * n * p + 4.0 * star.neighbours + diagonal) / (n * (n + 5.0))
+            }
+            Scheme::Loop => {
+                let chi = 1.0 / (3.0 / (8.0 * loop_beta(star.valence)) + n);
+                (1.0 - n * chi) * p + chi * star.neighbours
+            }
+        },
+        2 => (star.crease_ends[0] + star.crease_ends[1] + 4.0 * p) / 6.0,
+        _ => p,
+    }
 }
 
 /// Loop's smooth vertex weight for valence `n`.

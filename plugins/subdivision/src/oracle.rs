@@ -21,12 +21,17 @@ const CURVE_TOLERANCE: f64 = 1e-7;
 const CURVE_LEVELS: u32 = 10;
 /// The most initial points handed to the mesher.
 const MAX_INITIAL_POINTS: usize = 4096;
+/// Steps of subdivision applied ahead to irregular patches for the queries.
+const PRESPLIT: u32 = 3;
 
 /// The domain inside the limit surface of a Loop or Catmull–Clark control mesh.
 pub struct SubdivisionOracle {
     scheme: Scheme,
     patches: Vec<Patch>,
-    /// Over the patches' boxes, each given as the degenerate triangle `(lo, hi, hi)`.
+    /// What segment queries search: the patches, irregular ones split [`PRESPLIT`] times ahead
+    /// (their rings' boxes are loose and their children are made on the fly otherwise).
+    pieces: Vec<Patch>,
+    /// Over the pieces' boxes, each given as the degenerate triangle `(lo, hi, hi)`.
     tree: TriangleTree,
     bbox: Aabb,
     initial: Vec<SurfacePoint>,
@@ -80,7 +85,11 @@ impl SubdivisionOracle {
                 group,
             });
         }
-        let boxes: Vec<[DVec3; 3]> = patches
+        let mut pieces = Vec::with_capacity(patches.len());
+        for p in &patches {
+            presplit(scheme, p.surface.clone(), p.group, PRESPLIT, &mut pieces);
+        }
+        let boxes: Vec<[DVec3; 3]> = pieces
             .iter()
             .map(|p| {
                 let (lo, hi) = p.surface.bounds();
@@ -93,6 +102,7 @@ impl SubdivisionOracle {
             scheme,
             tree: TriangleTree::new(&boxes),
             patches,
+            pieces,
             bbox,
             initial: Vec::new(),
             curves: Vec::new(),
@@ -123,7 +133,12 @@ impl SubdivisionOracle {
     }
 
     /// The exact limit position and unit normal of patch `patch` at `(u, v)` of its reference
-    /// domain (unit square or triangle), if the patch exists.
+    /// domain (unit square or triangle), if the patch exists. Patches are the faces of the base
+    /// mesh: for Catmull–Clark the control mesh once subdivided, whose face `h` is the child of
+    /// control corner `h` (corners numbered face after face), with corner 0 at the control
+    /// vertex, corner 1 at the middle of the edge to the next vertex, corner 3 at the middle of
+    /// the edge from the previous one; for Loop the control triangles, `u` towards the second
+    /// corner and `v` towards the third.
     pub fn evaluate(&self, patch: usize, u: f64, v: f64) -> Option<(DVec3, DVec3)> {
         let e = self
             .patches
@@ -133,18 +148,24 @@ impl SubdivisionOracle {
         Some((e.point, e.du.cross(e.dv).normalize_or_zero()))
     }
 
-    /// The limit position of every vertex of the control mesh after `levels` more steps of
-    /// subdivision (0: the base mesh), and that mesh's faces: the exact limit points of a
-    /// dense approximation (tests, and the comparison with meshing a subdivided mesh).
-    pub fn subdivided(&self, levels: u32) -> (Vec<DVec3>, Vec<Vec<u32>>) {
+    /// The base mesh (see [`SubdivisionOracle::evaluate`]) after `levels` more steps of
+    /// subdivision (at most 8), its vertices moved to their limit positions, as a polygon
+    /// mesh: a dense approximation with its vertices exactly on the surface (tests, and the
+    /// comparison with meshing a subdivided mesh).
+    pub fn subdivided(&self, levels: u32) -> PolygonMesh {
         let mut net = self.base.clone();
         for _ in 0..levels.min(8) {
             net = net.subdivide(self.scheme);
         }
-        let faces = (0..net.face_count())
+        let faces: Vec<Vec<u32>> = (0..net.face_count())
             .map(|f| net.face(f).to_vec())
             .collect();
-        (net.points, faces)
+        PolygonMesh {
+            positions: net.limit_positions(self.scheme),
+            groups: vec![Default::default(); faces.len()],
+            faces,
+            group_names: vec!["surface".into()],
+        }
     }
 
     fn patch_centres(&self) -> Vec<SurfacePoint> {
@@ -295,7 +316,7 @@ impl SubdivisionOracle {
         let mut found: Vec<(Crossing, u32)> = Vec::new();
         let mut buffer = Vec::new();
         self.tree.for_each_near_segment(a, b, |p| {
-            let patch = &self.patches[p as usize];
+            let patch = &self.pieces[p as usize];
             buffer.clear();
             crossings(self.scheme, &patch.surface, &q, &mut buffer);
             found.extend(buffer.iter().map(|&c| (c, patch.group)));
@@ -328,6 +349,18 @@ impl SubdivisionOracle {
     }
 }
 
+/// `surface` as pieces: its regular children, split `levels` times while irregular.
+fn presplit(scheme: Scheme, surface: Surface, group: u32, levels: u32, out: &mut Vec<Patch>) {
+    match surface {
+        Surface::Irregular(_) if levels > 0 => {
+            for (_, child) in surface.children(scheme) {
+                presplit(scheme, child, group, levels - 1, out);
+            }
+        }
+        surface => out.push(Patch { surface, group }),
+    }
+}
+
 /// Adds the points of `at` on `(s0, s1]` to `out`, halving while the midpoint is farther than
 /// `tol` from the chord (`levels` times at most, and at least twice).
 fn bisect(
@@ -354,8 +387,8 @@ impl Oracle for SubdivisionOracle {
         self.bbox
     }
 
-    /// Ray parity along three fixed directions, by majority (a ray grazing the surface or
-    /// through a patch border miscounts at most one of them).
+    /// Ray parity along fixed directions, by majority of three (a ray grazing the surface
+    /// miscounts; two rays agreeing decide).
     fn subdomain(&self, p: DVec3) -> SubdomainId {
         if !self.bbox.contains(p) {
             return OUTSIDE;
@@ -373,8 +406,13 @@ impl Oracle for SubdivisionOracle {
                 -0.40824829046386296,
             ),
         ];
-        let inside = DIRECTIONS.iter().filter(|&&d| self.parity(p, d)).count();
-        if inside >= 2 { 1 } else { OUTSIDE }
+        let (first, second) = (self.parity(p, DIRECTIONS[0]), self.parity(p, DIRECTIONS[1]));
+        let inside = if first == second {
+            first
+        } else {
+            self.parity(p, DIRECTIONS[2])
+        };
+        if inside { 1 } else { OUTSIDE }
     }
 
     fn segment_hits(&self, a: DVec3, b: DVec3, out: &mut Vec<SurfaceHit>) {
