@@ -210,6 +210,47 @@ impl Bezier {
         Bezier::fit(self.scheme, &values)
     }
 
+    /// Is the patch transversal to direction `d` everywhere, so that a line along `d` crosses it
+    /// at most once (for a piece small against its curvature)? Sufficient test: `S_u` and `S_v`
+    /// are positive combinations of the differences of neighbouring control points, so if every
+    /// pair of differences has a triple product with `d` of one strict sign, so has
+    /// `(S_u × S_v) · d` (the projection along `d` never folds).
+    pub fn transversal(&self, d: DVec3) -> bool {
+        let (mut du, mut dv) = (Vec::with_capacity(12), Vec::with_capacity(12));
+        let p = &self.points;
+        match self.scheme {
+            Scheme::CatmullClark => {
+                for j in 0..4 {
+                    for i in 0..3 {
+                        du.push(p[i + 1 + 4 * j] - p[i + 4 * j]);
+                        dv.push(p[j + 4 * (i + 1)] - p[j + 4 * i]);
+                    }
+                }
+            }
+            Scheme::Loop => {
+                let index = triangle_indices();
+                let at = |i: u32, j: u32| index.iter().position(|&x| x == (i, j)).unwrap_or(0);
+                for &(i, j) in &index {
+                    if i + j <= 3 {
+                        du.push(p[at(i + 1, j)] - p[at(i, j)]);
+                        dv.push(p[at(i, j + 1)] - p[at(i, j)]);
+                    }
+                }
+            }
+        }
+        let mut sign = 0.0;
+        for a in &du {
+            for b in &dv {
+                let s = a.cross(*b).dot(d);
+                if s == 0.0 || (sign != 0.0 && s.signum() != sign) {
+                    return false;
+                }
+                sign = s.signum();
+            }
+        }
+        true
+    }
+
     /// Box of the control points, which contains the patch (Bernstein bases are non-negative
     /// and sum to one).
     pub fn bounds(&self) -> (DVec3, DVec3) {

@@ -10,7 +10,7 @@ use glam::{DMat3, DVec2, DVec3};
 /// Splits of a polynomial piece before Newton's method is tried (smaller pieces give a better
 /// start), and at most (when Newton's method does not converge in a piece, it is split more).
 const NEWTON_DEPTH: u32 = 1;
-const MAX_SPLITS: u32 = 12;
+const MAX_SPLITS: u32 = 10;
 /// Newton iterations at most.
 const NEWTON_STEPS: u32 = 16;
 
@@ -106,7 +106,14 @@ fn visit_piece(
         return;
     }
     let scheme = root.scheme;
-    if depth >= NEWTON_DEPTH {
+    if (hi - lo).length() <= q.point_size {
+        out.push(q.point_crossing(lo, hi));
+        return;
+    }
+    // Newton's method finds one crossing: only in a piece crossed at most once, or as a last
+    // resort in the smallest pieces.
+    let single = depth >= NEWTON_DEPTH && piece.transversal(q.d);
+    if single || depth >= MAX_SPLITS {
         let centre = match scheme {
             Scheme::CatmullClark => DVec2::splat(0.5),
             Scheme::Loop => DVec2::splat(1.0 / 3.0),
@@ -121,11 +128,9 @@ fn visit_piece(
                 return;
             }
         }
-        if depth >= MAX_SPLITS {
-            return;
-        }
-        if (hi - lo).length() <= q.point_size {
-            out.push(q.point_crossing(lo, hi));
+        // A transversal piece where Newton's method finds nothing from two levels of starts
+        // is not crossed.
+        if depth >= MAX_SPLITS || (single && depth >= NEWTON_DEPTH + 2) {
             return;
         }
     }

@@ -238,3 +238,33 @@ fn bad_control_meshes_are_refused_by_name() {
         Some(SubdivisionError::LoopNeedsTriangles { .. })
     ));
 }
+
+#[test]
+fn crossing_counts_agree_in_every_direction() {
+    // Parity of the crossings of rays from one point does not depend on the direction: a
+    // missed or doubled crossing (near-tangent rays, patch borders) would break it.
+    for m in [torus_grid(8, 6), genus_two(), octahedron()] {
+        let o = oracle(&m);
+        let b = o.bounding_box();
+        let dirs = [
+            DVec3::new(0.3, 0.5, 0.8),
+            DVec3::new(-0.7, 0.2, 0.1),
+            DVec3::new(0.1, -0.9, 0.4),
+            DVec3::Z,
+        ];
+        let mut hits = Vec::new();
+        for k in 0..400 {
+            let f = |s: f64| (s * 12.9898 + k as f64 * 78.233).sin() * 0.5 + 0.5;
+            let p = b.min + (b.max - b.min) * DVec3::new(f(1.0), f(2.0), f(3.0));
+            let parity: Vec<bool> = dirs
+                .iter()
+                .map(|&d| {
+                    hits.clear();
+                    o.segment_hits(p, p + 3.0 * b.diagonal() * d.normalize(), &mut hits);
+                    hits.len() % 2 == 1
+                })
+                .collect();
+            assert!(parity.iter().all(|&x| x == parity[0]), "{p}: {parity:?}");
+        }
+    }
+}
