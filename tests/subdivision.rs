@@ -125,8 +125,8 @@ fn boundary_vertices_lie_on_the_exact_limit_surface() {
     let diagonal = meshed.domain().oracle().bounding_box().diagonal();
     let mut on_boundary = vec![false; c.points.len()];
     // The vertices of restricted facets (those with a surface patch): the points the oracle
-    // gave. The mesher may leave a few unrestricted boundary facets over a volume vertex (seen
-    // after its validity repairs); they are not the oracle's.
+    // gave. A validity repair round may leave a few unrestricted boundary facets over a volume
+    // vertex (seen once on this torus); those are checked by the topology test, not here.
     for (f, t) in c.facets.iter().enumerate() {
         if c.facet_patch[f] != 0 {
             for &v in t {

@@ -200,6 +200,51 @@ impl Bezier {
         e
     }
 
+    /// The patches over the children of the reference domain ([`child_domains`], in order):
+    /// de Casteljau halving in both directions for the square (exact, and the hot path of
+    /// segment queries), [`Bezier::restrict`] for the triangle.
+    pub fn children(&self) -> Vec<(Affine, Bezier)> {
+        let domains = child_domains(self.scheme);
+        if self.scheme == Scheme::Loop {
+            return domains
+                .into_iter()
+                .map(|d| (d, self.restrict(&d)))
+                .collect();
+        }
+        // The 7 × 7 net of the four quadrants: halve every row, then every column.
+        let mut rows = [[DVec3::ZERO; 7]; 4];
+        for (j, row) in rows.iter_mut().enumerate() {
+            let p: [DVec3; 4] = std::array::from_fn(|i| self.points[i + 4 * j]);
+            *row = halve(p);
+        }
+        let mut grid = [[DVec3::ZERO; 7]; 7];
+        for i in 0..7 {
+            let column = halve(std::array::from_fn(|j| rows[j][i]));
+            for (j, &q) in column.iter().enumerate() {
+                grid[j][i] = q;
+            }
+        }
+        domains
+            .into_iter()
+            .map(|d| {
+                // Child point (a, b) sits at parameter d(a/3, b/3): on the 7 × 7 net at six times
+                // that.
+                let points = std::array::from_fn(|n| {
+                    let p = d.apply(DVec2::new((n % 4) as f64, (n / 4) as f64) / 3.0) * 6.0;
+                    let (i, j) = (p.x.round() as usize, p.y.round() as usize);
+                    grid[j.min(6)][i.min(6)]
+                });
+                (
+                    d,
+                    Bezier {
+                        scheme: self.scheme,
+                        points,
+                    },
+                )
+            })
+            .collect()
+    }
+
     /// The same surface over the part `origin + s·du + t·dv` of the domain, as a patch in
     /// `(s, t)`.
     pub fn restrict(&self, map: &Affine) -> Bezier {
@@ -256,6 +301,18 @@ impl Bezier {
     pub fn bounds(&self) -> (DVec3, DVec3) {
         bounds(&self.points[..self.len()])
     }
+}
+
+/// A cubic's Bézier points split at one half: the 7 points of both halves (the middle one
+/// shared).
+fn halve(p: [DVec3; 4]) -> [DVec3; 7] {
+    let m01 = 0.5 * (p[0] + p[1]);
+    let m12 = 0.5 * (p[1] + p[2]);
+    let m23 = 0.5 * (p[2] + p[3]);
+    let a = 0.5 * (m01 + m12);
+    let b = 0.5 * (m12 + m23);
+    let mid = 0.5 * (a + b);
+    [p[0], m01, a, mid, b, m23, p[3]]
 }
 
 /// The smallest box around `points`.
@@ -383,6 +440,32 @@ pub(crate) fn child_at(scheme: Scheme, p: DVec2) -> usize {
                 2
             } else {
                 3
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn children_are_the_patch_over_their_domains() {
+        for scheme in [Scheme::CatmullClark, Scheme::Loop] {
+            let points = std::array::from_fn(|n| {
+                let x = n as f64;
+                DVec3::new((0.9 * x).sin(), (0.4 * x).cos(), 0.1 * x * x)
+            });
+            let patch = Bezier { scheme, points };
+            for (d, child) in patch.children() {
+                for p in [
+                    DVec2::new(0.1, 0.2),
+                    DVec2::new(0.5, 0.3),
+                    DVec2::new(0.7, 0.25),
+                ] {
+                    let there = patch.eval(d.apply(p)).point;
+                    assert!(child.eval(p).point.distance(there) < 1e-12, "{scheme:?}");
+                }
             }
         }
     }

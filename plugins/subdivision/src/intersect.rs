@@ -3,7 +3,7 @@
 //! of the regular piece reached, from the centre of the piece.
 
 use crate::Scheme;
-use crate::bezier::{Affine, Bezier, child_domains, in_domain};
+use crate::bezier::{Affine, Bezier, in_domain};
 use crate::patch::{MAX_DEPTH, Surface};
 use glam::{DMat3, DVec2, DVec3};
 
@@ -134,8 +134,7 @@ fn visit_piece(
             return;
         }
     }
-    for d in child_domains(scheme) {
-        let sub = piece.restrict(&d);
+    for (d, sub) in piece.children() {
         visit_piece(root, &sub, &map.compose(&d), q, depth + 1, out);
     }
 }
@@ -145,7 +144,6 @@ fn newton(patch: &Bezier, start: DVec2, q: &Query) -> Option<(DVec2, f64)> {
     let mut uv = start;
     let e = patch.eval(uv);
     let mut t = ((e.point - q.a).dot(q.d) / q.d.length_squared()).clamp(0.0, 1.0);
-    let scale = q.d.length().max(e.du.length()).max(e.dv.length());
     for _ in 0..NEWTON_STEPS {
         let e = patch.eval(uv);
         let r = e.point - q.a - t * q.d;
@@ -160,7 +158,13 @@ fn newton(patch: &Bezier, start: DVec2, q: &Query) -> Option<(DVec2, f64)> {
         if !(uv.is_finite() && t.is_finite()) || uv.abs().max_element() > 3.0 {
             return None;
         }
-        if step.length() <= 1e-15 * (1.0 + uv.length() + t.abs()) || r.length() <= 1e-15 * scale {
+        // Converged when the step moves the point (on the surface and on the line) by no more
+        // than rounding: measured in space, whatever the sizes of the patch and the segment.
+        let tol = 1e-14 * (1.0 + e.point.abs().max_element());
+        let moved = (step.x * e.du + step.y * e.dv)
+            .length()
+            .max(step.z.abs() * q.d.length());
+        if moved <= tol || r.length() <= tol {
             let t_ok = (-1e-12..=1.0 + 1e-12).contains(&t);
             return t_ok.then_some((uv, t.clamp(0.0, 1.0)));
         }

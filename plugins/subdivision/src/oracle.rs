@@ -393,18 +393,11 @@ impl Oracle for SubdivisionOracle {
         if !self.bbox.contains(p) {
             return OUTSIDE;
         }
+        // Off every symmetry axis of simple models, so that rays rarely meet a vertex.
         const DIRECTIONS: [DVec3; 3] = [
-            DVec3::new(0.5773502691896258, 0.5773502691896257, 0.5773502691896259),
-            DVec3::new(
-                -0.26726124191242434,
-                0.8017837257372732,
-                -0.5345224838248488,
-            ),
-            DVec3::new(
-                0.8164965809277261,
-                -0.4082482904638631,
-                -0.40824829046386296,
-            ),
+            DVec3::new(0.571, 0.583, 0.577),
+            DVec3::new(-0.267, 0.802, -0.535),
+            DVec3::new(0.816, -0.409, -0.407),
         ];
         let (first, second) = (self.parity(p, DIRECTIONS[0]), self.parity(p, DIRECTIONS[1]));
         let inside = if first == second {

@@ -19,6 +19,8 @@ pub(crate) const POINT_SIZE: f64 = 1e-9;
 
 /// A patch's surface.
 #[derive(Clone, Debug)]
+// Most patches are regular: boxing their points would cost an allocation each.
+#[allow(clippy::large_enum_variant)]
 pub(crate) enum Surface {
     Regular(Bezier),
     Irregular(Net),
@@ -54,9 +56,10 @@ impl Surface {
     pub fn children(&self, scheme: Scheme) -> Vec<(Affine, Surface)> {
         let domains = child_domains(scheme);
         match self {
-            Surface::Regular(b) => domains
+            Surface::Regular(b) => b
+                .children()
                 .into_iter()
-                .map(|d| (d, Surface::Regular(b.restrict(&d))))
+                .map(|(d, c)| (d, Surface::Regular(c)))
                 .collect(),
             Surface::Irregular(net) => {
                 let sub = net.subdivide(scheme);

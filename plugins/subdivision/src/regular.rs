@@ -172,7 +172,8 @@ pub(crate) fn child_face(scheme: Scheme, face_start: usize, k: usize) -> usize {
 /// Bézier point `b` of a configuration's patch as weights of the canonical control points:
 /// `matrix[b][c]`; `None` if the fit does not reproduce the limit (not polynomial).
 fn conversion(scheme: Scheme, config: Config) -> Option<&'static Vec<Vec<f64>>> {
-    static CACHE: [OnceLock<Vec<Option<Vec<Vec<f64>>>>>; 2] = [OnceLock::new(), OnceLock::new()];
+    type Matrices = Vec<Option<Vec<Vec<f64>>>>;
+    static CACHE: [OnceLock<Matrices>; 2] = [OnceLock::new(), OnceLock::new()];
     let all = CACHE[scheme as usize].get_or_init(|| {
         let n = face_coords(scheme).len();
         std::iter::once(Config::Smooth)
@@ -257,8 +258,8 @@ pub(crate) fn regular_patch(scheme: Scheme, net: &Net) -> Option<Bezier> {
     placed[0] = true;
     for _ in 0..net.face_count() {
         let mut progress = false;
-        for f in 1..net.face_count() {
-            if placed[f] {
+        for (f, done) in placed.iter_mut().enumerate().skip(1) {
+            if *done {
                 continue;
             }
             let face = net.face(f);
@@ -282,7 +283,7 @@ pub(crate) fn regular_patch(scheme: Scheme, net: &Net) -> Option<Bezier> {
                     _ => coords[v] = Some(c),
                 }
             }
-            placed[f] = true;
+            *done = true;
             progress = true;
         }
         if !progress {
@@ -304,6 +305,22 @@ pub(crate) fn regular_patch(scheme: Scheme, net: &Net) -> Option<Bezier> {
             return None;
         }
         controls[i] = net.points[v];
+    }
+    // Every face must be a face of the canonical ring, corners in order: the layout is then an
+    // isomorphism (a ring of other valences can place its faces without a conflicting vertex).
+    for f in 0..net.face_count() {
+        let face: Vec<Coord> = net
+            .face(f)
+            .iter()
+            .map(|&v| coords[v as usize])
+            .collect::<Option<_>>()?;
+        let matches = can
+            .faces
+            .iter()
+            .any(|g| (0..arity).any(|r| (0..arity).all(|k| g[(k + r) % arity] == face[k])));
+        if !matches {
+            return None;
+        }
     }
     let config = ring_config(scheme, net, &coords)?;
     conversion(scheme, config).map(|m| apply(scheme, m, &controls))
