@@ -5,6 +5,7 @@ use crate::settings::SettingsError;
 use delamesh_core::plugin::PluginError;
 use delamesh_core::refine::criteria::CriteriaError;
 use delamesh_core::refine::{MeshError, RefineError};
+use delamesh_core::triangulation::TriangulationError;
 use delamesh_piecewise_smooth::PolylineError;
 
 /// Why the pipeline produced no mesh.
@@ -114,5 +115,24 @@ pub enum Error {
         name: String,
         /// "surface" or "domain".
         what: &'static str,
+    },
+    /// A point of the set cannot be triangulated (not finite...).
+    #[error("{name}: cannot triangulate")]
+    Triangulation {
+        /// The point set: its file, or "points".
+        name: String,
+        /// Why.
+        #[source]
+        source: TriangulationError,
+    },
+    /// The points span no volume: no tetrahedron.
+    #[error(
+        "{name}: the {distinct} distinct points are coplanar, collinear or fewer than 4: no tetrahedra"
+    )]
+    Flat {
+        /// The point set: its file, or "points".
+        name: String,
+        /// How many distinct points there are.
+        distinct: usize,
     },
 }

@@ -94,8 +94,11 @@
 //! [`piecewise_smooth`], [`image_label`]. The command line (`src/main.rs`, `src/cli/`) is behind the default `cli`
 //! feature; `default-features = false` leaves only the library.
 
+mod delaunay;
 mod domain;
 mod error;
+#[cfg(feature = "json")]
+pub mod info;
 mod pipeline;
 pub mod plugins;
 pub mod report;
@@ -109,10 +112,11 @@ pub use delamesh_polyhedral as polyhedral;
 pub use delamesh_subdivision as subdivision;
 
 pub use delamesh_core::{
-    Aabb, MeshComplex, OUTSIDE, Oracle, Point3, Progress, RefineError, SurfaceHit, SurfaceMesh,
-    SurfacePoint, TetMesh,
+    Aabb, Cancel, MeshComplex, OUTSIDE, Oracle, Point3, Progress, RefineError, SurfaceHit,
+    SurfaceMesh, SurfacePoint, TetMesh,
 };
 pub use delamesh_formats::WriteOptions;
+pub use delaunay::{Tetrahedralization, delaunay};
 pub use domain::Domain;
 pub use error::Error;
 pub use pipeline::{Meshed, Mesher, ProgressFn, mesh_file};

@@ -11,8 +11,8 @@ use delamesh_core::mesh::{SurfaceMesh, TetMesh};
 use delamesh_core::optimize::{OptimizeOptions, OptimizeReport, optimize};
 use delamesh_core::oracle::Oracle;
 use delamesh_core::refine::criteria::MeshCriteria;
-use delamesh_core::refine::{MeshError, Progress, RefineError, RefineStats, mesh_domain};
-use delamesh_formats::image::{is_image_path, read_image};
+use delamesh_core::refine::{Cancel, MeshError, Progress, RefineError, RefineStats, mesh_domain};
+use delamesh_formats::image::{Image, is_image_path, read_image};
 use delamesh_formats::{PolygonMesh, WriteOptions, read_polygons, read_surface, write_tet_mesh};
 use std::path::Path;
 use std::time::Instant;
@@ -33,6 +33,7 @@ pub type ProgressFn<'p> = dyn FnMut(&Progress) + 'p;
 pub struct Mesher<'p> {
     settings: MeshSettings,
     progress: Option<Box<ProgressFn<'p>>>,
+    cancel: Option<Cancel>,
 }
 
 /// A finished run: the mesh, what refinement did, and whether a guard stopped it early.
@@ -67,7 +68,15 @@ impl<'p> Mesher<'p> {
         Mesher {
             settings,
             progress: None,
+            cancel: None,
         }
+    }
+
+    /// Stops refinement with [`RefineError::Cancelled`] once `flag` is raised (from another
+    /// thread, or from the progress callback: a user's interrupt).
+    pub fn cancel_on(mut self, flag: Cancel) -> Self {
+        self.cancel = Some(flag);
+        self
     }
 
     /// Calls `f` now and then during refinement (vertex count, queue lengths).
@@ -125,8 +134,25 @@ impl<'p> Mesher<'p> {
         let started = Instant::now();
         let image = read_image(path)?;
         let read = started.elapsed();
+        self.mesh_image_from(path.display().to_string(), image, started, read)
+    }
+
+    /// Meshes the labels of a 3D image held in memory (voxels x fastest, then y, then z), one
+    /// subdomain per label; `name` names it in errors.
+    pub fn mesh_image(&mut self, name: &str, image: Image) -> Result<Meshed, Error> {
+        self.settings.validate()?;
+        let started = Instant::now();
+        self.mesh_image_from(name.to_string(), image, started, Default::default())
+    }
+
+    fn mesh_image_from(
+        &mut self,
+        name: String,
+        image: Image,
+        started: Instant,
+        read: std::time::Duration,
+    ) -> Result<Meshed, Error> {
         let t = Instant::now();
-        let name = path.display().to_string();
         let domain = Domain::from_image(&name, &image, &self.settings.image.options)?;
         drop(image);
         let times = Times {
@@ -221,6 +247,7 @@ impl<'p> Mesher<'p> {
         let oracle = domain.oracle();
         let bbox = oracle.bounding_box();
         let mut options = self.settings.mesh_options(&bbox);
+        options.limits.cancel = self.cancel.clone();
         if let Some(surface) = &input {
             options.validity.input_euler =
                 Some(component_euler_characteristics(&surface.triangles).1);

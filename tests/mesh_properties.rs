@@ -173,3 +173,36 @@ fn meshing_is_deterministic() {
     let run = || mesh(&s, criteria(25.0, 0.2, 0.02, 3.0, 0.3)).1;
     assert_eq!(run(), run());
 }
+
+/// A raised cancel flag stops the pipeline at the engine's next guard check: raised from the
+/// progress callback (as the Python binding does on Ctrl-C), refinement ends before the next call.
+#[test]
+fn a_raised_cancel_flag_stops_the_pipeline() {
+    use delamesh::{Cancel, Error, MeshSettings, Mesher, RefineError, SurfaceMesh};
+    let cancel = Cancel::new();
+    let flag = cancel.clone();
+    let settings = MeshSettings::builder()
+        .facet_size(0.02)
+        .cell_size(0.02)
+        .build()
+        .expect("valid settings");
+    let mut calls = 0;
+    let result = Mesher::new(settings)
+        .cancel_on(cancel)
+        .on_progress(|_| {
+            calls += 1;
+            flag.cancel();
+        })
+        .mesh_surface("sphere", SurfaceMesh::icosphere(DVec3::ZERO, 1.0, 3));
+    assert!(
+        matches!(
+            result,
+            Err(Error::Stopped {
+                source: RefineError::Cancelled,
+                ..
+            })
+        ),
+        "a cancelled run is an error, not a mesh"
+    );
+    assert_eq!(calls, 1, "checks come at least as often as progress calls");
+}

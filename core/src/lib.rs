@@ -19,6 +19,8 @@ pub use kernel::Point3;
 pub use mesh::{SurfaceMesh, TetMesh};
 pub use oracle::{Aabb, FeatureCurve, OUTSIDE, Oracle, SurfaceHit, SurfacePoint};
 pub use refine::criteria::{MeshCriteria, Sizing};
-pub use refine::{MeshOptions, MeshOutcome, Progress, RefineError, RefineStats, mesh_domain};
+pub use refine::{
+    Cancel, MeshOptions, MeshOutcome, Progress, RefineError, RefineStats, mesh_domain,
+};
 pub use triangulation::{Delaunay2, Delaunay3, Regular3, Triangulation};
 pub use union_find::UnionFind;

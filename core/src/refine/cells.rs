@@ -32,6 +32,9 @@ pub struct CellLevel<'o> {
     queue: RefineQueue<QueuedCell>,
     /// Squared circumradius of the cell whose circumcentre was last proposed.
     proposed_radius2: f64,
+    /// Circumradius under which a cell that is not flat is never refined (see
+    /// [`CellLevel::min_radius`]).
+    min_radius: f64,
     /// The cell last proposed is flat (its point is one of several candidates).
     proposed_flat: bool,
     hits: Vec<SurfaceHit>,
@@ -51,6 +54,7 @@ impl<'o> CellLevel<'o> {
             queue: RefineQueue::default(),
             proposed_radius2: 0.0,
             proposed_flat: false,
+            min_radius: 0.0,
             hits: Vec::new(),
             domain_box: None,
             clear_facets: None,
@@ -76,6 +80,22 @@ impl<'o> CellLevel<'o> {
             max: b.max + margin,
         });
         self
+    }
+
+    /// Never refine a cell smaller than `r` for size or shape (flat cells still are): the
+    /// surface level's floor ([`super::facets::SurfaceLevel::min_radius`]) for the cells, whose
+    /// circumcentres near an unresolved seam would otherwise converge to it.
+    pub fn min_radius(mut self, r: f64) -> Self {
+        self.min_radius = r;
+        self
+    }
+
+    /// Give cell `c` another label (the manifold relabelling, [`super::manifold`]); the queue is
+    /// left as it is: relabelling comes after refinement.
+    pub(crate) fn set_subdomain(&mut self, c: CellId, sub: SubdomainId) {
+        if let Some(s) = self.subdomain.get_mut(c.0 as usize) {
+            *s = sub;
+        }
     }
 
     /// The subdomain a cell belongs to: the one containing its circumcentre.
@@ -187,6 +207,9 @@ impl<'o> CellLevel<'o> {
             return Some(f64::INFINITY);
         }
         let radius = power_distance(tr, vertices[0], center).max(0.0).sqrt();
+        if radius < self.min_radius {
+            return None;
+        }
         let size_excess = radius / self.criteria.size.at(center, sub);
         let shape_excess = if self.criteria.radius_edge_ratio > 0.0 {
             radius / shortest_edge(&p) / self.criteria.radius_edge_ratio

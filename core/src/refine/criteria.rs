@@ -32,6 +32,18 @@ impl Sizing {
         }
     }
 
+    /// The smallest value a constant or per-label bound takes (`None` for a function or no
+    /// bound).
+    pub fn smallest(&self) -> Option<f64> {
+        match self {
+            Sizing::Constant(v) => Some(*v),
+            Sizing::PerLabel { default, values } => {
+                Some(values.values().fold(*default, |m, &v| m.min(v)))
+            }
+            Sizing::Unbounded | Sizing::Function(_) => None,
+        }
+    }
+
     pub fn is_bounded(&self) -> bool {
         !matches!(self, Sizing::Unbounded)
     }
@@ -87,6 +99,10 @@ pub struct MeshCriteria {
 /// any edge size a user asks for, large enough to bound the protection of features that touch.
 pub const DEFAULT_EDGE_MIN_FRACTION: f64 = 1e-3;
 
+/// Refinement floor as a fraction of the smallest protecting ball (see
+/// [`MeshCriteria::refinement_floor`]).
+pub const REFINEMENT_FLOOR_FRACTION: f64 = 0.25;
+
 impl MeshCriteria {
     /// The smallest protecting ball radius for a domain with bounding box `bbox`.
     pub fn edge_min_size_for(&self, bbox: &Aabb) -> f64 {
@@ -95,6 +111,18 @@ impl MeshCriteria {
         } else {
             DEFAULT_EDGE_MIN_FRACTION * bbox.diagonal()
         }
+    }
+
+    /// Radius under which no facet or cell is refined: [`REFINEMENT_FLOOR_FRACTION`] of the
+    /// finest scale asked for (the smallest protecting ball, or a smaller constant size or
+    /// distance), for every domain, with features or not, so that refinement near a seam finer
+    /// than that ends.
+    pub fn refinement_floor(&self, bbox: &Aabb) -> f64 {
+        let finest = [&self.facet.size, &self.facet.distance, &self.cell.size]
+            .into_iter()
+            .filter_map(Sizing::smallest)
+            .fold(self.edge_min_size_for(bbox), f64::min);
+        REFINEMENT_FLOOR_FRACTION * finest
     }
 
     /// Criteria that give a medium-resolution mesh of any domain, scaled by its bounding box, so

@@ -3,6 +3,8 @@
 use crate::triangulation::{
     CellId, InsertOutcome, InsertReport, Triangulation, TriangulationError, VertexId,
 };
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Answer of a level asked whether a refinement point may be inserted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -99,8 +101,38 @@ impl<T: Triangulation, L: MesherLevel<T>> Level<T> for L {
     }
 }
 
+/// A flag that stops refinement from outside (another thread, a signal handler, a progress
+/// callback): the run ends with [`RefineError::Cancelled`] at its next guard check. Clones share
+/// the flag.
+#[derive(Clone, Debug, Default)]
+pub struct Cancel(Arc<AtomicBool>);
+
+impl Cancel {
+    /// A flag not raised yet.
+    pub fn new() -> Self {
+        Cancel::default()
+    }
+
+    /// Asks every run holding this flag (or a clone) to stop.
+    pub fn cancel(&self) {
+        self.0.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether [`cancel`](Self::cancel) was called.
+    pub fn is_cancelled(&self) -> bool {
+        self.0.load(Ordering::Relaxed)
+    }
+}
+
+/// The same flag, not the same state: two runs with equal limits stop together.
+impl PartialEq for Cancel {
+    fn eq(&self, other: &Self) -> bool {
+        Arc::ptr_eq(&self.0, &other.0)
+    }
+}
+
 /// Guards that make refinement terminate whatever the input.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Limits {
     /// Refinement stops with [`RefineError::TooManyVertices`] past this many vertices.
     pub max_vertices: usize,
@@ -111,6 +143,8 @@ pub struct Limits {
     /// Refinement stops with [`RefineError::TimeLimit`] when it runs longer than this (and the
     /// protection of sharp features, when it does; `None`: no limit).
     pub time_limit: Option<std::time::Duration>,
+    /// Refinement stops with [`RefineError::Cancelled`] once this flag is raised.
+    pub cancel: Option<Cancel>,
 }
 
 impl Default for Limits {
@@ -119,6 +153,7 @@ impl Default for Limits {
             max_vertices: 2_000_000,
             max_rejections_in_a_row: 64,
             time_limit: None,
+            cancel: None,
         }
     }
 }
@@ -170,6 +205,8 @@ pub enum RefineError {
     TooManyVertices { limit: usize },
     #[error("meshing took longer than the time limit; raise --time-limit or coarsen the criteria")]
     TimeLimit,
+    #[error("meshing was cancelled")]
+    Cancelled,
     #[error("a refinement point was refused by the triangulation")]
     Triangulation(#[from] TriangulationError),
 }
@@ -231,8 +268,18 @@ impl<'a, T: Triangulation> Engine<'a, T> {
         let mut steps = 0usize;
         while let Some((i, candidate)) = self.next_candidate(tr) {
             steps += 1;
-            if steps % 256 == 0 && deadline.is_some_and(|d| std::time::Instant::now() > d) {
-                return Err(RefineError::TimeLimit);
+            if steps % 256 == 0 {
+                if deadline.is_some_and(|d| std::time::Instant::now() > d) {
+                    return Err(RefineError::TimeLimit);
+                }
+                if self
+                    .limits
+                    .cancel
+                    .as_ref()
+                    .is_some_and(Cancel::is_cancelled)
+                {
+                    return Err(RefineError::Cancelled);
+                }
             }
             match self.check_by_all_levels(tr, &candidate, i) {
                 Check::Accepted => {

@@ -87,6 +87,8 @@ pub struct SurfaceLevel<'o> {
     /// `VertexId`; 0 for vertices on curves and corners, which lie on several patches.
     vertex_patch: Option<Vec<PatchId>>,
     queue: RefineQueue<QueuedFacet>,
+    /// Squared radius under which a surface ball is never refined (see [`SurfaceLevel::min_radius`]).
+    min_radius2: f64,
     /// Marks the cells created by the insertion being processed: `created_mark[c] == stamp`.
     created_mark: Vec<u64>,
     stamp: u64,
@@ -109,6 +111,7 @@ impl<'o> SurfaceLevel<'o> {
             on_surface: Vec::new(),
             vertex_patch: None,
             queue: RefineQueue::default(),
+            min_radius2: 0.0,
             created_mark: Vec::new(),
             stamp: 0,
             hits: Vec::new(),
@@ -116,6 +119,16 @@ impl<'o> SurfaceLevel<'o> {
             proposed_radius2: 0.0,
             proposed_patch: 0,
         }
+    }
+
+    /// Never refine a facet whose surface ball is smaller than `r`, whatever the criteria or the
+    /// repairs ask: near a seam finer than the mesh (micro-triangles of a CSG boolean, two sheets
+    /// closer than the sizes), each refinement point can make a smaller facet next to it, and
+    /// the cascade converges to a point instead of ending. Below the smallest protecting ball
+    /// the surface is not resolved anyway.
+    pub fn min_radius(mut self, r: f64) -> Self {
+        self.min_radius2 = r * r;
+        self
     }
 
     /// Also refine every restricted facet with a vertex on another patch than the facet's
@@ -265,6 +278,9 @@ impl<'o> SurfaceLevel<'o> {
         i: usize,
         ball: &SurfaceBall,
     ) -> Option<f64> {
+        if ball.radius2 < self.min_radius2 {
+            return None;
+        }
         let fv = facet_vertices(cell, i);
         if fv.iter().any(|&v| !self.is_on_surface(v)) || self.off_patch(&fv, ball.patch) {
             return Some(URGENT);
@@ -406,7 +422,8 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for SurfaceLevel<'o> {
             if is_same_cell(tr, f.cell, &f.vertices) {
                 // The neighbour may have changed since queuing: judge the facet as it is now.
                 if let Some(ball) = self.balls[f.cell.0 as usize][i] {
-                    if f.forced || self.badness(tr, &f.vertices, i, &ball).is_some() {
+                    let forced = f.forced && ball.radius2 >= self.min_radius2;
+                    if forced || self.badness(tr, &f.vertices, i, &ball).is_some() {
                         return Some(f);
                     }
                 }
@@ -447,7 +464,10 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for SurfaceLevel<'o> {
                 continue;
             }
             for i in 0..4 {
+                // A ball below the floor is never refined, so it cannot refuse a point either
+                // (the point's cell would be proposed again and again).
                 if let Some(ball) = self.balls[cell.0 as usize][i]
+                    && ball.radius2 >= self.min_radius2
                     && ball.center.distance_squared(c.point) < ball.radius2
                 {
                     let vertices = cell_vertices(tr, cell);

@@ -7,6 +7,7 @@ use super::criteria::MeshCriteria;
 use super::engine::{Engine, Limits, Progress, RefineError, RefineStats};
 use super::facets::SurfaceLevel;
 use super::guard::CurveLevel;
+use super::manifold::{relabel_to_manifold, remove_stray_pieces};
 use super::protect::{ProtectError, ProtectLimits, protect};
 use super::repair::{Validity, ValidityOptions, find_defects};
 use crate::complex::MeshComplex;
@@ -105,8 +106,9 @@ fn mesh_smooth(
 ) -> Result<MeshOutcome, MeshError> {
     let start = Instant::now();
     let mut tr = Delaunay3::new();
-    let mut surface = SurfaceLevel::new(oracle, options.criteria.facet.clone());
-    let cells = CellLevel::new(oracle, options.criteria.cell.clone());
+    let floor = options.criteria.refinement_floor(&oracle.bounding_box());
+    let mut surface = SurfaceLevel::new(oracle, options.criteria.facet.clone()).min_radius(floor);
+    let cells = CellLevel::new(oracle, options.criteria.cell.clone()).min_radius(floor);
     let initial = oracle.initial_points();
     if initial.is_empty() {
         return Err(MeshError::NoInitialPoints);
@@ -154,8 +156,13 @@ pub fn mesh_with_features<T: Triangulation<Point = Point3>>(
         deadline: options.limits.time_limit.map(|t| start + t),
     };
     let protection = protect(curves, corners, &options.criteria.edge_size, &limits)?;
-    let mut surface = SurfaceLevel::new(oracle, options.criteria.facet.clone()).check_patches();
-    let cells = CellLevel::new(oracle, options.criteria.cell.clone()).outside_box();
+    let floor = options.criteria.refinement_floor(&oracle.bounding_box());
+    let mut surface = SurfaceLevel::new(oracle, options.criteria.facet.clone())
+        .check_patches()
+        .min_radius(floor);
+    let cells = CellLevel::new(oracle, options.criteria.cell.clone())
+        .outside_box()
+        .min_radius(floor);
     let mut vertices = Vec::with_capacity(protection.balls.len());
     for b in &protection.balls {
         let v =
@@ -228,7 +235,7 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
         &mut surface,
         &mut cells,
         curves.as_mut(),
-        options.limits,
+        options.limits.clone(),
         true,
     );
     // Validity repairs, in bounded rounds and within a vertex budget (refinement near tiny
@@ -236,7 +243,7 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
     let budget = (options.validity.max_vertex_growth * tr.num_vertices() as f64) as usize;
     let repair_limits = Limits {
         max_vertices: budget.min(options.limits.max_vertices),
-        ..options.limits
+        ..options.limits.clone()
     };
     let mut validity = Validity::default();
     if let Ok(stats) = result.as_mut() {
@@ -253,7 +260,7 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
                 &mut surface,
                 &mut cells,
                 curves.as_mut(),
-                repair_limits,
+                repair_limits.clone(),
                 false,
             ) {
                 Ok(more) => stats.absorb(&more),
@@ -268,6 +275,19 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
                     break;
                 }
             }
+        }
+        // Where refinement could not resolve a pinch, relabelling does (one move per vertex at
+        // most, so it ends).
+        if options.validity.manifold && !validity.manifold {
+            let relabelling = relabel_to_manifold(&tr, &mut cells, tr.num_vertices());
+            validity = find_defects(&tr, &cells, &options.validity, false).validity();
+            validity.relabelling = relabelling;
+        }
+        if options.validity.manifold && validity.manifold && validity.extra_components > 0 {
+            let mut relabelling = validity.relabelling;
+            remove_stray_pieces(&tr, &mut cells, validity.extra_components, &mut relabelling);
+            validity = find_defects(&tr, &cells, &options.validity, false).validity();
+            validity.relabelling = relabelling;
         }
     }
     times.refinement = start.elapsed();

@@ -14,15 +14,17 @@ mod engine;
 pub mod facets;
 mod geometry;
 pub(crate) mod guard;
+pub mod manifold;
 mod mesh3;
 pub(crate) mod protect;
 mod queue;
 pub mod repair;
 
 pub use engine::{
-    Candidate, Check, Engine, Limits, MesherLevel, Progress, RefineError, RefineStats,
+    Cancel, Candidate, Check, Engine, Limits, MesherLevel, Progress, RefineError, RefineStats,
 };
 pub(crate) use geometry::{cell_vertices, facet_vertices, triangle_circumcenter};
+pub use manifold::Relabelling;
 pub use mesh3::{
     InsertBall, MeshError, MeshOptions, MeshOutcome, PhaseTimes, mesh_domain, mesh_with_features,
 };

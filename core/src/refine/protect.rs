@@ -192,6 +192,32 @@ impl Piece {
         BEND_FRACTION * longest
     }
 
+    /// Drop the bends closer than `min_sep` (arc length) to a kept bend or to an end: every bend
+    /// is a ball centre, and a zigzag finer than the smallest ball (a CSG seam's micro-triangles)
+    /// would otherwise force balls far below it, and the surface around them would be refined
+    /// down to that scale. The balls at the smallest size cover such a zigzag anyway.
+    fn thin_bends(&mut self, min_sep: f64) {
+        if min_sep <= 0.0 {
+            return;
+        }
+        let l = self.line.length();
+        let closed = self.ends.is_none();
+        let mut kept: Vec<f64> = Vec::with_capacity(self.bends.len());
+        for &s in &self.bends {
+            let after = kept
+                .last()
+                .map_or(!closed && s < min_sep, |&k| s - k < min_sep);
+            if !after && (closed || l - s >= min_sep) {
+                kept.push(s);
+            }
+        }
+        // Around a closed curve the last bend also has the first one after it.
+        while closed && kept.len() > 1 && kept[0] + l - kept[kept.len() - 1] < min_sep {
+            kept.pop();
+        }
+        self.bends = kept;
+    }
+
     /// A lower bound on the distance from `p` to the piece.
     fn distance_bound(&self, p: Point3) -> f64 {
         let (lo, hi) = self.bounds;
@@ -240,8 +266,11 @@ pub fn protect(
     for (id, line) in &lines {
         split_at_corners(*id, line, &corners, tol, &mut pieces);
     }
-    let mut corner_limit = vec![f64::INFINITY; corners.len()];
     let min_radius = limits.min_radius;
+    for piece in &mut pieces {
+        piece.thin_bends(min_radius);
+    }
+    let mut corner_limit = vec![f64::INFINITY; corners.len()];
     for _ in 0..MAX_ROUNDS {
         if limits.deadline.is_some_and(|d| Instant::now() > d) {
             return Err(ProtectError::TimeLimit);
@@ -499,7 +528,7 @@ fn populate(
             chain_s.push(s);
             protection.balls.push(ProtectingBall {
                 center: piece.line.point_at(s),
-                radius: radius(s).min(GAP_FRACTION * gap),
+                radius: radius(s).min(GAP_FRACTION * gap).max(limits.min_radius),
                 feature: Feature::Curve(piece.curve),
             });
         }

@@ -57,6 +57,10 @@ pub struct Validity {
     /// One sentence per input component whose Euler characteristic the mesh boundary does not
     /// reproduce (empty when the topology matches or was not asked for).
     pub topology_warnings: Vec<String>,
+    /// Cells relabelled to make the boundary a 2-manifold where refinement could not.
+    pub relabelling: super::manifold::Relabelling,
+    /// Boundary components beyond those matching the input's components.
+    pub extra_components: usize,
 }
 
 /// A boundary facet of the complex: the inside cell and the index of the vertex opposite it.
@@ -74,6 +78,8 @@ pub(crate) struct Defects {
     facets: Vec<BoundaryFacet>,
     non_manifold: bool,
     topology_warnings: Vec<String>,
+    /// Boundary components beyond those matching the input's.
+    extra_components: usize,
 }
 
 impl Defects {
@@ -108,6 +114,8 @@ impl Defects {
             flat_cells: self.flat.len(),
             manifold: !self.non_manifold,
             topology_warnings: self.topology_warnings.clone(),
+            relabelling: Default::default(),
+            extra_components: self.extra_components,
         }
     }
 }
@@ -202,6 +210,7 @@ pub(crate) fn find_defects<T: Triangulation<Point = Point3>>(
             }
         }
         let extra = offending.len().saturating_sub(unmatched.len());
+        defects.extra_components = extra;
         defects.topology_warnings = unmatched
             .iter()
             .copied()

@@ -124,7 +124,7 @@ pub fn mesh(pslg: &Pslg, options: &MeshOptions) -> Result<Mesh, MeshError> {
         max_vertices: options.max_vertices,
         ..Limits::default()
     };
-    let mut insertions: usize = Engine::new(limits)
+    let mut insertions: usize = Engine::new(limits.clone())
         .push_level(&mut seg_level)
         .refine(&mut tr, &mut |_| {})?
         .insertions

@@ -240,8 +240,10 @@ impl MesherLevel<Delaunay2> for SegmentLevel {
                 self.cons.borrow_mut().split(a, b, v);
             }
         }
-        // A sub-segment can only have become encroached (or lost) if both its ends are on the
-        // cavity boundary, i.e. are vertices of the new cells.
+        // A sub-segment can only have become encroached (or lost) if one of its ends is on the
+        // cavity boundary, i.e. is a vertex of the new cells: an existing edge is lost only with
+        // both ends there, but the halves of a split sub-segment start with one end at the new
+        // vertex and may be missing from the start.
         self.seen.resize(tr.num_vertices(), 0);
         self.stamp = self.stamp.wrapping_add(1);
         if self.stamp == 0 {
@@ -260,8 +262,16 @@ impl MesherLevel<Delaunay2> for SegmentLevel {
         pairs.clear();
         {
             let cons = self.cons.borrow();
+            let seen = &self.seen;
+            let stamp = self.stamp;
             for &x in &ends {
-                pairs.extend(cons.around(x).iter().filter(|&&y| x < y).map(|&y| (x, y)));
+                // Each pair once: from its lower end when both ends are on the cavity.
+                pairs.extend(
+                    cons.around(x)
+                        .iter()
+                        .filter(|&&y| x < y || seen[y.0 as usize] != stamp)
+                        .map(|&y| (x.min(y), x.max(y))),
+                );
             }
         }
         // Queue in the order of the lower end (the queue order decides the refinement order).

@@ -242,3 +242,51 @@ fn vertex_limit_stops_refinement() {
     };
     assert!(matches!(mesh(&input, &none), Err(MeshError::Refine(_))));
 }
+
+/// Star-shaped polygons with random radii at random angles (a fixed sequence): concave
+/// outlines with notches of every depth and angle. Each one meshes, conforming to every
+/// segment, with positive triangles covering its area.
+#[test]
+fn random_star_shaped_polygons_mesh_and_conform() {
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for case in 0..60 {
+        let n = 5 + (next() * 20.0) as usize;
+        // Gaps between consecutive angles below half a turn: the polygon is simple.
+        let gaps: Vec<f64> = (0..n).map(|_| 0.5 + next()).collect();
+        let total: f64 = gaps.iter().sum();
+        let start = next() * std::f64::consts::TAU;
+        let angles: Vec<f64> = gaps
+            .iter()
+            .scan(start, |t, g| {
+                *t += g / total * std::f64::consts::TAU;
+                Some(*t)
+            })
+            .collect();
+        let poly: Vec<DVec2> = angles
+            .iter()
+            .map(|&t| v(t.cos(), t.sin()) * (2.0 + 8.0 * next()))
+            .collect();
+        let input = loops(std::slice::from_ref(&poly));
+        let opts = MeshOptions {
+            min_angle_deg: 20.0,
+            ..MeshOptions::default()
+        };
+        let m = mesh(&input, &opts).unwrap_or_else(|e| panic!("case {case}: {e}"));
+        assert_triangles_valid(&m);
+        assert_segments_conform(&input, &m);
+        let polygon_area: f64 = (0..poly.len())
+            .map(|k| poly[k].perp_dot(poly[(k + 1) % poly.len()]) / 2.0)
+            .sum();
+        assert!(
+            (area(&m) - polygon_area).abs() < 1e-9 * polygon_area,
+            "case {case}: area {} instead of {polygon_area}",
+            area(&m)
+        );
+    }
+}

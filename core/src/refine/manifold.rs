@@ -1,0 +1,285 @@
+//! The last resort for a 2-manifold boundary: relabel cells where refinement could not make one.
+//!
+//! Refinement makes the boundary a 2-manifold wherever the sizes can resolve the surface (the
+//! repairs of [`super::repair`]). Below the refinement floor they cannot: two sheets of a CSG
+//! seam closer than the smallest protecting ball, a slot thinner than the cells. There the
+//! boundary pinches at a vertex or an edge. Seen from a vertex `v`, the cells around it tile a
+//! sphere (its link), split into inside and outside regions; the boundary is a disc at `v`
+//! exactly when each region is connected through facets containing `v`. So at a pinched vertex
+//! the smallest region (by volume) is given the other label, merging it with its neighbours,
+//! until one inside and one outside region are left; the vertices of the relabelled cells are
+//! looked at again. Each relabelling moves at most the volume of a few cells at the scale the
+//! mesh could not resolve.
+
+use super::cells::CellLevel;
+use super::geometry::{cell_vertices, is_flat};
+use crate::complex::signed_volume;
+use crate::kernel::Point3;
+use crate::oracle::{OUTSIDE, SubdomainId};
+use crate::triangulation::{CellId, Triangulation, VertexId};
+use crate::union_find::UnionFind;
+use std::collections::BTreeSet;
+
+/// What the relabelling did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Relabelling {
+    /// Cells moved into the domain.
+    pub cells_in: usize,
+    /// Cells moved out of the domain.
+    pub cells_out: usize,
+    /// Volume those moves added to (positive) or took from (negative) the domain.
+    pub volume_change: f64,
+    /// Pinched vertices left when the budget ran out (0 when the boundary is a 2-manifold).
+    pub pinched_left: usize,
+}
+
+/// A region of the cells around a vertex: cells of one side connected through facets holding
+/// the vertex.
+struct Region {
+    cells: Vec<CellId>,
+    inside: bool,
+    volume: f64,
+    /// Contains the infinite cell or a flat cell: cannot be moved into the domain.
+    stuck_outside: bool,
+    /// Contains a cell relabelled before: cannot be moved again.
+    moved: bool,
+}
+
+/// Relabel cells until the boundary of the labelled cells is a 2-manifold at every vertex, or
+/// `max_moves` regions were moved.
+pub(crate) fn relabel_to_manifold<T: Triangulation<Point = Point3>>(
+    tr: &T,
+    cells: &mut CellLevel<'_>,
+    max_moves: usize,
+) -> Relabelling {
+    let mut result = Relabelling::default();
+    let mut todo: BTreeSet<u32> = BTreeSet::new();
+    for c in tr.finite_cells() {
+        if cells.subdomain(c) == OUTSIDE {
+            continue;
+        }
+        for i in 0..4 {
+            let n = tr.neighbor(c, i);
+            if tr.is_infinite_cell(n) || cells.subdomain(n) == OUTSIDE {
+                todo.extend(facet_of(tr, c, i).map(|v| v.0));
+            }
+        }
+    }
+    let mut around = Vec::new();
+    let mut moved = vec![false; tr.cell_capacity()];
+    let mut moves = 0;
+    while let Some(v) = todo.pop_first() {
+        let v = VertexId(v);
+        loop {
+            tr.incident_cells(v, &mut around);
+            let regions = regions_around(tr, cells, v, &around, &moved);
+            let inside = regions.iter().filter(|r| r.inside).count();
+            if inside <= 1 && regions.len() - inside <= 1 {
+                break;
+            }
+            if moves >= max_moves {
+                result.pinched_left += 1;
+                break;
+            }
+            let label = majority_label(cells, &regions);
+            let Some(r) = regions
+                .iter()
+                .filter(|r| !r.moved && (r.inside || !r.stuck_outside))
+                .min_by(|a, b| a.volume.total_cmp(&b.volume))
+            else {
+                result.pinched_left += 1;
+                break;
+            };
+            moves += 1;
+            for &c in &r.cells {
+                moved[c.0 as usize] = true;
+                if r.inside {
+                    cells.set_subdomain(c, OUTSIDE);
+                    result.cells_out += 1;
+                } else {
+                    cells.set_subdomain(c, label);
+                    result.cells_in += 1;
+                }
+                todo.extend(cell_vertices(tr, c).iter().map(|w| w.0));
+            }
+            result.volume_change += if r.inside { -r.volume } else { r.volume };
+        }
+    }
+    result
+}
+
+/// Give the other label to the `count` smallest face-connected pieces of cells (islands of
+/// inside cells, cavities of outside ones; never the outside piece holding the infinite cell),
+/// each smaller than [`STRAY_VOLUME`] of the domain: the extra boundary components that
+/// unresolved seams leave. Cavities holding a flat cell stay (filling them would put the flat
+/// cell in the mesh). Returns the cells moved in and out, and the volume change.
+pub(crate) fn remove_stray_pieces<T: Triangulation<Point = Point3>>(
+    tr: &T,
+    cells: &mut CellLevel<'_>,
+    count: usize,
+    result: &mut Relabelling,
+) {
+    if count == 0 {
+        return;
+    }
+    let n = tr.cell_capacity();
+    let inside = |c: CellId| !tr.is_infinite_cell(c) && cells.subdomain(c) != OUTSIDE;
+    let mut sets = UnionFind::new(n);
+    let live: Vec<CellId> = tr.cells().collect();
+    for &c in &live {
+        for i in 0..4 {
+            let nb = tr.neighbor(c, i);
+            if inside(nb) == inside(c) {
+                sets.union(c.0, nb.0);
+            }
+        }
+    }
+    // Per piece (by root): volume, can it be relabelled, its cells.
+    let mut volume = vec![0.0f64; n];
+    let mut movable = vec![true; n];
+    let mut domain_volume = 0.0;
+    for &c in &live {
+        let root = sets.find(c.0) as usize;
+        if tr.is_infinite_cell(c) {
+            movable[root] = false;
+            continue;
+        }
+        let p = cell_vertices(tr, c).map(|w| tr.point(w));
+        let v = signed_volume(&p).abs();
+        volume[root] += v;
+        if inside(c) {
+            domain_volume += v;
+        } else if is_flat(&p) {
+            movable[root] = false;
+        }
+    }
+    let mut roots: Vec<u32> = live
+        .iter()
+        .map(|&c| sets.find(c.0))
+        .filter(|&r| movable[r as usize] && volume[r as usize] < STRAY_VOLUME * domain_volume)
+        .collect();
+    roots.sort_unstable();
+    roots.dedup();
+    roots.sort_by(|&a, &b| {
+        volume[a as usize]
+            .total_cmp(&volume[b as usize])
+            .then(a.cmp(&b))
+    });
+    roots.truncate(count);
+    let label = live
+        .iter()
+        .map(|&c| cells.subdomain(c))
+        .filter(|&s| s != OUTSIDE)
+        .min()
+        .unwrap_or(OUTSIDE);
+    // Decide every move first: a filled cavity takes the subdomain of a neighbour across its
+    // boundary, so the labels must be read before any changes.
+    let mut changes: Vec<(CellId, SubdomainId)> = Vec::new();
+    for &c in &live {
+        if !roots.contains(&sets.find(c.0)) {
+            continue;
+        }
+        let to = if inside(c) {
+            OUTSIDE
+        } else {
+            (0..4)
+                .map(|i| tr.neighbor(c, i))
+                .find(|&nb| inside(nb))
+                .map_or(label, |nb| cells.subdomain(nb))
+        };
+        changes.push((c, to));
+    }
+    for (c, to) in changes {
+        let v = volume_of(tr, c);
+        if to == OUTSIDE {
+            result.cells_out += 1;
+            result.volume_change -= v;
+        } else {
+            result.cells_in += 1;
+            result.volume_change += v;
+        }
+        cells.set_subdomain(c, to);
+    }
+}
+
+/// Largest piece [`remove_stray_pieces`] relabels, as a fraction of the domain's volume.
+pub const STRAY_VOLUME: f64 = 1e-3;
+
+fn volume_of<T: Triangulation<Point = Point3>>(tr: &T, c: CellId) -> f64 {
+    signed_volume(&cell_vertices(tr, c).map(|w| tr.point(w))).abs()
+}
+
+/// The regions of the cells `around` vertex `v`.
+fn regions_around<T: Triangulation<Point = Point3>>(
+    tr: &T,
+    cells: &CellLevel<'_>,
+    v: VertexId,
+    around: &[CellId],
+    moved: &[bool],
+) -> Vec<Region> {
+    let inside = |c: CellId| !tr.is_infinite_cell(c) && cells.subdomain(c) != OUTSIDE;
+    let mut sets = UnionFind::new(around.len());
+    for (k, &c) in around.iter().enumerate() {
+        let vertices = tr.cell(c);
+        for (i, &w) in vertices.as_ref().iter().enumerate() {
+            if w == v {
+                continue;
+            }
+            // The facet opposite `w` holds `v`: its other cell is around `v` too.
+            let n = tr.neighbor(c, i);
+            if inside(n) == inside(c)
+                && let Some(j) = around.iter().position(|&x| x == n)
+            {
+                sets.union(k as u32, j as u32);
+            }
+        }
+    }
+    let mut regions: Vec<Region> = Vec::new();
+    let mut region_of_root: Vec<Option<usize>> = vec![None; around.len()];
+    for (k, &c) in around.iter().enumerate() {
+        let root = sets.find(k as u32) as usize;
+        let r = *region_of_root[root].get_or_insert_with(|| {
+            regions.push(Region {
+                cells: Vec::new(),
+                inside: inside(c),
+                volume: 0.0,
+                stuck_outside: false,
+                moved: false,
+            });
+            regions.len() - 1
+        });
+        let region = &mut regions[r];
+        region.cells.push(c);
+        region.moved |= moved.get(c.0 as usize).copied().unwrap_or(true);
+        if tr.is_infinite_cell(c) {
+            region.stuck_outside = true;
+        } else {
+            let p = cell_vertices(tr, c).map(|w| tr.point(w));
+            region.volume += signed_volume(&p).abs();
+            region.stuck_outside |= is_flat(&p);
+        }
+    }
+    regions
+}
+
+/// The subdomain most of the inside cells around a vertex have (the smallest on a tie).
+fn majority_label(cells: &CellLevel<'_>, regions: &[Region]) -> SubdomainId {
+    let mut labels: Vec<SubdomainId> = regions
+        .iter()
+        .filter(|r| r.inside)
+        .flat_map(|r| r.cells.iter().map(|&c| cells.subdomain(c)))
+        .collect();
+    labels.sort_unstable();
+    let mut best = (0usize, OUTSIDE);
+    for run in labels.chunk_by(|a, b| a == b) {
+        if run.len() > best.0 {
+            best = (run.len(), run[0]);
+        }
+    }
+    best.1
+}
+
+/// The three vertices of the facet of `c` opposite its vertex `i`.
+fn facet_of<T: Triangulation<Point = Point3>>(tr: &T, c: CellId, i: usize) -> [VertexId; 3] {
+    super::geometry::facet_vertices(&cell_vertices(tr, c), i)
+}
