@@ -13,6 +13,7 @@ use delamesh_piecewise_smooth::{
     FeatureOptions, Features, PiecewiseSmoothOracle, Polyline, read_polylines,
 };
 use delamesh_polyhedral::{PolyhedralOptions, PolyhedralOracle};
+use delamesh_subdivision::{SubdivisionOptions, SubdivisionOracle};
 
 /// A domain ready to mesh, with the oracle that answers for it.
 pub enum Domain {
@@ -24,6 +25,8 @@ pub enum Domain {
     Plugin(DynOracle),
     /// The labels of a segmented 3D image (or a gray-level image's side of an isovalue).
     Image(ImageLabelOracle),
+    /// The inside of the limit surface of a subdivision control mesh.
+    Subdivision(SubdivisionOracle),
     /// Any other oracle: a domain written in Rust and linked in.
     Custom(Box<dyn Oracle>),
 }
@@ -101,6 +104,27 @@ impl Domain {
             })
     }
 
+    /// The domain inside the limit surface of the control mesh `mesh` (`name` says which input
+    /// it is, in errors), with more creases along the control edges of `polylines` (a CGAL
+    /// `.polylines.txt` file).
+    pub fn from_control_mesh(
+        name: &str,
+        mesh: &delamesh_formats::PolygonMesh,
+        options: &SubdivisionOptions,
+        polylines: Option<&std::path::Path>,
+    ) -> Result<Domain, Error> {
+        let polylines: Vec<Polyline> = match polylines {
+            Some(path) => read_polylines(path)?,
+            None => Vec::new(),
+        };
+        SubdivisionOracle::new(mesh, options, &polylines)
+            .map(Domain::Subdivision)
+            .map_err(|e| Error::Subdivision {
+                name: name.to_string(),
+                problem: e.to_string(),
+            })
+    }
+
     /// The oracle the mesher asks.
     pub fn oracle(&self) -> &dyn Oracle {
         match self {
@@ -108,6 +132,7 @@ impl Domain {
             Domain::PiecewiseSmooth(o) => o,
             Domain::Plugin(o) => o,
             Domain::Image(o) => o,
+            Domain::Subdivision(o) => o,
             Domain::Custom(o) => o.as_ref(),
         }
     }
@@ -118,7 +143,9 @@ impl Domain {
         match self {
             Domain::Smooth(o) => Some(o),
             Domain::PiecewiseSmooth(o) => Some(o.polyhedral()),
-            Domain::Plugin(_) | Domain::Image(_) | Domain::Custom(_) => None,
+            Domain::Plugin(_) | Domain::Image(_) | Domain::Subdivision(_) | Domain::Custom(_) => {
+                None
+            }
         }
     }
 

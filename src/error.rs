@@ -40,6 +40,14 @@ pub enum Error {
         /// What is wrong with it.
         problem: String,
     },
+    /// The control mesh of a subdivision surface cannot be meshed (open, non-manifold...).
+    #[error("{name}: cannot mesh the limit surface of this control mesh: {problem}")]
+    Subdivision {
+        /// The input, as given.
+        name: String,
+        /// What is wrong with it.
+        problem: String,
+    },
     /// Sharp features cannot be taken from the surface with the given feature polylines.
     #[error(
         "{name}: cannot mesh this surface with the feature polylines of {}: {problem}",

@@ -110,6 +110,7 @@ pub use delamesh_formats as formats;
 pub use delamesh_image_label as image_label;
 pub use delamesh_piecewise_smooth as piecewise_smooth;
 pub use delamesh_polyhedral as polyhedral;
+pub use delamesh_subdivision as subdivision;
 
 pub use delamesh_core::{
     Aabb, Cancel, MeshComplex, OUTSIDE, Oracle, Point3, Progress, RefineError, SurfaceHit,

@@ -14,7 +14,7 @@ use delamesh_core::oracle::Oracle;
 use delamesh_core::refine::criteria::MeshCriteria;
 use delamesh_core::refine::{Cancel, MeshError, Progress, RefineError, RefineStats, mesh_domain};
 use delamesh_formats::image::{Image, is_image_path, read_image};
-use delamesh_formats::{WriteOptions, read_surface, write_tet_mesh};
+use delamesh_formats::{PolygonMesh, WriteOptions, read_polygons, read_surface, write_tet_mesh};
 use std::path::Path;
 use std::time::Instant;
 
@@ -98,6 +98,9 @@ impl<'p> Mesher<'p> {
         if is_image_path(path) {
             return self.mesh_image_file(path);
         }
+        if self.settings.subdivision.is_some() {
+            return self.mesh_control_mesh_file(path);
+        }
         let started = Instant::now();
         let surface = read_surface(path, None)?.mesh;
         let read = started.elapsed();
@@ -153,6 +156,43 @@ impl<'p> Mesher<'p> {
         let t = Instant::now();
         let domain = Domain::from_image(&name, &image, &self.settings.image.options)?;
         drop(image);
+        let times = Times {
+            read,
+            oracle: t.elapsed(),
+            ..Times::default()
+        };
+        self.mesh_domain(name, domain, None, started, times)
+    }
+
+    /// Meshes the inside of the limit surface of the subdivision control mesh in the file `path`
+    /// (OBJ, OFF or PLY polygons), with [`MeshSettings::subdivision`]'s options (default ones
+    /// when unset); `--features` polylines add creases.
+    pub fn mesh_control_mesh_file(&mut self, path: &Path) -> Result<Meshed, Error> {
+        self.settings.validate()?;
+        let started = Instant::now();
+        let (mesh, _warnings) = read_polygons(path, None)?;
+        let read = started.elapsed();
+        self.mesh_control_mesh_from(path.display().to_string(), &mesh, started, read)
+    }
+
+    /// [`Mesher::mesh_control_mesh_file`] of a control mesh in memory; `name` names it in errors.
+    pub fn mesh_control_mesh(&mut self, name: &str, mesh: &PolygonMesh) -> Result<Meshed, Error> {
+        self.settings.validate()?;
+        let started = Instant::now();
+        self.mesh_control_mesh_from(name.to_string(), mesh, started, Default::default())
+    }
+
+    fn mesh_control_mesh_from(
+        &mut self,
+        name: String,
+        mesh: &PolygonMesh,
+        started: Instant,
+        read: std::time::Duration,
+    ) -> Result<Meshed, Error> {
+        let t = Instant::now();
+        let options = self.settings.subdivision.clone().unwrap_or_default();
+        let polylines = self.settings.features.polylines.as_deref();
+        let domain = Domain::from_control_mesh(&name, mesh, &options, polylines)?;
         let times = Times {
             read,
             oracle: t.elapsed(),
@@ -226,6 +266,10 @@ impl<'p> Mesher<'p> {
             grade(&mut options.criteria, oracle, gradation)?;
         }
         let no_distance = self.settings.facet_distance.is_none() && fields.distance().is_none();
+        if let Domain::Subdivision(o) = &domain {
+            // The limit surface has the control mesh's topology.
+            options.validity.input_euler = Some(o.euler_characteristics().to_vec());
+        }
         if let (Domain::Image(image), true) = (&domain, no_distance) {
             // Finer than the voxels, the facet distance would chase their staircase.
             options.criteria.facet.distance = image.default_criteria().facet.distance;

@@ -6,6 +6,7 @@ use crate::error::Error;
 use delamesh_core::plugin::{DynOracle, PluginLibrary, PluginOracle};
 use delamesh_piecewise_smooth::PiecewiseSmoothOracle;
 use delamesh_polyhedral::PolyhedralOracle;
+use delamesh_subdivision::SubdivisionOracle;
 use std::path::{Path, PathBuf};
 
 /// Environment variable listing directories searched for plugins named without a path.
@@ -38,6 +39,12 @@ pub const BUILT_IN: &[BuiltIn] = &[
         kind: "surface-mesh",
         description: "the same, keeping sharp edges and corners (config: path, feature-angle=, features=)",
         create: |config| PiecewiseSmoothOracle::from_config(config).map(Domain::PiecewiseSmooth),
+    },
+    BuiltIn {
+        name: "subdivision",
+        kind: "subdivision-surface",
+        description: "the inside of the limit surface of a Loop or Catmull-Clark control mesh (config: path, scheme=, crease-angle=, group-creases=, features=)",
+        create: |config| SubdivisionOracle::from_config(config).map(Domain::Subdivision),
     },
 ];
 

@@ -58,6 +58,9 @@ pub struct MeshSettings {
     /// inconsistently oriented, self-intersecting, with degenerate triangles) instead of
     /// repairing it and meshing where its winding number is at least one.
     pub strict: bool,
+    /// Mesh the input file as the control mesh of a subdivision surface (its limit surface
+    /// bounds the domain) instead of as a triangle surface; `None`: a surface.
+    pub subdivision: Option<delamesh_subdivision::SubdivisionOptions>,
     /// The optimisers run after refinement (default: none; `OptimizeOptions::default()` is
     /// CGAL's perturbation and exudation).
     pub optimize: OptimizeOptions,
@@ -112,6 +115,7 @@ impl Default for MeshSettings {
             features: FeatureSettings::default(),
             image: ImageSettings::default(),
             strict: false,
+            subdivision: None,
             optimize: OptimizeOptions::none(),
             sizing: SizingSettings::default(),
         }
@@ -189,6 +193,14 @@ impl MeshSettings {
             ));
         }
         self.validate_sizing()?;
+        if let Some(a) = self.subdivision.as_ref().and_then(|s| s.crease_angle_deg)
+            && !(0.0..=180.0).contains(&a)
+        {
+            return Err(SettingsError::new(
+                "crease-angle",
+                format!("must be an angle in degrees from 0 to 180, got {a}"),
+            ));
+        }
         if self.optimize.time_limit.is_some_and(|t| t.is_zero()) {
             return Err(SettingsError::new(
                 "optimize-time",
@@ -424,6 +436,11 @@ impl MeshSettingsBuilder {
     /// See [`SizingSettings::distance`].
     pub fn distance_field(mut self, source: SizeSource) -> Self {
         self.settings.sizing.distance = Some(source);
+        self
+    }
+    /// See [`MeshSettings::subdivision`].
+    pub fn subdivision(mut self, options: delamesh_subdivision::SubdivisionOptions) -> Self {
+        self.settings.subdivision = Some(options);
         self
     }
     /// See [`MeshSettings::strict`].

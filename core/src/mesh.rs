@@ -10,7 +10,7 @@ mod weld;
 pub use topology::{
     Topology, component_euler_characteristics, non_manifold_elements, surface_topology,
 };
-pub use weld::weld_exact;
+pub use weld::{weld_exact, weld_exact_indices};
 
 use glam::DVec3;
 use std::fmt;

@@ -18,6 +18,7 @@ mod off;
 mod ply;
 mod points;
 pub mod poly;
+mod polygons;
 pub mod pslg;
 mod sizing;
 mod stl;
@@ -29,6 +30,7 @@ mod vtu;
 pub use error::{Error, Location, Problem, Result};
 pub use format::{Format, UnknownFormat};
 pub use points::{parse_point_sizes, parse_xyz, read_point_sizes, read_points};
+pub use polygons::{PolygonMesh, read_polygon_bytes, read_polygons};
 pub use sizing::{NodeField, read_node_field};
 
 use delamesh_core::mesh::{PatchId, SurfaceMesh, TetMesh, weld_exact};

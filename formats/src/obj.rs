@@ -3,12 +3,14 @@
 //! array, so the caller welds the groups back together by exact position.
 
 use crate::error::Problem;
+use crate::polygons::PolygonMesh;
 use crate::text::Exact;
 use delamesh_core::mesh::{PatchId, SurfaceMesh};
 use glam::DVec3;
 use std::io::{Cursor, Write};
 
-pub(crate) fn read(bytes: &[u8]) -> Result<(SurfaceMesh, Vec<String>), Problem> {
+/// The file's groups as tobj reads them, polygons triangulated or not, and the warnings.
+fn load(bytes: &[u8], triangulate: bool) -> Result<(Vec<tobj::Model>, Vec<String>), Problem> {
     let text = crate::text::as_text(bytes)?;
     let (text, skipped) = faces_only(&text)?;
     let mut warnings = Vec::new();
@@ -18,7 +20,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<(SurfaceMesh, Vec<String>), Problem> 
         ));
     }
     let options = tobj::LoadOptions {
-        triangulate: true,
+        triangulate,
         single_index: false,
         ignore_points: true,
         ignore_lines: true,
@@ -29,24 +31,75 @@ pub(crate) fn read(bytes: &[u8]) -> Result<(SurfaceMesh, Vec<String>), Problem> 
             Err(tobj::LoadError::OpenFileFailed)
         })
         .map_err(|e| Problem::bad(format!("not a readable OBJ file: {e}")))?;
+    Ok((models, warnings))
+}
+
+/// The patch of a group named `name` (groups of the same name share one).
+fn group_patch(names: &mut Vec<String>, model: &tobj::Model) -> u32 {
+    let name = if model.name.is_empty() {
+        "surface".to_owned()
+    } else {
+        model.name.clone()
+    };
+    match names.iter().position(|n| *n == name) {
+        Some(p) => p as u32,
+        None => {
+            names.push(name);
+            names.len() as u32 - 1
+        }
+    }
+}
+
+/// The polygons of an OBJ file as written (a subdivision control mesh), groups as patches,
+/// welded by exact position.
+pub(crate) fn read_polygons(bytes: &[u8]) -> Result<(PolygonMesh, Vec<String>), Problem> {
+    let (models, warnings) = load(bytes, false)?;
+    let mut m = PolygonMesh::default();
+    for model in models {
+        let mesh = &model.mesh;
+        if mesh.indices.is_empty() {
+            continue;
+        }
+        let patch = group_patch(&mut m.group_names, &model);
+        let base = m.positions.len() as u32;
+        let n = mesh.positions.len() / 3;
+        m.positions.extend(
+            mesh.positions
+                .chunks_exact(3)
+                .map(|c| DVec3::new(c[0], c[1], c[2])),
+        );
+        let mut rest = &mesh.indices[..];
+        // tobj leaves `face_arities` empty when every face is a triangle.
+        let arities: Vec<u32> = if mesh.face_arities.is_empty() {
+            vec![3; mesh.indices.len() / 3]
+        } else {
+            mesh.face_arities.clone()
+        };
+        for arity in arities {
+            let Some((face, tail)) = rest.split_at_checked(arity as usize) else {
+                return Err(Problem::bad("face list shorter than its arities"));
+            };
+            rest = tail;
+            if let Some(&bad) = face.iter().find(|&&v| v as usize >= n) {
+                return Err(Problem::bad(format!("face refers to vertex {bad} of {n}")));
+            }
+            m.faces.push(face.iter().map(|&v| base + v).collect());
+            m.groups.push(PatchId(patch));
+        }
+    }
+    m.weld();
+    Ok((m, warnings))
+}
+
+pub(crate) fn read(bytes: &[u8]) -> Result<(SurfaceMesh, Vec<String>), Problem> {
+    let (models, warnings) = load(bytes, true)?;
     let mut m = SurfaceMesh::default();
     for model in models {
         let mesh = &model.mesh;
         if mesh.indices.is_empty() {
             continue;
         }
-        let name = if model.name.is_empty() {
-            "surface".to_owned()
-        } else {
-            model.name.clone()
-        };
-        let patch = match m.patch_names.iter().position(|n| *n == name) {
-            Some(p) => p,
-            None => {
-                m.patch_names.push(name);
-                m.patch_names.len() - 1
-            }
-        };
+        let patch = group_patch(&mut m.patch_names, &model);
         let base = m.positions.len() as u32;
         let n = mesh.positions.len() / 3;
         m.positions.extend(
@@ -60,7 +113,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<(SurfaceMesh, Vec<String>), Problem> 
             }
             m.triangles
                 .push([base + tri[0], base + tri[1], base + tri[2]]);
-            m.patches.push(PatchId(patch as u32));
+            m.patches.push(PatchId(patch));
         }
     }
     Ok((m, warnings))

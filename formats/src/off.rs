@@ -2,12 +2,18 @@
 //! the `C`/`N`/`ST` header variants with extra per-vertex values, polygon faces and face colours.
 
 use crate::error::Problem;
+use crate::polygons::PolygonMesh;
 use crate::text::{Exact, Tokens, as_text, capped};
 use delamesh_core::mesh::{PatchId, SurfaceMesh};
 use glam::DVec3;
 use std::io::Write;
 
 pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
+    read_polygons(bytes).map(|m| m.triangulated())
+}
+
+/// The polygons as written (a subdivision control mesh), one group.
+pub(crate) fn read_polygons(bytes: &[u8]) -> Result<PolygonMesh, Problem> {
     let text = as_text(bytes)?;
     let mut t = Tokens::new(&text);
     let header = t.expect("the OFF header")?;
@@ -37,8 +43,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
         ));
         t.skip_rest_of_line();
     }
-    let mut triangles = Vec::with_capacity(capped(nf, bytes.len()));
-    let mut polygon = Vec::new();
+    let mut faces = Vec::with_capacity(capped(nf, bytes.len()));
     for _ in 0..nf {
         let n: usize = t.parse("a face size")?;
         if n < 3 {
@@ -47,20 +52,18 @@ pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
                 format!("face with {n} vertices"),
             ));
         }
-        polygon.clear();
+        let mut polygon = Vec::with_capacity(capped(n, bytes.len()));
         for _ in 0..n {
             polygon.push(t.index_0based(nv)?);
         }
         t.skip_rest_of_line();
-        // Fan triangulation: exact for the convex faces OFF writers emit.
-        triangles.extend((1..n - 1).map(|k| [polygon[0], polygon[k], polygon[k + 1]]));
+        faces.push(polygon);
     }
-    let patches = vec![PatchId(0); triangles.len()];
-    Ok(SurfaceMesh {
+    Ok(PolygonMesh {
         positions,
-        triangles,
-        patches,
-        patch_names: vec!["surface".into()],
+        groups: vec![PatchId(0); faces.len()],
+        faces,
+        group_names: vec!["surface".into()],
     })
 }
 

@@ -3,6 +3,7 @@
 //! with double coordinates and an int `patch` per face.
 
 use crate::error::Problem;
+use crate::polygons::PolygonMesh;
 use delamesh_core::mesh::{PatchId, SurfaceMesh, name_patch_labels};
 use glam::DVec3;
 use ply_rs_bw::parser::Parser;
@@ -55,6 +56,11 @@ fn index_list(p: &Property) -> Option<Vec<i64>> {
 }
 
 pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
+    read_polygons(bytes).map(|m| m.triangulated())
+}
+
+/// The polygons as written (a subdivision control mesh), the `patch` property as groups.
+pub(crate) fn read_polygons(bytes: &[u8]) -> Result<PolygonMesh, Problem> {
     let bytes = text_header(bytes);
     let ply = Parser::<DefaultElement>::new()
         .read_ply(&mut Cursor::new(bytes.as_ref()))
@@ -74,7 +80,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
         .payload
         .get("vertex")
         .ok_or_else(|| Problem::bad("no vertex element"))?;
-    let mut m = SurfaceMesh::default();
+    let mut m = PolygonMesh::default();
     for (i, v) in vertices.iter().enumerate() {
         let coord = |name: &str| {
             v.get(name)
@@ -110,13 +116,10 @@ pub(crate) fn read(bytes: &[u8]) -> Result<SurfaceMesh, Problem> {
             .get("patch")
             .and_then(number)
             .map_or(0, |x| x.max(0.0) as u32);
-        for k in 1..ids.len() - 1 {
-            m.triangles
-                .push([ids[0] as u32, ids[k] as u32, ids[k + 1] as u32]);
-            m.patches.push(PatchId(patch));
-        }
+        m.faces.push(ids.iter().map(|&v| v as u32).collect());
+        m.groups.push(PatchId(patch));
     }
-    m.patch_names = name_patch_labels(&mut m.patches);
+    m.group_names = name_patch_labels(&mut m.groups);
     Ok(m)
 }
 

@@ -78,6 +78,15 @@ pub struct MeshArgs {
     /// the region where its winding number is at least one.
     #[arg(long)]
     pub strict: bool,
+    /// Read the input (OBJ, OFF, PLY polygons) as the control mesh of a subdivision surface and
+    /// mesh its exact limit surface: loop, catmull-clark, or auto (Loop for triangles only).
+    /// Group borders and --features polylines along control edges are creases.
+    #[arg(long, value_name = "SCHEME")]
+    pub subdivision: Option<String>,
+    /// With --subdivision: control edges whose faces' normals differ by more than this many
+    /// degrees are creases too.
+    #[arg(long, value_name = "DEG", requires = "subdivision")]
+    pub crease_angle: Option<f64>,
     /// ASCII instead of binary for .vtu / .vtk.
     #[arg(long)]
     pub ascii: bool,
@@ -124,9 +133,31 @@ impl MeshArgs {
             },
             image: self.image.settings()?,
             strict: self.strict,
+            subdivision: self.subdivision_options()?,
             optimize: self.optimize.options()?,
             sizing: self.sizing.settings()?,
         })
+    }
+}
+
+impl MeshArgs {
+    fn subdivision_options(&self) -> Result<Option<delamesh::subdivision::SubdivisionOptions>> {
+        let Some(name) = &self.subdivision else {
+            return Ok(None);
+        };
+        let scheme = match name.as_str() {
+            "auto" => None,
+            other => Some(
+                other
+                    .parse()
+                    .map_err(|e: String| anyhow::anyhow!("--subdivision: {e}"))?,
+            ),
+        };
+        Ok(Some(delamesh::subdivision::SubdivisionOptions {
+            scheme,
+            group_creases: !self.no_features,
+            crease_angle_deg: self.crease_angle,
+        }))
     }
 }
 
@@ -139,6 +170,11 @@ pub fn run(args: &MeshArgs) -> Result<()> {
     let image = args.input.as_deref().is_some_and(is_image_path);
     if image && args.report.is_some() {
         bail!("--report compares the mesh with an input surface and is not available for images");
+    }
+    if args.subdivision.is_some() && args.report.is_some() {
+        bail!(
+            "--report compares the mesh with an input surface and is not available with --subdivision"
+        );
     }
     // Every output is checked before any work: a typo in a folder name costs nothing.
     delamesh_formats::check_mesh_output(&args.output, None)?;

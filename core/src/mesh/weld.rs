@@ -8,6 +8,11 @@ use std::collections::HashMap;
 /// Survivors keep their first-occurrence order, so a mesh without duplicates is returned unchanged.
 /// Returns the number of vertices removed.
 pub fn weld_exact(positions: &mut Vec<DVec3>, triangles: &mut [[u32; 3]]) -> usize {
+    weld_exact_indices(positions, triangles.as_flattened_mut())
+}
+
+/// [`weld_exact`] for any list of vertex indices (the corners of polygons of any size).
+pub fn weld_exact_indices(positions: &mut Vec<DVec3>, indices: &mut [u32]) -> usize {
     // Adding 0.0 turns -0.0 into +0.0 and leaves every other value (NaN included) bit-identical.
     let key = |p: DVec3| {
         [
@@ -29,11 +34,9 @@ pub fn weld_exact(positions: &mut Vec<DVec3>, triangles: &mut [[u32; 3]]) -> usi
     }
     let merged = positions.len() - kept.len();
     if merged > 0 {
-        for t in triangles.iter_mut() {
-            for v in t.iter_mut() {
-                if let Some(&r) = remap.get(*v as usize) {
-                    *v = r;
-                }
+        for v in indices.iter_mut() {
+            if let Some(&r) = remap.get(*v as usize) {
+                *v = r;
             }
         }
         *positions = kept;

@@ -4,14 +4,18 @@ use crate::edges::adjacency;
 use glam::DVec3;
 
 /// A curve as a chain of vertices; a closed curve does not repeat its first vertex.
-pub(crate) struct Chain {
+pub struct Chain {
+    /// The vertices in order along the curve.
     pub vertices: Vec<u32>,
+    /// The last vertex joins the first.
     pub closed: bool,
 }
 
 /// Corners (sorted) and the curves between them.
-pub(crate) struct Chains {
+pub struct Chains {
+    /// Vertices where curves end.
     pub corners: Vec<u32>,
+    /// The curves.
     pub curves: Vec<Chain>,
 }
 
@@ -22,12 +26,7 @@ pub(crate) struct Chains {
 /// vertex order, each corner's edges in increasing neighbour order; the loops left over (without
 /// corner) start at their smallest vertex towards its smaller neighbour. A curve that comes back to
 /// its corner is closed and starts there.
-pub(crate) fn chain(
-    positions: &[DVec3],
-    edges: &[[u32; 2]],
-    forced: &[u32],
-    angle_deg: f64,
-) -> Chains {
+pub fn chain(positions: &[DVec3], edges: &[[u32; 2]], forced: &[u32], angle_deg: f64) -> Chains {
     let n = positions.len();
     let (offsets, adj) = adjacency(n, edges);
     let around = |v: u32| &adj[offsets[v as usize]..offsets[v as usize + 1]];

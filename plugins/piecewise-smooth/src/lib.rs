@@ -23,6 +23,7 @@ mod oracle;
 mod plugin_export;
 mod polylines;
 
+pub use chain::{Chain, Chains, chain};
 pub use features::{
     Corner, Curve, DEFAULT_FEATURE_ANGLE_DEG, FeatureError, FeatureOptions, Features,
     SNAP_TOLERANCE,

@@ -1,0 +1,472 @@
+//! Bézier patches: the closed form of the limit surface over a regular face (bicubic for
+//! Catmull–Clark, quartic triangles for Loop), their evaluation with derivatives, and their
+//! restriction to a part of the parameter domain (for the intersection's recursive splitting).
+//!
+//! Every fit goes through one interpolation: values at a fixed set of dyadic nodes, times the
+//! inverse of the Bernstein collocation matrix at those nodes. Dyadic, because limit positions
+//! are known exactly at the vertices of subdivided nets.
+
+use crate::Scheme;
+use glam::{DVec2, DVec3};
+use std::sync::OnceLock;
+
+/// Number of Bézier control points of a patch: 16 (bicubic), 15 (quartic triangle).
+pub(crate) fn bezier_len(scheme: Scheme) -> usize {
+    match scheme {
+        Scheme::CatmullClark => 16,
+        Scheme::Loop => 15,
+    }
+}
+
+/// A polynomial patch over the unit square (`u`, `v` ∈ [0, 1]) or the unit triangle
+/// (`u`, `v` ≥ 0, `u + v` ≤ 1).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Bezier {
+    pub scheme: Scheme,
+    /// Square: index `i + 4 j` for `u`ⁱ-side `i`, `v`-side `j`. Triangle: the order of
+    /// [`triangle_indices`].
+    pub points: [DVec3; 16],
+}
+
+/// A position with its two parameter derivatives.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Eval {
+    pub point: DVec3,
+    pub du: DVec3,
+    pub dv: DVec3,
+}
+
+/// The `(i, j)` exponents of `u` and `v` of the quartic Bernstein polynomials, in storage order
+/// (the exponent of `w = 1 − u − v` is `4 − i − j`).
+pub(crate) fn triangle_indices() -> [(u32, u32); 15] {
+    let mut out = [(0, 0); 15];
+    let mut n = 0;
+    for j in 0..=4 {
+        for i in 0..=4 - j {
+            out[n] = (i, j);
+            n += 1;
+        }
+    }
+    out
+}
+
+fn cubic(t: f64) -> ([f64; 4], [f64; 4]) {
+    let s = 1.0 - t;
+    (
+        [s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t],
+        [
+            -3.0 * s * s,
+            3.0 * s * s - 6.0 * t * s,
+            6.0 * t * s - 3.0 * t * t,
+            3.0 * t * t,
+        ],
+    )
+}
+
+fn powi(x: f64, n: i32) -> f64 {
+    if n < 0 { 0.0 } else { x.powi(n) }
+}
+
+/// Basis values and their `u`, `v` derivatives at `(u, v)`.
+pub(crate) fn basis(scheme: Scheme, p: DVec2) -> [[f64; 16]; 3] {
+    let mut out = [[0.0; 16]; 3];
+    match scheme {
+        Scheme::CatmullClark => {
+            let ((bu, du), (bv, dv)) = (cubic(p.x), cubic(p.y));
+            for j in 0..4 {
+                for i in 0..4 {
+                    out[0][i + 4 * j] = bu[i] * bv[j];
+                    out[1][i + 4 * j] = du[i] * bv[j];
+                    out[2][i + 4 * j] = bu[i] * dv[j];
+                }
+            }
+        }
+        Scheme::Loop => {
+            let (u, v) = (p.x, p.y);
+            let w = 1.0 - u - v;
+            const FACT: [f64; 5] = [1.0, 1.0, 2.0, 6.0, 24.0];
+            for (n, &(i, j)) in triangle_indices().iter().enumerate() {
+                let k = 4 - i - j;
+                let c = 24.0 / (FACT[i as usize] * FACT[j as usize] * FACT[k as usize]);
+                let (i, j, k) = (i as i32, j as i32, k as i32);
+                out[0][n] = c * powi(u, i) * powi(v, j) * powi(w, k);
+                out[1][n] = c
+                    * powi(v, j)
+                    * (i as f64 * powi(u, i - 1) * powi(w, k)
+                        - k as f64 * powi(u, i) * powi(w, k - 1));
+                out[2][n] = c
+                    * powi(u, i)
+                    * (j as f64 * powi(v, j - 1) * powi(w, k)
+                        - k as f64 * powi(v, j) * powi(w, k - 1));
+            }
+        }
+    }
+    out
+}
+
+/// The dyadic nodes the fits interpolate at: `{0, ¼, ¾, 1}²` on the square, the quarter
+/// lattice on the triangle.
+pub(crate) fn fit_nodes(scheme: Scheme) -> Vec<DVec2> {
+    match scheme {
+        Scheme::CatmullClark => {
+            const T: [f64; 4] = [0.0, 0.25, 0.75, 1.0];
+            (0..16).map(|n| DVec2::new(T[n % 4], T[n / 4])).collect()
+        }
+        Scheme::Loop => triangle_indices()
+            .iter()
+            .map(|&(i, j)| DVec2::new(i as f64, j as f64) / 4.0)
+            .collect(),
+    }
+}
+
+/// The inverse of the collocation matrix (basis `b` at node `n` in row `n`), row-major: Bézier
+/// point `b` is `Σ_n inverse[b][n] · value(node n)`.
+pub(crate) fn fit_inverse(scheme: Scheme) -> &'static [Vec<f64>] {
+    static CACHE: [OnceLock<Vec<Vec<f64>>>; 2] = [OnceLock::new(), OnceLock::new()];
+    CACHE[scheme as usize].get_or_init(|| {
+        let n = bezier_len(scheme);
+        let rows: Vec<Vec<f64>> = fit_nodes(scheme)
+            .iter()
+            .map(|&p| basis(scheme, p)[0][..n].to_vec())
+            .collect();
+        invert(rows)
+    })
+}
+
+/// Gauss–Jordan inverse with partial pivoting of a small well-conditioned matrix (the
+/// collocation matrices are fixed and invertible; a zero pivot would be a programming error,
+/// left as a zero row rather than a panic).
+fn invert(mut a: Vec<Vec<f64>>) -> Vec<Vec<f64>> {
+    let n = a.len();
+    let mut inv: Vec<Vec<f64>> = (0..n)
+        .map(|i| (0..n).map(|j| f64::from(u8::from(i == j))).collect())
+        .collect();
+    for col in 0..n {
+        let pivot = (col..n)
+            .max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))
+            .unwrap_or(col);
+        a.swap(col, pivot);
+        inv.swap(col, pivot);
+        let d = a[col][col];
+        if d == 0.0 {
+            continue;
+        }
+        for j in 0..n {
+            a[col][j] /= d;
+            inv[col][j] /= d;
+        }
+        for r in 0..n {
+            if r != col {
+                let f = a[r][col];
+                if f != 0.0 {
+                    for j in 0..n {
+                        a[r][j] -= f * a[col][j];
+                        inv[r][j] -= f * inv[col][j];
+                    }
+                }
+            }
+        }
+    }
+    inv
+}
+
+impl Bezier {
+    /// The patch interpolating `values` at [`fit_nodes`].
+    pub fn fit(scheme: Scheme, values: &[DVec3]) -> Bezier {
+        let inverse = fit_inverse(scheme);
+        let mut points = [DVec3::ZERO; 16];
+        for (b, row) in inverse.iter().enumerate() {
+            points[b] = row.iter().zip(values).map(|(&w, &p)| w * p).sum();
+        }
+        Bezier { scheme, points }
+    }
+
+    pub fn len(&self) -> usize {
+        bezier_len(self.scheme)
+    }
+
+    pub fn eval(&self, p: DVec2) -> Eval {
+        let b = basis(self.scheme, p);
+        let mut e = Eval {
+            point: DVec3::ZERO,
+            du: DVec3::ZERO,
+            dv: DVec3::ZERO,
+        };
+        for (n, &q) in self.points[..self.len()].iter().enumerate() {
+            e.point += b[0][n] * q;
+            e.du += b[1][n] * q;
+            e.dv += b[2][n] * q;
+        }
+        e
+    }
+
+    /// The patches over the children of the reference domain ([`child_domains`], in order):
+    /// de Casteljau halving in both directions for the square (exact, and the hot path of
+    /// segment queries), [`Bezier::restrict`] for the triangle.
+    pub fn children(&self) -> Vec<(Affine, Bezier)> {
+        let domains = child_domains(self.scheme);
+        if self.scheme == Scheme::Loop {
+            return domains
+                .into_iter()
+                .map(|d| (d, self.restrict(&d)))
+                .collect();
+        }
+        // The 7 × 7 net of the four quadrants: halve every row, then every column.
+        let mut rows = [[DVec3::ZERO; 7]; 4];
+        for (j, row) in rows.iter_mut().enumerate() {
+            let p: [DVec3; 4] = std::array::from_fn(|i| self.points[i + 4 * j]);
+            *row = halve(p);
+        }
+        let mut grid = [[DVec3::ZERO; 7]; 7];
+        for i in 0..7 {
+            let column = halve(std::array::from_fn(|j| rows[j][i]));
+            for (j, &q) in column.iter().enumerate() {
+                grid[j][i] = q;
+            }
+        }
+        domains
+            .into_iter()
+            .map(|d| {
+                // Child point (a, b) sits at parameter d(a/3, b/3): on the 7 × 7 net at six times
+                // that.
+                let points = std::array::from_fn(|n| {
+                    let p = d.apply(DVec2::new((n % 4) as f64, (n / 4) as f64) / 3.0) * 6.0;
+                    let (i, j) = (p.x.round() as usize, p.y.round() as usize);
+                    grid[j.min(6)][i.min(6)]
+                });
+                (
+                    d,
+                    Bezier {
+                        scheme: self.scheme,
+                        points,
+                    },
+                )
+            })
+            .collect()
+    }
+
+    /// The same surface over the part `origin + s·du + t·dv` of the domain, as a patch in
+    /// `(s, t)`.
+    pub fn restrict(&self, map: &Affine) -> Bezier {
+        let values: Vec<DVec3> = fit_nodes(self.scheme)
+            .iter()
+            .map(|&n| self.eval(map.apply(n)).point)
+            .collect();
+        Bezier::fit(self.scheme, &values)
+    }
+
+    /// Is the patch transversal to direction `d` everywhere, so that a line along `d` crosses it
+    /// at most once (for a piece small against its curvature)? Sufficient test: `S_u` and `S_v`
+    /// are positive combinations of the differences of neighbouring control points, so if every
+    /// pair of differences has a triple product with `d` of one strict sign, so has
+    /// `(S_u × S_v) · d` (the projection along `d` never folds).
+    pub fn transversal(&self, d: DVec3) -> bool {
+        let (mut du, mut dv) = (Vec::with_capacity(12), Vec::with_capacity(12));
+        let p = &self.points;
+        match self.scheme {
+            Scheme::CatmullClark => {
+                for j in 0..4 {
+                    for i in 0..3 {
+                        du.push(p[i + 1 + 4 * j] - p[i + 4 * j]);
+                        dv.push(p[j + 4 * (i + 1)] - p[j + 4 * i]);
+                    }
+                }
+            }
+            Scheme::Loop => {
+                let index = triangle_indices();
+                let at = |i: u32, j: u32| index.iter().position(|&x| x == (i, j)).unwrap_or(0);
+                for &(i, j) in &index {
+                    if i + j <= 3 {
+                        du.push(p[at(i + 1, j)] - p[at(i, j)]);
+                        dv.push(p[at(i, j + 1)] - p[at(i, j)]);
+                    }
+                }
+            }
+        }
+        let mut sign = 0.0;
+        for a in &du {
+            for b in &dv {
+                let s = a.cross(*b).dot(d);
+                if s == 0.0 || (sign != 0.0 && s.signum() != sign) {
+                    return false;
+                }
+                sign = s.signum();
+            }
+        }
+        true
+    }
+
+    /// Box of the control points, which contains the patch (Bernstein bases are non-negative
+    /// and sum to one).
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        bounds(&self.points[..self.len()])
+    }
+}
+
+/// A cubic's Bézier points split at one half: the 7 points of both halves (the middle one
+/// shared).
+fn halve(p: [DVec3; 4]) -> [DVec3; 7] {
+    let m01 = 0.5 * (p[0] + p[1]);
+    let m12 = 0.5 * (p[1] + p[2]);
+    let m23 = 0.5 * (p[2] + p[3]);
+    let a = 0.5 * (m01 + m12);
+    let b = 0.5 * (m12 + m23);
+    let mid = 0.5 * (a + b);
+    [p[0], m01, a, mid, b, m23, p[3]]
+}
+
+/// The smallest box around `points`.
+pub(crate) fn bounds(points: &[DVec3]) -> (DVec3, DVec3) {
+    points
+        .iter()
+        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        })
+}
+
+/// A map of the parameter plane, `origin + s·du + t·dv`: a child's domain in its parent's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Affine {
+    pub origin: DVec2,
+    pub du: DVec2,
+    pub dv: DVec2,
+}
+
+impl Affine {
+    pub const IDENTITY: Affine = Affine {
+        origin: DVec2::ZERO,
+        du: DVec2::X,
+        dv: DVec2::Y,
+    };
+
+    /// The map sending the reference corners `(0,0)`, `(1,0)` and the last one (`(0,1)`) to
+    /// `corners[0]`, `corners[1]` and `corners[last]`.
+    pub fn of_corners(corners: &[DVec2]) -> Affine {
+        let o = corners[0];
+        Affine {
+            origin: o,
+            du: corners[1] - o,
+            dv: corners[corners.len() - 1] - o,
+        }
+    }
+
+    pub fn apply(&self, p: DVec2) -> DVec2 {
+        self.origin + p.x * self.du + p.y * self.dv
+    }
+
+    /// `self` after `inner`: first `inner`, then `self`.
+    pub fn compose(&self, inner: &Affine) -> Affine {
+        Affine {
+            origin: self.apply(inner.origin),
+            du: inner.du.x * self.du + inner.du.y * self.dv,
+            dv: inner.dv.x * self.du + inner.dv.y * self.dv,
+        }
+    }
+
+    /// The preimage of `p` (the maps used are rotations and halvings, never singular).
+    pub fn invert(&self, p: DVec2) -> DVec2 {
+        let det = self.du.perp_dot(self.dv);
+        let q = p - self.origin;
+        DVec2::new(q.perp_dot(self.dv), self.du.perp_dot(q)) / det
+    }
+}
+
+/// The corners of the reference domain: the unit square or the unit triangle.
+pub(crate) fn reference_corners(scheme: Scheme) -> &'static [DVec2] {
+    const SQUARE: [DVec2; 4] = [
+        DVec2::new(0.0, 0.0),
+        DVec2::new(1.0, 0.0),
+        DVec2::new(1.0, 1.0),
+        DVec2::new(0.0, 1.0),
+    ];
+    const TRIANGLE: [DVec2; 3] = [
+        DVec2::new(0.0, 0.0),
+        DVec2::new(1.0, 0.0),
+        DVec2::new(0.0, 1.0),
+    ];
+    match scheme {
+        Scheme::CatmullClark => &SQUARE,
+        Scheme::Loop => &TRIANGLE,
+    }
+}
+
+/// Is `p` in the reference domain, up to `slack`?
+pub(crate) fn in_domain(scheme: Scheme, p: DVec2, slack: f64) -> bool {
+    let unit = |x: f64| (-slack..=1.0 + slack).contains(&x);
+    match scheme {
+        Scheme::CatmullClark => unit(p.x) && unit(p.y),
+        Scheme::Loop => p.x >= -slack && p.y >= -slack && p.x + p.y <= 1.0 + slack,
+    }
+}
+
+/// The children of the reference face after one subdivision step, in the order the net's
+/// subdivision creates them, each as its corners in the parent's parameters.
+pub(crate) fn child_domains(scheme: Scheme) -> Vec<Affine> {
+    let c = reference_corners(scheme);
+    let n = c.len();
+    let mid = |a: usize, b: usize| 0.5 * (c[a] + c[b]);
+    let mut out: Vec<Affine> = (0..n)
+        .map(|k| {
+            let (next, prev) = ((k + 1) % n, (k + n - 1) % n);
+            match scheme {
+                Scheme::CatmullClark => {
+                    Affine::of_corners(&[c[k], mid(k, next), DVec2::splat(0.5), mid(k, prev)])
+                }
+                Scheme::Loop => Affine::of_corners(&[c[k], mid(k, next), mid(k, prev)]),
+            }
+        })
+        .collect();
+    if scheme == Scheme::Loop {
+        out.push(Affine::of_corners(&[mid(0, 1), mid(1, 2), mid(2, 0)]));
+    }
+    out
+}
+
+/// The child (index into [`child_domains`]) whose domain holds `p`.
+pub(crate) fn child_at(scheme: Scheme, p: DVec2) -> usize {
+    match scheme {
+        Scheme::CatmullClark => match (p.x >= 0.5, p.y >= 0.5) {
+            (false, false) => 0,
+            (true, false) => 1,
+            (true, true) => 2,
+            (false, true) => 3,
+        },
+        Scheme::Loop => {
+            if 1.0 - p.x - p.y >= 0.5 {
+                0
+            } else if p.x >= 0.5 {
+                1
+            } else if p.y >= 0.5 {
+                2
+            } else {
+                3
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn children_are_the_patch_over_their_domains() {
+        for scheme in [Scheme::CatmullClark, Scheme::Loop] {
+            let points = std::array::from_fn(|n| {
+                let x = n as f64;
+                DVec3::new((0.9 * x).sin(), (0.4 * x).cos(), 0.1 * x * x)
+            });
+            let patch = Bezier { scheme, points };
+            for (d, child) in patch.children() {
+                for p in [
+                    DVec2::new(0.1, 0.2),
+                    DVec2::new(0.5, 0.3),
+                    DVec2::new(0.7, 0.25),
+                ] {
+                    let there = patch.eval(d.apply(p)).point;
+                    assert!(child.eval(p).point.distance(there) < 1e-12, "{scheme:?}");
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,439 @@
+//! `SubdivisionOracle`: the domain bounded by the limit surface of a closed control mesh.
+
+use crate::bezier::reference_corners;
+use crate::control::ControlMesh;
+use crate::intersect::{Crossing, Query, crossings};
+use crate::net::Net;
+use crate::patch::{Patch, Surface};
+use crate::{Scheme, SubdivisionError, SubdivisionOptions};
+use delamesh_core::mesh::component_euler_characteristics;
+use delamesh_core::oracle::{
+    Aabb, FeatureCurve, OUTSIDE, Oracle, SubdomainId, SurfaceHit, SurfacePoint,
+};
+use delamesh_formats::PolygonMesh;
+use delamesh_piecewise_smooth::{Polyline, chain};
+use delamesh_polyhedral::TriangleTree;
+use glam::{DVec2, DVec3};
+
+/// Points along a crease curve: bisected until the chord is within this × the diagonal of the
+/// curve (at most [`CURVE_LEVELS`] times per control half-edge).
+const CURVE_TOLERANCE: f64 = 1e-7;
+const CURVE_LEVELS: u32 = 10;
+/// The most initial points handed to the mesher.
+const MAX_INITIAL_POINTS: usize = 4096;
+/// Steps of subdivision applied ahead to irregular patches for the queries.
+const PRESPLIT: u32 = 3;
+
+/// The domain inside the limit surface of a Loop or Catmull–Clark control mesh.
+pub struct SubdivisionOracle {
+    scheme: Scheme,
+    patches: Vec<Patch>,
+    /// What segment queries search: the patches, irregular ones split [`PRESPLIT`] times ahead
+    /// (their rings' boxes are loose and their children are made on the fly otherwise).
+    pieces: Vec<Patch>,
+    /// Over the pieces' boxes, each given as the degenerate triangle `(lo, hi, hi)`.
+    tree: TriangleTree,
+    bbox: Aabb,
+    initial: Vec<SurfacePoint>,
+    curves: Vec<FeatureCurve>,
+    corners: Vec<DVec3>,
+    /// Euler characteristic of each connected component of the control mesh.
+    euler: Vec<i64>,
+    /// The control mesh once subdivided (Catmull–Clark), or as given (Loop): one patch per face.
+    base: Net,
+}
+
+impl SubdivisionOracle {
+    /// The oracle of a control mesh; `polylines` are more creases along control edges.
+    pub fn new(
+        mesh: &PolygonMesh,
+        options: &SubdivisionOptions,
+        polylines: &[Polyline],
+    ) -> Result<Self, SubdivisionError> {
+        let control = ControlMesh::new(mesh, options, polylines)?;
+        let scheme = control.scheme;
+        // Catmull–Clark patches are quads: one step first turns every face into quads.
+        let (base, groups) = match scheme {
+            Scheme::CatmullClark => {
+                let groups = (0..control.net.face_count())
+                    .flat_map(|f| std::iter::repeat_n(control.groups[f], control.net.face(f).len()))
+                    .collect();
+                (control.net.subdivide(scheme), groups)
+            }
+            Scheme::Loop => (control.net.clone(), control.groups.clone()),
+        };
+        let (offsets, faces) = base.vertex_faces();
+        let mut patches = Vec::with_capacity(base.face_count());
+        let mut around = Vec::new();
+        for (f, &group) in groups.iter().enumerate() {
+            around.clear();
+            for &v in base.face(f) {
+                around.extend_from_slice(
+                    &faces[offsets[v as usize] as usize..offsets[v as usize + 1] as usize],
+                );
+            }
+            around.sort_unstable();
+            around.dedup();
+            let others: Vec<usize> = around
+                .iter()
+                .map(|&g| g as usize)
+                .filter(|&g| g != f)
+                .collect();
+            let ring = base.ring_from(f, &others);
+            patches.push(Patch {
+                surface: Surface::of_ring(scheme, ring),
+                group,
+            });
+        }
+        let mut pieces = Vec::with_capacity(patches.len());
+        for p in &patches {
+            presplit(scheme, p.surface.clone(), p.group, PRESPLIT, &mut pieces);
+        }
+        let boxes: Vec<[DVec3; 3]> = pieces
+            .iter()
+            .map(|p| {
+                let (lo, hi) = p.surface.bounds();
+                [lo, hi, hi]
+            })
+            .collect();
+        let (lo, hi) = crate::bezier::bounds(&base.points);
+        let bbox = Aabb { min: lo, max: hi };
+        let mut oracle = SubdivisionOracle {
+            scheme,
+            tree: TriangleTree::new(&boxes),
+            patches,
+            pieces,
+            bbox,
+            initial: Vec::new(),
+            curves: Vec::new(),
+            corners: Vec::new(),
+            euler: component_euler_characteristics(&mesh.triangulated().triangles).1,
+            base,
+        };
+        oracle.initial = oracle.patch_centres();
+        oracle.add_creases(&control);
+        Ok(oracle)
+    }
+
+    /// Euler characteristic of each connected component of the control mesh, which the limit
+    /// surface shares.
+    pub fn euler_characteristics(&self) -> &[i64] {
+        &self.euler
+    }
+
+    /// The subdivision scheme in use.
+    pub fn scheme(&self) -> Scheme {
+        self.scheme
+    }
+
+    /// Number of patches (faces of the once-subdivided control mesh for Catmull–Clark, control
+    /// triangles for Loop).
+    pub fn patch_count(&self) -> usize {
+        self.patches.len()
+    }
+
+    /// The exact limit position and unit normal of patch `patch` at `(u, v)` of its reference
+    /// domain (unit square or triangle), if the patch exists. Patches are the faces of the base
+    /// mesh: for Catmull–Clark the control mesh once subdivided, whose face `h` is the child of
+    /// control corner `h` (corners numbered face after face), with corner 0 at the control
+    /// vertex, corner 1 at the middle of the edge to the next vertex, corner 3 at the middle of
+    /// the edge from the previous one; for Loop the control triangles, `u` towards the second
+    /// corner and `v` towards the third.
+    pub fn evaluate(&self, patch: usize, u: f64, v: f64) -> Option<(DVec3, DVec3)> {
+        let e = self
+            .patches
+            .get(patch)?
+            .surface
+            .eval(self.scheme, DVec2::new(u, v));
+        Some((e.point, e.du.cross(e.dv).normalize_or_zero()))
+    }
+
+    /// The base mesh (see [`SubdivisionOracle::evaluate`]) after `levels` more steps of
+    /// subdivision (at most 8), its vertices moved to their limit positions, as a polygon
+    /// mesh: a dense approximation with its vertices exactly on the surface (tests, and the
+    /// comparison with meshing a subdivided mesh).
+    pub fn subdivided(&self, levels: u32) -> PolygonMesh {
+        let mut net = self.base.clone();
+        for _ in 0..levels.min(8) {
+            net = net.subdivide(self.scheme);
+        }
+        let faces: Vec<Vec<u32>> = (0..net.face_count())
+            .map(|f| net.face(f).to_vec())
+            .collect();
+        PolygonMesh {
+            positions: net.limit_positions(self.scheme),
+            groups: vec![Default::default(); faces.len()],
+            faces,
+            group_names: vec!["surface".into()],
+        }
+    }
+
+    fn patch_centres(&self) -> Vec<SurfacePoint> {
+        let centre = match self.scheme {
+            Scheme::CatmullClark => DVec2::splat(0.5),
+            Scheme::Loop => DVec2::splat(1.0 / 3.0),
+        };
+        let stride = self.patches.len().div_ceil(MAX_INITIAL_POINTS).max(1);
+        self.patches
+            .iter()
+            .step_by(stride)
+            .map(|p| SurfacePoint {
+                point: p.surface.eval(self.scheme, centre).point,
+                patch: p.group,
+            })
+            .collect()
+    }
+
+    /// Creases: chained between corners; each control half-edge's limit curve is the border of
+    /// one or two base patches.
+    fn add_creases(&mut self, control: &ControlMesh) {
+        if control.creases.is_empty() {
+            return;
+        }
+        let chains = chain(&control.net.points, &control.creases, &[], 180.0);
+        let half_of = |a: u32, b: u32| -> Option<(usize, bool)> {
+            (0..control.net.face_count()).find_map(|f| {
+                control.net.halves(f).find_map(|h| {
+                    let (p, q) = (
+                        control.net.corners[h],
+                        control.net.corners[control.net.next(f, h)],
+                    );
+                    if (p, q) == (a, b) {
+                        Some((h, false))
+                    } else if (p, q) == (b, a) {
+                        Some((h, true))
+                    } else {
+                        None
+                    }
+                })
+            })
+        };
+        let diagonal = self.bbox.diagonal();
+        for (i, c) in chains.curves.iter().enumerate() {
+            let mut points: Vec<DVec3> = Vec::new();
+            let mut vertices = c.vertices.clone();
+            if c.closed {
+                vertices.push(c.vertices[0]);
+            }
+            for w in vertices.windows(2) {
+                let Some((h, reversed)) = half_of(w[0], w[1]) else {
+                    continue;
+                };
+                let mut along = self.half_edge_curve(control, h, diagonal);
+                if reversed {
+                    along.reverse();
+                }
+                if !points.is_empty() {
+                    along.remove(0);
+                }
+                points.extend(along);
+            }
+            if c.closed {
+                points.pop();
+            }
+            if points.len() >= 2 {
+                self.curves.push(FeatureCurve {
+                    id: i as u32 + 1,
+                    points,
+                    closed: c.closed,
+                });
+            }
+        }
+        self.corners = chains
+            .corners
+            .iter()
+            .map(|&v| self.limit_of_control_vertex(control, v))
+            .collect();
+    }
+
+    /// The limit position of control vertex `v`: a corner of its base patches.
+    fn limit_of_control_vertex(&self, control: &ControlMesh, v: u32) -> DVec3 {
+        for f in 0..control.net.face_count() {
+            for h in control.net.halves(f) {
+                if control.net.corners[h] == v {
+                    let (patch, corner) = self.patch_at_control_corner(control, f, h);
+                    let p = reference_corners(self.scheme)[corner];
+                    return self.patches[patch].surface.eval(self.scheme, p).point;
+                }
+            }
+        }
+        control.net.points[v as usize]
+    }
+
+    /// The base patch holding control corner slot `h` of face `f`, and which of its corners.
+    fn patch_at_control_corner(&self, control: &ControlMesh, f: usize, h: usize) -> (usize, usize) {
+        match self.scheme {
+            Scheme::CatmullClark => (h, 0),
+            Scheme::Loop => (f, h - control.net.halves(f).start),
+        }
+    }
+
+    /// Points on the limit curve of control half-edge `h`, from its first vertex to its second.
+    fn half_edge_curve(&self, control: &ControlMesh, h: usize, diagonal: f64) -> Vec<DVec3> {
+        let c = reference_corners(self.scheme);
+        // Pieces (patch, parameter segment) in order along the edge.
+        let pieces: Vec<(usize, DVec2, DVec2)> = match self.scheme {
+            Scheme::CatmullClark => {
+                let face_of = control.net.face_of_half();
+                let next = control.net.next(face_of[h] as usize, h);
+                vec![(h, c[0], c[1]), (next, c[3], c[0])]
+            }
+            Scheme::Loop => {
+                let face_of = control.net.face_of_half();
+                let f = face_of[h] as usize;
+                let k = h - control.net.halves(f).start;
+                vec![(f, c[k], c[(k + 1) % 3])]
+            }
+        };
+        let mut out = Vec::new();
+        for (patch, from, to) in pieces {
+            let surface = &self.patches[patch].surface;
+            let at = |s: f64| surface.eval(self.scheme, from + s * (to - from)).point;
+            let mut piece = vec![(0.0, at(0.0))];
+            bisect(
+                &at,
+                (0.0, at(0.0)),
+                (1.0, at(1.0)),
+                CURVE_TOLERANCE * diagonal,
+                CURVE_LEVELS,
+                &mut piece,
+            );
+            if !out.is_empty() {
+                piece.remove(0);
+            }
+            out.extend(piece.into_iter().map(|(_, p)| p));
+        }
+        out
+    }
+
+    fn hits(&self, a: DVec3, b: DVec3, out: &mut Vec<SurfaceHit>) {
+        let q = Query {
+            a,
+            d: b - a,
+            slack: 1e-12 * self.bbox.diagonal().max(1e-300),
+            point_size: 1e-10 * self.bbox.diagonal(),
+        };
+        let mut found: Vec<(Crossing, u32)> = Vec::new();
+        let mut buffer = Vec::new();
+        self.tree.for_each_near_segment(a, b, |p| {
+            let patch = &self.pieces[p as usize];
+            buffer.clear();
+            crossings(self.scheme, &patch.surface, &q, &mut buffer);
+            found.extend(buffer.iter().map(|&c| (c, patch.group)));
+        });
+        found.sort_by(|x, y| x.0.t.total_cmp(&y.0.t).then(x.1.cmp(&y.1)));
+        // Pieces sharing a border both find a crossing on it.
+        let same = 1e-9 * self.bbox.diagonal();
+        let start = out.len();
+        for (c, group) in found {
+            if out[start..]
+                .last()
+                .is_some_and(|h: &SurfaceHit| h.point.distance(c.point) <= same)
+            {
+                continue;
+            }
+            out.push(SurfaceHit {
+                point: c.point.clamp(self.bbox.min, self.bbox.max),
+                t: c.t,
+                patch: group,
+            });
+        }
+    }
+
+    /// Crossings of the segment from `p` out of the box in direction `dir`.
+    fn parity(&self, p: DVec3, dir: DVec3) -> bool {
+        let reach = 2.0 * (self.bbox.diagonal() + (p - self.bbox.center()).length());
+        let mut hits = Vec::new();
+        self.hits(p, p + reach * dir, &mut hits);
+        hits.len() % 2 == 1
+    }
+}
+
+/// `surface` as pieces: its regular children, split `levels` times while irregular.
+fn presplit(scheme: Scheme, surface: Surface, group: u32, levels: u32, out: &mut Vec<Patch>) {
+    match surface {
+        Surface::Irregular(_) if levels > 0 => {
+            for (_, child) in surface.children(scheme) {
+                presplit(scheme, child, group, levels - 1, out);
+            }
+        }
+        surface => out.push(Patch { surface, group }),
+    }
+}
+
+/// Adds the points of `at` on `(s0, s1]` to `out`, halving while the midpoint is farther than
+/// `tol` from the chord (`levels` times at most, and at least twice).
+fn bisect(
+    at: &dyn Fn(f64) -> DVec3,
+    (s0, p0): (f64, DVec3),
+    (s1, p1): (f64, DVec3),
+    tol: f64,
+    levels: u32,
+    out: &mut Vec<(f64, DVec3)>,
+) {
+    let sm = 0.5 * (s0 + s1);
+    let pm = at(sm);
+    let flat = pm.distance(0.5 * (p0 + p1)) <= tol;
+    if levels == 0 || (flat && levels + 2 <= CURVE_LEVELS) {
+        out.push((s1, p1));
+        return;
+    }
+    bisect(at, (s0, p0), (sm, pm), tol, levels - 1, out);
+    bisect(at, (sm, pm), (s1, p1), tol, levels - 1, out);
+}
+
+impl Oracle for SubdivisionOracle {
+    fn bounding_box(&self) -> Aabb {
+        self.bbox
+    }
+
+    /// Ray parity along fixed directions, by majority of three (a ray grazing the surface
+    /// miscounts; two rays agreeing decide).
+    fn subdomain(&self, p: DVec3) -> SubdomainId {
+        if !self.bbox.contains(p) {
+            return OUTSIDE;
+        }
+        // Off every symmetry axis of simple models, so that rays rarely meet a vertex.
+        const DIRECTIONS: [DVec3; 3] = [
+            DVec3::new(0.571, 0.583, 0.577),
+            DVec3::new(-0.267, 0.802, -0.535),
+            DVec3::new(0.816, -0.409, -0.407),
+        ];
+        let (first, second) = (self.parity(p, DIRECTIONS[0]), self.parity(p, DIRECTIONS[1]));
+        let inside = if first == second {
+            first
+        } else {
+            self.parity(p, DIRECTIONS[2])
+        };
+        if inside { 1 } else { OUTSIDE }
+    }
+
+    fn segment_hits(&self, a: DVec3, b: DVec3, out: &mut Vec<SurfaceHit>) {
+        self.hits(a, b, out);
+    }
+
+    fn ray_hits(&self, origin: DVec3, dir: DVec3, out: &mut Vec<SurfaceHit>) {
+        let len = dir.length();
+        if !(len > 0.0 && len.is_finite()) {
+            return;
+        }
+        let reach = 2.0 * (self.bbox.diagonal() + (origin - self.bbox.center()).length()) / len;
+        let start = out.len();
+        self.hits(origin, origin + reach * dir, out);
+        for h in &mut out[start..] {
+            h.t *= reach;
+        }
+    }
+
+    fn initial_points(&self) -> Vec<SurfacePoint> {
+        self.initial.clone()
+    }
+
+    fn feature_curves(&self) -> Vec<FeatureCurve> {
+        self.curves.clone()
+    }
+
+    fn corners(&self) -> Vec<DVec3> {
+        self.corners.clone()
+    }
+}
