@@ -43,6 +43,9 @@ struct Region {
     stuck_outside: bool,
     /// Contains a cell relabelled before: cannot be moved again.
     moved: bool,
+    /// Contains a cell with a vertex off the surface: moved only when no other region can be
+    /// (a volume vertex comes onto the boundary, away from the surface).
+    off_surface: bool,
 }
 
 /// Relabel cells until the boundary of the labelled cells is a 2-manifold at every vertex, or
@@ -50,6 +53,7 @@ struct Region {
 pub(crate) fn relabel_to_manifold<T: Triangulation<Point = Point3>>(
     tr: &T,
     cells: &mut CellLevel<'_>,
+    on_surface: &dyn Fn(VertexId) -> bool,
     max_moves: usize,
 ) -> Relabelling {
     let mut result = Relabelling::default();
@@ -72,7 +76,7 @@ pub(crate) fn relabel_to_manifold<T: Triangulation<Point = Point3>>(
         let v = VertexId(v);
         loop {
             tr.incident_cells(v, &mut around);
-            let regions = regions_around(tr, cells, v, &around, &moved);
+            let regions = regions_around(tr, cells, v, &around, &moved, on_surface);
             let inside = regions.iter().filter(|r| r.inside).count();
             if inside <= 1 && regions.len() - inside <= 1 {
                 break;
@@ -82,10 +86,15 @@ pub(crate) fn relabel_to_manifold<T: Triangulation<Point = Point3>>(
                 break;
             }
             let label = majority_label(cells, &regions);
+            // The smallest movable region, one joining surface points only if there is one.
             let Some(r) = regions
                 .iter()
                 .filter(|r| !r.moved && (r.inside || !r.stuck_outside))
-                .min_by(|a, b| a.volume.total_cmp(&b.volume))
+                .min_by(|a, b| {
+                    (a.off_surface, a.volume)
+                        .partial_cmp(&(b.off_surface, b.volume))
+                        .unwrap_or(std::cmp::Ordering::Equal)
+                })
             else {
                 result.pinched_left += 1;
                 break;
@@ -216,6 +225,7 @@ fn regions_around<T: Triangulation<Point = Point3>>(
     v: VertexId,
     around: &[CellId],
     moved: &[bool],
+    on_surface: &dyn Fn(VertexId) -> bool,
 ) -> Vec<Region> {
     let inside = |c: CellId| !tr.is_infinite_cell(c) && cells.subdomain(c) != OUTSIDE;
     let mut sets = UnionFind::new(around.len());
@@ -245,12 +255,18 @@ fn regions_around<T: Triangulation<Point = Point3>>(
                 volume: 0.0,
                 stuck_outside: false,
                 moved: false,
+                off_surface: false,
             });
             regions.len() - 1
         });
         let region = &mut regions[r];
         region.cells.push(c);
         region.moved |= moved.get(c.0 as usize).copied().unwrap_or(true);
+        region.off_surface |= tr
+            .cell(c)
+            .as_ref()
+            .iter()
+            .any(|&w| !tr.is_infinite_vertex(w) && !on_surface(w));
         if tr.is_infinite_cell(c) {
             region.stuck_outside = true;
         } else {

@@ -279,7 +279,8 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
         // Where refinement could not resolve a pinch, relabelling does (one move per vertex at
         // most, so it ends).
         if options.validity.manifold && !validity.manifold {
-            let relabelling = relabel_to_manifold(&tr, &mut cells, tr.num_vertices());
+            let on_surface = |v| surface.is_on_surface(v);
+            let relabelling = relabel_to_manifold(&tr, &mut cells, &on_surface, tr.num_vertices());
             validity = find_defects(&tr, &cells, &options.validity, false).validity();
             validity.relabelling = relabelling;
         }
