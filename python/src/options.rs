@@ -3,8 +3,9 @@
 //! line checks them (the settings' own validation, with the flag named in the message).
 
 use crate::Error;
-use delamesh::MeshSettings;
 use delamesh::image_label::Interpolation;
+use delamesh::subdivision::Scheme;
+use delamesh::{MeshSettings, SizeSource};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::collections::BTreeMap;
@@ -187,7 +188,104 @@ pub const OPTIONS: &[Opt] = &[
             Ok(())
         },
     },
+    Opt {
+        name: "sizing",
+        set: |s, v| {
+            s.sizing.field = Some(SizeSource::file(path(v)?));
+            Ok(())
+        },
+    },
+    // After `sizing` in this table: options are applied in table order, whatever the keyword
+    // order.
+    Opt {
+        name: "sizing_field",
+        set: |s, v| match &mut s.sizing.field {
+            Some(SizeSource::File { field, .. }) => {
+                *field = Some(text(v)?);
+                Ok(())
+            }
+            _ => Err("needs sizing= a background mesh file".into()),
+        },
+    },
+    Opt {
+        name: "sizing_expr",
+        set: |s, v| {
+            s.sizing.field = Some(SizeSource::Expression(text(v)?));
+            Ok(())
+        },
+    },
+    Opt {
+        name: "size_per_subdomain",
+        set: |s, v| {
+            s.sizing.per_subdomain = per_label(v)?;
+            Ok(())
+        },
+    },
+    Opt {
+        name: "size_per_patch",
+        set: |s, v| {
+            s.sizing.per_patch = per_label(v)?;
+            Ok(())
+        },
+    },
+    Opt {
+        name: "size_gradation",
+        set: |s, v| {
+            s.sizing.gradation = Some(number(v)?);
+            Ok(())
+        },
+    },
+    Opt {
+        name: "distance_field",
+        set: |s, v| {
+            s.sizing.distance = Some(SizeSource::file(path(v)?));
+            Ok(())
+        },
+    },
+    Opt {
+        name: "distance_expr",
+        set: |s, v| {
+            s.sizing.distance = Some(SizeSource::Expression(text(v)?));
+            Ok(())
+        },
+    },
+    Opt {
+        name: "subdivision",
+        set: |s, v| {
+            let scheme = match text(v)?.as_str() {
+                "auto" => None,
+                other => Some(other.parse::<Scheme>()?),
+            };
+            let enabled = s.features.enabled;
+            let sub = s.subdivision.get_or_insert_with(Default::default);
+            sub.scheme = scheme;
+            // As on the command line: `no_features` also turns the group creases off.
+            sub.group_creases = enabled;
+            Ok(())
+        },
+    },
+    // After `subdivision` in this table (see `sizing_field`).
+    Opt {
+        name: "crease_angle",
+        set: |s, v| match &mut s.subdivision {
+            Some(sub) => {
+                sub.crease_angle_deg = Some(number(v)?);
+                Ok(())
+            }
+            None => Err("needs subdivision=".into()),
+        },
+    },
 ];
+
+fn path(v: &Bound<'_, PyAny>) -> Result<std::path::PathBuf, String> {
+    v.extract()
+        .map_err(|_| format!("expected a path, got {}", describe(v)))
+}
+
+fn text(v: &Bound<'_, PyAny>) -> Result<String, String> {
+    v.extract()
+        .map_err(|_| format!("expected a string, got {}", describe(v)))
+}
 
 fn number(v: &Bound<'_, PyAny>) -> Result<f64, String> {
     if v.is_instance_of::<pyo3::types::PyBool>() {
@@ -254,15 +352,22 @@ fn describe(v: &Bound<'_, PyAny>) -> String {
 /// [`Error`](crate::Error) naming it.
 pub fn settings(options: Option<&Bound<'_, PyDict>>) -> PyResult<MeshSettings> {
     let mut settings = MeshSettings::default();
+    let mut given = Vec::new();
     for (key, value) in options.into_iter().flatten() {
         let name: String = key.extract()?;
-        let Some(opt) = OPTIONS.iter().find(|o| o.name == name) else {
+        let Some(k) = OPTIONS.iter().position(|o| o.name == name) else {
             let known: Vec<&str> = OPTIONS.iter().map(|o| o.name).collect();
             return Err(Error::new_err(format!(
                 "unknown option `{name}` (known: {})",
                 known.join(", ")
             )));
         };
+        given.push((k, value));
+    }
+    // In table order, so that an option refining another (`sizing_field`) finds it set.
+    given.sort_by_key(|&(k, _)| k);
+    for (k, value) in given {
+        let opt = &OPTIONS[k];
         (opt.set)(&mut settings, &value).map_err(|problem| {
             Error::new_err(format!("--{} {problem}", opt.name.replace('_', "-")))
         })?;

@@ -112,6 +112,9 @@ def surface(path: Path) -> tuple[np.ndarray, np.ndarray]:
         (SPHERE, SPHERE_OPTIONS),
         (BOX, BOX_OPTIONS),
         (SPHERE, {"cell_size": 0.4, "no_features": True, "facet_angle": 20}),
+        (SPHERE, {"sizing_expr": "0.2 + 0.3 * abs(z)", "size_gradation": 0.5}),
+        (BOX, {"subdivision": "auto", "facet_size": 0.5, "cell_size": 0.5}),
+        (BOX, {"crease_angle": 60, "subdivision": "catmull-clark", "facet_size": 0.5}),
     ],
 )
 def test_same_mesh_as_the_command_line(path, options, tmp_path):
@@ -497,3 +500,12 @@ def test_the_gil_is_released_while_meshing():
         job.result()
     worker.shutdown()
     assert counts[2] - counts[1] > 1000, counts
+
+
+def test_an_option_refining_a_missing_one_raises():
+    with pytest.raises(delamesh.Error, match="sizing-field needs sizing"):
+        delamesh.mesh(SPHERE, sizing_field="h")
+    with pytest.raises(delamesh.Error, match="crease-angle needs subdivision"):
+        delamesh.mesh(SPHERE, crease_angle=30)
+    with pytest.raises(delamesh.Error, match="unknown subdivision scheme"):
+        delamesh.mesh(BOX, subdivision="butterfly")
