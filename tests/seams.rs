@@ -7,11 +7,9 @@
 //! `tests/data/csg/` holds parts written by `benches/csg_parts.py --seed 900` that once meshed
 //! without end (0907), with thousands of flat tets (0913) or with a pinched boundary (0900).
 
-use delamesh::core::mesh::SurfaceMesh;
-use delamesh::core::quality::surface_topology;
+use delamesh::core::mesh::{SurfaceMesh, TetMesh};
 use delamesh::{MeshSettings, Mesher};
 use glam::DVec3;
-use std::collections::HashMap;
 
 /// The L-shaped profile `(0,0) (1,0) (1,1+h) (x,1+h) (x,1) (0,1)` in the xz-plane, extruded
 /// along y over `[0, 1]`: a unit box whose top face has a step of height `h` at `x`.
@@ -60,51 +58,27 @@ fn stepped_volume(x: f64, h: f64) -> f64 {
     1.0 + (1.0 - x) * h
 }
 
-/// Checks the tet mesh: no flat or inverted tet, closed 2-manifold boundary of Euler
-/// characteristic `chi`, volume within `tolerance` (relative) of `volume`.
-fn assert_valid_solid(
-    mesh: &delamesh::core::mesh::TetMesh,
-    chi: i64,
-    volume: f64,
-    tolerance: f64,
-    what: &str,
-) {
-    let mut faces: HashMap<[u32; 3], usize> = HashMap::new();
+/// Checks the tet mesh: no flat or inverted tet, the faces used by one tet a closed 2-manifold of
+/// Euler characteristic `chi`, volume within `tolerance` (relative) of `volume`.
+fn assert_valid_solid(mesh: &TetMesh, chi: i64, volume: f64, tolerance: f64, what: &str) {
     let mut total = 0.0;
-    for t in &mesh.tets {
-        let p = t.map(|v| mesh.positions[v as usize]);
-        let v6 = (p[1] - p[0]).cross(p[2] - p[0]).dot(p[3] - p[0]);
+    for (t, tet) in mesh.tets.iter().enumerate() {
+        let p = tet.map(|v| mesh.positions[v as usize]);
         let longest = (0..4)
             .flat_map(|i| (i + 1..4).map(move |j| (i, j)))
             .map(|(i, j)| p[i].distance(p[j]))
             .fold(0.0, f64::max);
-        assert!(v6.abs() > 1e-12 * longest.powi(3), "{what}: flat tet {t:?}");
-        total += v6.abs() / 6.0;
-        for skip in 0..4 {
-            let mut f = [0u32; 3];
-            let mut k = 0;
-            for (i, &v) in t.iter().enumerate() {
-                if i != skip {
-                    f[k] = v;
-                    k += 1;
-                }
-            }
-            f.sort_unstable();
-            *faces.entry(f).or_default() += 1;
-        }
+        let v = mesh.tet_volume(t);
+        assert!(
+            v > 1e-12 * longest.powi(3) / 6.0,
+            "{what}: flat or inverted tet {tet:?}"
+        );
+        total += v;
     }
-    let boundary: Vec<[u32; 3]> = faces
-        .into_iter()
-        .filter(|&(_, n)| n == 1)
-        .map(|(f, _)| f)
-        .collect();
-    let topology = surface_topology(&boundary);
-    assert_eq!(topology.border_edges, 0, "{what}: boundary not closed");
-    assert_eq!(topology.non_manifold_edges, 0, "{what}: non-manifold edges");
-    assert_eq!(
-        topology.non_manifold_vertices, 0,
-        "{what}: non-manifold vertices"
-    );
+    let boundary = SurfaceMesh::from_triangles(mesh.positions.clone(), mesh.exterior_faces());
+    let topology = boundary.topology();
+    assert!(topology.closed, "{what}: boundary not closed");
+    assert!(topology.manifold, "{what}: boundary not a 2-manifold");
     assert_eq!(topology.euler_characteristic, chi, "{what}: topology");
     assert!(
         (total - volume).abs() < tolerance * volume,
@@ -143,27 +117,6 @@ fn steps_finer_than_the_mesh_give_valid_solids() {
     }
 }
 
-/// Euler characteristic and enclosed volume of a closed triangle surface.
-fn euler_and_volume(s: &SurfaceMesh) -> (i64, f64) {
-    let mut edges: Vec<(u32, u32)> = s
-        .triangles
-        .iter()
-        .flat_map(|t| (0..3).map(move |k| (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]))))
-        .collect();
-    edges.sort_unstable();
-    edges.dedup();
-    let volume = s
-        .triangles
-        .iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|v| s.positions[v as usize]);
-            a.dot(b.cross(c)) / 6.0
-        })
-        .sum::<f64>();
-    let chi = s.positions.len() as i64 - edges.len() as i64 + s.triangles.len() as i64;
-    (chi, volume.abs())
-}
-
 /// Random CSG parts with the criteria of the side-by-side sweeps (sizes diagonal / 20, facet
 /// distance diagonal / 400): valid solids of the input's topology and volume.
 #[test]
@@ -174,12 +127,11 @@ fn csg_parts_with_unresolved_seams_give_valid_solids() {
         let surface = delamesh::formats::read_surface(&path, None)
             .expect("readable fixture")
             .mesh;
-        let (chi, volume) = euler_and_volume(&surface);
-        let (lo, hi) = surface.positions.iter().fold(
-            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
-            |(lo, hi), &p| (lo.min(p), hi.max(p)),
-        );
-        let d = lo.distance(hi);
+        let input = surface.topology();
+        let d = surface
+            .bounding_box()
+            .expect("a non-empty fixture")
+            .diagonal();
         let settings = MeshSettings::builder()
             .facet_size(d / 20.0)
             .facet_distance(d / 400.0)
@@ -190,6 +142,7 @@ fn csg_parts_with_unresolved_seams_give_valid_solids() {
         let meshed = Mesher::new(settings)
             .mesh_file(&path)
             .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let (chi, volume) = (input.euler_characteristic, input.signed_volume);
         assert_valid_solid(&meshed.tet_mesh(), chi, volume, 0.01, name);
     }
 }
