@@ -139,11 +139,11 @@ pub(crate) fn classify_labels(
     let (field, offset) = if count <= 256 {
         let classes = per_voxel(&image.voxels, &class_of, &label_of, |c| c as u8)?;
         let (offset, dims, classes) = crop(image.dims, classes, 0);
-        (Field::U8(ClassGrid::new(dims, classes, interpolation)), offset)
+        (Field::U8(ClassGrid::new(dims, classes, count, interpolation)), offset)
     } else {
         let classes = per_voxel(&image.voxels, &class_of, &label_of, |c| c as u16)?;
         let (offset, dims, classes) = crop(image.dims, classes, 0);
-        (Field::U16(ClassGrid::new(dims, classes, interpolation)), offset)
+        (Field::U16(ClassGrid::new(dims, classes, count, interpolation)), offset)
     };
     Ok(Classified {
         field,
@@ -163,7 +163,7 @@ pub(crate) fn classify_isovalue(
         .collect();
     let (offset, dims, classes) = crop(image.dims, classes, 0);
     Classified {
-        field: Field::U8(ClassGrid::new(dims, classes, interpolation)),
+        field: Field::U8(ClassGrid::new(dims, classes, 2, interpolation)),
         subdomains: vec![0, 1],
         offset,
     }
