@@ -14,8 +14,8 @@ use delamesh_core::oracle::Oracle;
 use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
 use delamesh_core::refine::{Cancel, MeshError, Progress, RefineError, RefineStats, mesh_domain};
 use delamesh_formats::image::{Image, is_image_path, read_image};
-use delamesh_image_label::ImageOptions;
 use delamesh_formats::{PolygonMesh, WriteOptions, read_polygons, read_surface, write_tet_mesh};
+use delamesh_image_label::ImageOptions;
 use std::path::Path;
 use std::time::Instant;
 

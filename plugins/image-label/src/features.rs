@@ -367,8 +367,7 @@ fn border_face<C: Class>(g: &ClassGrid<C>, graph: &mut Graph, axis: usize, lower
         [_, _, _, _] => {
             // A saddle of two classes: the class at the centre joins its two corners, and each
             // corner of the other class is cut off by its two edges' crossings.
-            let o = point(lower)
-                + 0.5 * (point(unit(ua)) + point(unit(va)));
+            let o = point(lower) + 0.5 * (point(unit(ua)) + point(unit(va)));
             let centre = g.class_at(o);
             for e in 0..4 {
                 if c[e] != centre {

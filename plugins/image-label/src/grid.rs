@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 /// Voxels per block edge. A block `b` covers the closed index box `[B b, B (b + 1)]` on each axis,
 /// so its region is decided by the voxels `B b ..= B (b + 1)` alone, for both interpolations.
-pub(crate) const BLOCK: usize = 8;
+pub(crate) const BLOCK: usize = 4;
 /// Block summary of a block whose voxels have several classes.
 pub(crate) const MIXED: u32 = u32::MAX;
 

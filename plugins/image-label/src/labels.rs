@@ -40,7 +40,10 @@ fn crop<T: Copy + PartialEq>(
         let Some(first) = values.iter().position(|&c| c != background) else {
             continue;
         };
-        let last = values.iter().rposition(|&c| c != background).unwrap_or(first);
+        let last = values
+            .iter()
+            .rposition(|&c| c != background)
+            .unwrap_or(first);
         let (j, k) = (row % ny, row / ny);
         lo = [lo[0].min(first), lo[1].min(j), lo[2].min(k)];
         hi = [hi[0].max(last), hi[1].max(j), hi[2].max(k)];
@@ -139,11 +142,17 @@ pub(crate) fn classify_labels(
     let (field, offset) = if count <= 256 {
         let classes = per_voxel(&image.voxels, &class_of, &label_of, |c| c as u8)?;
         let (offset, dims, classes) = crop(image.dims, classes, 0);
-        (Field::U8(ClassGrid::new(dims, classes, count, interpolation)), offset)
+        (
+            Field::U8(ClassGrid::new(dims, classes, count, interpolation)),
+            offset,
+        )
     } else {
         let classes = per_voxel(&image.voxels, &class_of, &label_of, |c| c as u16)?;
         let (offset, dims, classes) = crop(image.dims, classes, 0);
-        (Field::U16(ClassGrid::new(dims, classes, count, interpolation)), offset)
+        (
+            Field::U16(ClassGrid::new(dims, classes, count, interpolation)),
+            offset,
+        )
     };
     Ok(Classified {
         field,

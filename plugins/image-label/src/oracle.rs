@@ -49,8 +49,8 @@ impl ImageLabelOracle {
             Some(v) => classify_isovalue(image, v, options.interpolation),
             None => classify_labels(image, options.background, options.interpolation)?,
         };
-        let to_world =
-            image.index_to_world * DAffine3::from_translation(DVec3::from_array(offset.map(|o| o as f64)));
+        let to_world = image.index_to_world
+            * DAffine3::from_translation(DVec3::from_array(offset.map(|o| o as f64)));
         let to_index = to_world.inverse();
         let index_box = with_grid!(&field, g => initial::occupied_box(g))
             .ok_or(ImageLabelError::Empty(options.background))?;
@@ -88,7 +88,11 @@ impl ImageLabelOracle {
     /// ball's centre, so a bend per voxel would make balls (and the mesh) as fine as the voxels.
     fn set_features(&mut self, found: features::Features) {
         let m = self.to_world.matrix3;
-        let voxel = m.x_axis.length().max(m.y_axis.length()).max(m.z_axis.length());
+        let voxel = m
+            .x_axis
+            .length()
+            .max(m.y_axis.length())
+            .max(m.z_axis.length());
         let tolerance = 0.5 * voxel;
         for (points, closed) in found.curves {
             let mut points: Vec<DVec3> = points.iter().map(|&q| self.world(q)).collect();

@@ -397,7 +397,10 @@ fn assert_closed_regions(c: &MeshComplex, labels: &[u32], euler: i64) {
         let t = quality::surface_topology(&facets);
         assert_eq!(t.border_edges, 0, "label {l}: border");
         assert_eq!(t.non_manifold_edges, 0, "label {l}: non-manifold edges");
-        assert_eq!(t.non_manifold_vertices, 0, "label {l}: non-manifold vertices");
+        assert_eq!(
+            t.non_manifold_vertices, 0,
+            "label {l}: non-manifold vertices"
+        );
         assert_eq!(t.euler_characteristic, euler, "label {l}");
     }
 }
@@ -459,7 +462,11 @@ fn triple_lines_of_three_touching_boxes_are_mesh_edges() {
     assert!(!oracle.feature_curves().is_empty());
     for curve in oracle.feature_curves() {
         for &p in &curve.points {
-            assert!(to_triple(p) <= 0.75, "curve {} point {p} off the lines", curve.id);
+            assert!(
+                to_triple(p) <= 0.75,
+                "curve {} point {p} off the lines",
+                curve.id
+            );
         }
     }
     let c = mesh(&oracle, criteria(3.0, 0.5));
@@ -473,7 +480,10 @@ fn triple_lines_of_three_touching_boxes_are_mesh_edges() {
     for s in &triple {
         for k in 0..=20 {
             let p = s[0].lerp(s[1], f64::from(k) / 20.0);
-            assert!(distance_to_feature_edges(&c, p) <= 0.75, "{p} off the mesh edges");
+            assert!(
+                distance_to_feature_edges(&c, p) <= 0.75,
+                "{p} off the mesh edges"
+            );
         }
     }
     assert_closed_regions(&c, &[1, 2, 3], 2);
@@ -494,7 +504,11 @@ fn triple_lines_of_three_touching_boxes_are_mesh_edges() {
         (2, exact(9.0, 11.0)),
         (3, exact(17.0, 6.0)),
     ] {
-        assert!((v[&l] - want).abs() <= 0.05 * want, "label {l}: {} vs {want}", v[&l]);
+        assert!(
+            (v[&l] - want).abs() <= 0.05 * want,
+            "label {l}: {} vs {want}",
+            v[&l]
+        );
     }
 }
 
@@ -522,7 +536,10 @@ fn labels_filling_the_image_keep_its_box_edges_and_border_curves() {
     for s in &lines {
         for k in 0..=20 {
             let p = s[0].lerp(s[1], f64::from(k) / 20.0);
-            assert!(distance_to_feature_edges(&c, p) <= 0.5, "{p} off the mesh edges");
+            assert!(
+                distance_to_feature_edges(&c, p) <= 0.5,
+                "{p} off the mesh edges"
+            );
         }
     }
     assert_closed_regions(&c, &[1, 2], 2);
@@ -530,7 +547,11 @@ fn labels_filling_the_image_keep_its_box_edges_and_border_curves() {
     let v = volumes(&c);
     let area = m * m;
     for (l, want) in [(1, 7.5 * area), (2, (m - 7.5) * area)] {
-        assert!((v[&l] - want).abs() <= 0.01 * want, "label {l}: {} vs {want}", v[&l]);
+        assert!(
+            (v[&l] - want).abs() <= 0.01 * want,
+            "label {l}: {} vs {want}",
+            v[&l]
+        );
     }
 }
 
