@@ -23,7 +23,8 @@ use std::collections::{BTreeMap, BTreeSet};
 /// Halvings of a grid face in the search for the point where three classes meet on it: the
 /// point is found to 2⁻¹⁰ voxel.
 const JUNCTION_DEPTH: usize = 10;
-/// Curves shorter than this (index space: voxels) are the voxels' noise at a junction.
+/// Curves shorter than this (index space: voxels) are the voxels' noise at a junction, unless
+/// the image is so small that its voxels are the structure (see [`short`]).
 const SHORT: f64 = 2.0;
 /// Rounds of cleaning (each removes every short curve of the graph it starts with).
 const CLEAN_ROUNDS: usize = 8;
@@ -82,11 +83,11 @@ impl Graph {
     }
 
     /// Removes what the voxels make of a curve's junctions at their own scale: spurs (curves
-    /// that end nowhere, shorter than [`SHORT`]) are dropped, curves that short between two
+    /// that end nowhere, shorter than `short`) are dropped, curves that short between two
     /// junctions are contracted into one junction (at the mean of their nodes), loops that small
     /// are dropped. A triple line ends only where it meets other curves or the border, so what
     /// is left is the curves' structure seen at a few voxels.
-    fn clean(&mut self) {
+    fn clean(&mut self, short: f64) {
         for _ in 0..CLEAN_ROUNDS {
             let chains = self.chains();
             let mut degrees = vec![0usize; self.positions.len()];
@@ -106,7 +107,7 @@ impl Graph {
                 }
                 let (first, last) = (c.vertices[0], c.vertices[c.vertices.len() - 1]);
                 let spur = !c.closed && (degree(first) == 1 || degree(last) == 1);
-                if length >= SHORT || (!c.closed && !spur && first == last) {
+                if length >= short || (!c.closed && !spur && first == last) {
                     continue;
                 }
                 changed = true;
@@ -196,7 +197,7 @@ pub(crate) fn detect<C: Class>(g: &ClassGrid<C>) -> Features {
         border_curves(g, &mut graph);
         box_edges(g, &mut graph);
     }
-    graph.clean();
+    graph.clean(short(g.dims));
     let chains = graph.chains();
     let at = |v: &u32| graph.positions[*v as usize];
     Features {
@@ -207,6 +208,13 @@ pub(crate) fn detect<C: Class>(g: &ClassGrid<C>) -> Features {
             .collect(),
         corners: chains.corners.iter().map(at).collect(),
     }
+}
+
+/// The length under which curves are noise: [`SHORT`], or an eighth of the image's smallest
+/// extent in a tiny image (a 2 × 2 × 2 image is one junction).
+pub(crate) fn short(dims: [usize; 3]) -> f64 {
+    let extent = dims.iter().map(|&n| n.saturating_sub(1)).min().unwrap_or(0);
+    SHORT.min(extent as f64 / 8.0)
 }
 
 fn class<C: Class>(g: &ClassGrid<C>, v: [usize; 3]) -> u32 {

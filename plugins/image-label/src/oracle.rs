@@ -136,7 +136,7 @@ impl ImageLabelOracle {
     /// Criteria for a medium-resolution mesh of the image: the bounding-box defaults, with a
     /// facet distance no finer than the voxels (finer would chase the voxel staircase) and no
     /// protecting ball below two voxels (closer than that, feature curves are the segmentation's
-    /// noise, and balls that small would refine the mesh down to it).
+    /// noise, and balls that small would refine the mesh down to it; less in a tiny image).
     pub fn default_criteria(&self) -> MeshCriteria {
         let mut c = MeshCriteria::default_for(&self.bbox);
         let m = self.to_world.matrix3;
@@ -144,7 +144,9 @@ impl ImageLabelOracle {
         let voxel = lengths.iter().fold(f64::INFINITY, |a, &b| a.min(b));
         let distance = c.facet.distance.at(self.bbox.center(), 1).max(voxel);
         c.facet.distance = Sizing::Constant(distance);
-        c.edge_min_size = 2.0 * lengths.iter().fold(0.0, |a: f64, &b| a.max(b));
+        let largest = lengths.iter().fold(0.0, |a: f64, &b| a.max(b));
+        let dims = with_grid!(&self.field, g => g.dims);
+        c.edge_min_size = features::short(dims) * largest;
         c
     }
 

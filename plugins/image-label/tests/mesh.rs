@@ -649,3 +649,47 @@ fn random_blobs_of_labels_are_meshed_along_their_junctions() {
     assert_eq!(t.non_manifold_edges, 0);
     assert_eq!(t.non_manifold_vertices, 0);
 }
+
+#[test]
+fn a_single_cube_of_four_labels_keeps_its_junction_and_volumes() {
+    // CGAL's feature-detection case 12323: eight voxels, four classes (the background one), one
+    // junction of triple lines inside the cube, border curves on all its faces.
+    let values = [0u8, 0, 0, 1, 2, 3, 2, 3];
+    let img = Image::axis_aligned(
+        [2, 2, 2],
+        DVec3::ONE,
+        DVec3::ZERO,
+        Voxels::U8(values.to_vec()),
+    );
+    let oracle = ImageLabelOracle::new(&img, &ImageOptions::default()).expect("valid image");
+    assert!(!oracle.feature_curves().is_empty());
+    let distance = 0.03;
+    let mut c = criteria(0.25, distance);
+    c.edge_min_size = oracle.default_criteria().edge_min_size;
+    let c = mesh(&oracle, c);
+    assert!(!c.feature_edges.is_empty());
+    // The volume of each label of the oracle's own partition, by the midpoint rule.
+    let n = 60;
+    let mut exact: BTreeMap<u32, f64> = BTreeMap::new();
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let p = (DVec3::new(i as f64, j as f64, k as f64) + 0.5) / n as f64;
+                *exact.entry(oracle.subdomain(p)).or_insert(0.0) += 1.0 / (n * n * n) as f64;
+            }
+        }
+    }
+    let v = volumes(&c);
+    for l in [1, 2, 3] {
+        // Each facet within the facet distance of the interfaces (the surface level's bound).
+        let area: f64 = (0..c.facets.len())
+            .filter(|&f| c.facet_subdomains[f].contains(&l))
+            .map(|f| {
+                let [a, b, d] = c.facets[f].map(|v| c.points[v as usize]);
+                0.5 * (b - a).cross(d - a).length()
+            })
+            .sum();
+        assert_volume(v[&l], exact[&l], area, distance, 0.0);
+    }
+    assert_closed_regions(&c, &[1, 2, 3], 2);
+}
