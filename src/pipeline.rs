@@ -263,6 +263,14 @@ impl<'p> Mesher<'p> {
             options.validity.input_euler =
                 Some(component_euler_characteristics(&surface.triangles).1);
         }
+        if let Some(p) = domain.polyhedral()
+            && p.repairs().needs_winding_domain()
+        {
+            // Holes capped, crossings resolved: the input's components are not the domain's.
+            options.validity.input_euler = p
+                .winding_boundary_euler_characteristics()
+                .map(<[_]>::to_vec);
+        }
         let boundary: Vec<_> = match &input {
             Some(surface) => surface.positions.clone(),
             None => oracle.initial_points().iter().map(|p| p.point).collect(),

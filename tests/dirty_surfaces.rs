@@ -3,12 +3,12 @@
 
 mod common;
 
-use common::{Surface, criteria, cuboid, sphere};
+use common::{Surface, criteria, cuboid, flipped, sphere};
 use delamesh::core::complex::MeshComplex;
 use delamesh::core::oracle::{OUTSIDE, Oracle};
 use delamesh::core::quality::{self, surface_topology};
 use delamesh::core::refine::{Limits, MeshOptions, mesh_domain};
-use delamesh::polyhedral::{PolyhedralError, PolyhedralOptions, PolyhedralOracle};
+use delamesh::polyhedral::{PolyhedralError, PolyhedralOptions, PolyhedralOracle, diagnose};
 use glam::DVec3;
 
 fn oracle(s: &Surface) -> PolyhedralOracle {
@@ -212,4 +212,128 @@ fn strict_refuses_each_class_with_its_diagnosis() {
     for s in [&open, &shuffled, &overlapping, &degenerate] {
         assert!(!oracle(s).repairs().is_empty());
     }
+}
+
+/// The cube `[min, max]` without the two triangles of its face `z = max.z`.
+fn open_box(min: DVec3, max: DVec3) -> Surface {
+    let mut s = cuboid(min, max);
+    let points = s.points.clone();
+    s.triangles
+        .retain(|t| !t.iter().all(|&v| points[v as usize].z == max.z));
+    s
+}
+
+#[test]
+fn an_open_surface_written_inwards_is_turned_outwards() {
+    let inward = flipped(open_box(DVec3::ZERO, DVec3::ONE));
+    let o = oracle(&inward);
+    assert_eq!(o.repairs().flipped, inward.triangles.len());
+    assert!((o.domain_volume() - 1.0).abs() < 1e-9);
+    assert!(o.subdomain(DVec3::splat(0.5)) != OUTSIDE);
+    // The same file with a closed hollow inside, all written the other way round: the outer
+    // surface is turned, and the hollow with it, so it stays a hollow.
+    let hollow = flipped(
+        open_box(DVec3::ZERO, DVec3::splat(3.0))
+            .merge(flipped(cuboid(DVec3::ONE, DVec3::splat(2.0)))),
+    );
+    let o = oracle(&hollow);
+    assert!(
+        (o.domain_volume() - 26.0).abs() < 0.26,
+        "{}",
+        o.domain_volume()
+    );
+    assert_eq!(o.subdomain(DVec3::splat(1.5)), OUTSIDE);
+    assert!(o.subdomain(DVec3::splat(0.5)) != OUTSIDE);
+}
+
+#[test]
+fn the_topology_to_reach_is_the_capped_surface_or_unknown() {
+    let open = oracle(&open_box(DVec3::ZERO, DVec3::ONE));
+    assert_eq!(
+        open.winding_boundary_euler_characteristics(),
+        Some(&[2][..])
+    );
+    let two_open =
+        open_box(DVec3::ZERO, DVec3::ONE).merge(open_box(DVec3::splat(2.0), DVec3::splat(3.0)));
+    assert_eq!(
+        oracle(&two_open).winding_boundary_euler_characteristics(),
+        Some(&[2, 2][..])
+    );
+    // Crossing triangles: the union's topology is only known by meshing it.
+    let boxes = cuboid(DVec3::ZERO, DVec3::ONE).merge(cuboid(DVec3::splat(0.5), DVec3::splat(1.5)));
+    assert_eq!(
+        oracle(&boxes).winding_boundary_euler_characteristics(),
+        None
+    );
+    // A surface that bounds a volume as given is its own boundary.
+    let clean = oracle(&cuboid(DVec3::ZERO, DVec3::ONE));
+    assert_eq!(clean.winding_boundary_euler_characteristics(), None);
+}
+
+#[test]
+fn diagnosis_counts_what_meshing_repairs() {
+    let cube = cuboid(DVec3::ZERO, DVec3::ONE);
+    let surfaces = [
+        shuffle(cube.clone(), 0, 4),
+        open_box(DVec3::ZERO, DVec3::ONE),
+        flipped(open_box(DVec3::ZERO, DVec3::ONE)),
+        cube.clone()
+            .merge(cuboid(DVec3::splat(0.5), DVec3::splat(1.5))),
+    ];
+    for s in &surfaces {
+        let d = diagnose(&s.points, &s.triangles);
+        assert!(!d.is_empty());
+        assert_eq!(&d, oracle(s).repairs());
+    }
+}
+
+/// A closed prism over a regular `n`-gon, each cap a fan of long thin triangles from one corner
+/// (as CAD exporters write polygons).
+fn fan_capped_prism(n: usize) -> Surface {
+    let mut points = Vec::new();
+    for z in [0.0, 1.0] {
+        for i in 0..n {
+            let a = std::f64::consts::TAU * i as f64 / n as f64;
+            points.push(DVec3::new(a.cos(), a.sin(), z));
+        }
+    }
+    let n32 = n as u32;
+    let mut triangles = Vec::new();
+    for i in 0..n32 {
+        let j = (i + 1) % n32;
+        triangles.push([i, j, n32 + j]);
+        triangles.push([i, n32 + j, n32 + i]);
+    }
+    for i in 1..n32 - 1 {
+        triangles.push([0, i + 1, i]);
+        triangles.push([n32, n32 + i, n32 + i + 1]);
+    }
+    Surface { points, triangles }
+}
+
+#[test]
+fn fans_of_coplanar_slivers_do_not_cross() {
+    let prism = fan_capped_prism(400);
+    let o = strict(&prism).expect("a closed prism bounds a volume");
+    assert!(o.repairs().is_empty());
+    let area = 0.5 * 400.0 * (std::f64::consts::TAU / 400.0).sin();
+    assert!((o.domain_volume() - area).abs() < 1e-9 * area);
+    assert!(diagnose(&prism.points, &prism.triangles).is_empty());
+    // A corner of the top cap pushed below the bottom one: its fan crosses the bottom's.
+    let mut folded = prism.clone();
+    folded.points[400].z = -0.5;
+    assert!(matches!(
+        strict(&folded),
+        Err(PolyhedralError::SelfIntersecting(..))
+    ));
+}
+
+#[test]
+fn a_surface_in_an_axis_plane_encloses_nothing() {
+    let mut flat = open_box(DVec3::ZERO, DVec3::ONE);
+    for p in &mut flat.points {
+        p.z = 0.0;
+    }
+    let r = PolyhedralOracle::new(&flat.points, &flat.triangles, None);
+    assert!(matches!(r, Err(PolyhedralError::NoVolume)));
 }

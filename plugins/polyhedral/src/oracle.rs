@@ -5,6 +5,7 @@ use crate::predicates::{Crossing, orient, segment_crossing};
 use crate::repair::{Repairs, repair};
 use crate::tree::TriangleTree;
 use crate::validate::{SurfaceDefects, crossed_triangles, surface_defects_in};
+use delamesh_core::mesh::component_euler_characteristics;
 use delamesh_core::oracle::{
     Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
 };
@@ -95,9 +96,13 @@ pub fn refuse_defects(defects: &SurfaceDefects) -> Result<(), PolyhedralError> {
     Ok(())
 }
 
-/// What [`PolyhedralOracle::new`] would repair or reinterpret in this surface (for `info`),
-/// without building the oracle. Indices must be in range.
+/// What [`PolyhedralOracle::new`] repairs or reinterprets in this surface (for `info`). Indices
+/// must be in range. The oracle is built, so that the counts are the ones `mesh` reports; a
+/// surface it refuses (no volume) gets the counts of the repairs made before the refusal.
 pub fn diagnose(points: &[DVec3], triangles: &[[u32; 3]]) -> Repairs {
+    if let Ok(oracle) = PolyhedralOracle::new(points, triangles, None) {
+        return oracle.repairs;
+    }
     let repaired = repair(points, triangles);
     let geometry = geometry_of(&repaired.points, &repaired.triangles);
     let tree = TriangleTree::new(&geometry);
@@ -156,6 +161,11 @@ struct WindingDomain {
     crossed: Vec<bool>,
     /// For the other triangles, decided once.
     on_boundary: Vec<OnceLock<bool>>,
+    /// Euler characteristic of each component of the domain's boundary, when it is the capped
+    /// surface itself (no triangles cross, no edge is non-manifold).
+    euler: Option<Vec<i64>>,
+    /// Triangles from the input (the caps follow them).
+    input_triangles: usize,
 }
 
 /// Directions tried in turn by the inside test until a ray misses every edge and vertex.
@@ -221,6 +231,9 @@ impl PolyhedralOracle {
         let winding = repairs.needs_winding_domain().then(|| WindingDomain {
             on_boundary: (0..crossed.len()).map(|_| OnceLock::new()).collect(),
             crossed,
+            euler: (repairs.crossing_triangles == 0 && repairs.non_manifold_edges == 0)
+                .then(|| component_euler_characteristics(&repaired.triangles).1),
+            input_triangles: repaired.source.iter().filter(|s| s.is_some()).count(),
         });
         Self::build(
             &repaired.points,
@@ -271,6 +284,12 @@ impl PolyhedralOracle {
         };
         if oracle.winding.is_some() {
             oracle.inner_label = vec![1; num_components];
+            // A surface in an axis plane encloses nothing (and every line of the volume
+            // integral would lie in its plane).
+            if (bbox.max - bbox.min).min_element() <= 0.0 {
+                return Err(PolyhedralError::NoVolume);
+            }
+            oracle.repairs.flipped += oracle.turn_outermost_outwards(num_components);
             oracle.domain_volume = oracle.winding_volume();
             if oracle.domain_volume <= 0.0 {
                 return Err(PolyhedralError::NoVolume);
@@ -280,6 +299,55 @@ impl PolyhedralOracle {
         }
         oracle.initial = oracle.sample_initial_points(num_components);
         Ok(oracle)
+    }
+
+    /// Reverses the outermost components of the closed chain that face inwards (negative signed
+    /// volume), together with the components inside them, and returns the number of input
+    /// triangles reversed. An inward component is a hollow only inside another one; on its own
+    /// it is a surface written the other way round (an exporter's convention), whose inside
+    /// would have winding number −1 and so lie outside `{w ≥ 1}`. What it encloses was written
+    /// the same way, so it is reversed too (a hollow stays a hollow).
+    fn turn_outermost_outwards(&mut self, n: usize) -> usize {
+        let mut members: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for (t, &k) in self.component.iter().enumerate() {
+            members[k as usize].push(t);
+        }
+        // The components with a non-zero winding number around each one.
+        let around: Vec<Vec<usize>> = (0..n)
+            .map(|k| {
+                let w = self.windings_around(k as u32, &members[k], n);
+                (0..n).filter(|&j| j != k && w[j] != 0).collect()
+            })
+            .collect();
+        let inward_root = |k: usize| {
+            let Some(&first) = members[k].first() else {
+                return false;
+            };
+            // Relative to a point of the component: far from the origin, products of absolute
+            // coordinates would lose the volume of a small component.
+            let o = self.triangles[first][0];
+            let volume: f64 = members[k]
+                .iter()
+                .map(|&t| {
+                    let [a, b, c] = self.triangles[t].map(|p| p - o);
+                    a.dot(b.cross(c))
+                })
+                .sum();
+            around[k].is_empty() && volume < 0.0
+        };
+        let reversed: Vec<bool> = (0..n).map(inward_root).collect();
+        let input = self.winding.as_ref().map_or(0, |w| w.input_triangles);
+        let mut flipped = 0;
+        for k in 0..n {
+            if reversed[k] || around[k].iter().any(|&j| reversed[j]) {
+                for &t in &members[k] {
+                    self.triangles[t].swap(1, 2);
+                    self.planes[t] = Plane::of(&self.triangles[t]);
+                }
+                flipped += members[k].iter().filter(|&&t| t < input).count();
+            }
+        }
+        flipped
     }
 
     /// Nesting depth and subdomain of every component, from the winding numbers of one vertex of
@@ -676,6 +744,15 @@ impl PolyhedralOracle {
     /// What was repaired or reinterpreted in the input surface.
     pub fn repairs(&self) -> &Repairs {
         &self.repairs
+    }
+
+    /// For a domain read by its winding number (see [`Repairs::needs_winding_domain`]), whose
+    /// boundary is not the input surface: the Euler characteristic of each component of the
+    /// boundary when it is the surface with its holes capped, `None` when triangles cross or an
+    /// edge is non-manifold (the boundary's topology is then only known by meshing it). `None`
+    /// for a surface that bounds a volume as given, which is its own boundary.
+    pub fn winding_boundary_euler_characteristics(&self) -> Option<&[i64]> {
+        self.winding.as_ref()?.euler.as_deref()
     }
 
     /// Number of subdomains (regions with a non-zero winding number; one when the domain is
