@@ -152,8 +152,7 @@ pub(super) fn facet_step(r: &mut Recovery, f: usize) -> Result<FacetStep, Preser
     for tri in missing {
         let [a, b, c] = tri.map(|i| on[i].at);
         let center = circumcenter(a, b, c);
-        let radius2 = (center - a).length_squared();
-        if !center.is_finite() || planned.iter().any(|q| (*q - center).length_squared() < radius2) {
+        if !center.is_finite() {
             continue;
         }
         let encroached = boundary
@@ -170,19 +169,21 @@ pub(super) fn facet_step(r: &mut Recovery, f: usize) -> Result<FacetStep, Preser
                     .max_by(|s, t| s.length2().total_cmp(&t.length2()))
             });
         match encroached {
+            // Splits of distinct sub-segments do not interfere.
             Some(s) => {
-                let action = Action::Split(s.edge, s.vertices);
                 if !actions
                     .iter()
                     .any(|a| matches!(a, Action::Split(e, v) if *e == s.edge && *v == s.vertices))
                 {
-                    planned.push(0.5 * (s.ends[0] + s.ends[1]));
-                    actions.push(action);
+                    actions.push(Action::Split(s.edge, s.vertices));
                 }
             }
             None => {
-                planned.push(center);
-                actions.push(Action::Insert(center, on[tri[0]].vertex));
+                let radius2 = (center - a).length_squared();
+                if !planned.iter().any(|q| (*q - center).length_squared() < radius2) {
+                    planned.push(center);
+                    actions.push(Action::Insert(center, on[tri[0]].vertex));
+                }
             }
         }
     }

@@ -163,6 +163,14 @@ struct Recovery {
     edge_steiner: usize,
     facet_steiner: usize,
     rounds: usize,
+    /// Insertions so far, plus one: the clock of `touched` and `checked`.
+    epoch: u64,
+    /// Per vertex, the last insertion that changed a cell around it (a face is destroyed only
+    /// with a cell around each of its vertices, all of which the new cells then touch).
+    touched: Vec<u64>,
+    /// Per input edge, then per input triangle (after the edges), the epoch it was last found
+    /// present at; 0: never.
+    checked: Vec<u64>,
 }
 
 impl Recovery {
@@ -178,6 +186,7 @@ impl Recovery {
             return Err(PreserveError::DuplicateVertex(a, b));
         }
         constraints.attach(&vertices);
+        let constraints_len = constraints.edges.len() + constraints.facets.len();
         let diagonal = crate::mesh::Aabb::of(&used).map_or(0.0, |b| (b.max - b.min).length());
         Ok(Recovery {
             dt,
@@ -189,6 +198,9 @@ impl Recovery {
             edge_steiner: 0,
             facet_steiner: 0,
             rounds: 0,
+            epoch: 1,
+            touched: vec![1; vertices.len()],
+            checked: vec![0; constraints_len],
         })
     }
 
@@ -199,7 +211,12 @@ impl Recovery {
         loop {
             self.rounds += 1;
             let mut changed = false;
-            for e in 0..self.constraints.edges.len() {
+            let edges = self.constraints.edges.len();
+            for e in 0..edges {
+                let chain = &self.constraints.edges[e].chain;
+                if self.untouched(e, chain.iter().map(|&(_, v)| v)) {
+                    continue;
+                }
                 let mut i = 0;
                 while i + 1 < self.constraints.edges[e].chain.len() {
                     let (u, v) = {
@@ -213,22 +230,35 @@ impl Recovery {
                         changed = true;
                     }
                 }
+                self.checked[e] = self.epoch;
             }
             for f in 0..self.constraints.facets.len() {
-                loop {
-                    match facet_step(self, f)? {
-                        FacetStep::Recovered(found) => {
-                            faces[f] = found;
-                            break;
-                        }
-                        FacetStep::Refined => changed = true,
+                let facet = &self.constraints.facets[f];
+                let on = facet.corners.iter().chain(&facet.interior).copied();
+                let along = (0..3).flat_map(|k| self.constraints.facet_edge(f, k));
+                if self.untouched(edges + f, on.chain(along)) {
+                    continue;
+                }
+                // One step per facet and round: the edges' pass in between is far cheaper than
+                // another in-plane triangulation of a facet whose edges are still being split.
+                match facet_step(self, f)? {
+                    FacetStep::Recovered(found) => {
+                        faces[f] = found;
+                        self.checked[edges + f] = self.epoch;
                     }
+                    FacetStep::Refined => changed = true,
                 }
             }
             if !changed {
                 return Ok(faces);
             }
         }
+    }
+
+    /// Whether constraint `k` was found present and none of its vertices has been touched since.
+    fn untouched(&self, k: usize, mut vertices: impl Iterator<Item = VertexId>) -> bool {
+        let at = self.checked[k];
+        at != 0 && vertices.all(|v| self.touched[v.0 as usize] <= at)
     }
 
     /// Whether `u` and `v` are joined by an edge of the triangulation.
@@ -255,7 +285,18 @@ impl Recovery {
         }
         let hint = self.dt.vertex_cell(near);
         match self.dt.insert_reporting(p, hint, &mut self.report)? {
-            InsertOutcome::Inserted(v) => Ok(Some(v)),
+            InsertOutcome::Inserted(v) => {
+                self.epoch += 1;
+                self.touched.resize(self.dt.num_vertices(), self.epoch);
+                for &c in &self.report.created {
+                    for u in self.dt.cell(c) {
+                        if let Some(t) = self.touched.get_mut(u.0 as usize) {
+                            *t = self.epoch;
+                        }
+                    }
+                }
+                Ok(Some(v))
+            }
             InsertOutcome::Duplicate(_) | InsertOutcome::Hidden(_) => Ok(None),
         }
     }
