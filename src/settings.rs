@@ -230,7 +230,10 @@ impl MeshSettings {
             ("facet-angle", self.facet_angle.is_some()),
             ("facet-size", self.facet_size.is_some()),
             ("facet-distance", self.facet_distance.is_some()),
-            ("cell-radius-edge-ratio", self.cell_radius_edge_ratio.is_some()),
+            (
+                "cell-radius-edge-ratio",
+                self.cell_radius_edge_ratio.is_some(),
+            ),
             ("cell-size", self.cell_size.is_some()),
             ("subdivision", self.subdivision.is_some()),
         ];

@@ -180,7 +180,10 @@ pub(super) fn facet_step(r: &mut Recovery, f: usize) -> Result<FacetStep, Preser
             }
             None => {
                 let radius2 = (center - a).length_squared();
-                if !planned.iter().any(|q| (*q - center).length_squared() < radius2) {
+                if !planned
+                    .iter()
+                    .any(|q| (*q - center).length_squared() < radius2)
+                {
                     planned.push(center);
                     actions.push(Action::Insert(center, on[tri[0]].vertex));
                 }

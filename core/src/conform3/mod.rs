@@ -311,10 +311,12 @@ impl Recovery {
             return Ok(());
         };
         let from = edge.chain[i].1;
-        let (t, p) = edge.split_point(i, self.min_length).ok_or(PreserveError::TooShort {
-            edge: edge.ends,
-            length: self.min_length,
-        })?;
+        let (t, p) = edge
+            .split_point(i, self.min_length)
+            .ok_or(PreserveError::TooShort {
+                edge: edge.ends,
+                length: self.min_length,
+            })?;
         let ends = edge.ends;
         match self.insert(p, from)? {
             Some(v) => {

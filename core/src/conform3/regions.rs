@@ -120,7 +120,9 @@ fn collect(
             if orient3d(a, b, d, apex) != Sign::Positive {
                 f.swap(0, 1);
             }
-            complex.facet_patch.push(patch_of.get(&key(f)).copied().unwrap_or(0));
+            complex
+                .facet_patch
+                .push(patch_of.get(&key(f)).copied().unwrap_or(0));
             complex.facets.push(f.map(|v| index[v.0 as usize]));
             complex.facet_subdomains.push([sub, other]);
         }
