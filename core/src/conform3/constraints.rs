@@ -22,9 +22,17 @@ impl InputEdge {
     /// Where to split sub-segment `i` (between `chain[i]` and `chain[i + 1]`): its midpoint, or,
     /// when exactly one end is an input vertex, the power-of-two distance from that vertex closest
     /// to the midpoint (so that edges meeting there at a small angle are split on the same
-    /// spheres and stop encroaching each other). `None` when a piece would be shorter than
+    /// spheres and stop encroaching each other). Between two Steiner points, or on a whole
+    /// edge, the foot of `encroacher` (the vertex that most encroaches the sub-segment) is
+    /// taken instead when it is not near an end: both pieces then leave that vertex out of
+    /// their diametral balls (Pébay's projection). `None` when a piece would be shorter than
     /// `min_length` or the point would round onto an end.
-    pub fn split_point(&self, i: usize, min_length: f64) -> Option<(f64, Point3)> {
+    pub fn split_point(
+        &self,
+        i: usize,
+        encroacher: Option<Point3>,
+        min_length: f64,
+    ) -> Option<(f64, Point3)> {
         let [a, b] = self.points;
         let length = (b - a).length();
         let (t0, t1) = (self.chain[i].0, self.chain[i + 1].0);
@@ -34,18 +42,31 @@ impl InputEdge {
         let t = match (from_start, to_end) {
             (true, false) => t0 + shell,
             (false, true) => t1 - shell,
-            _ => 0.5 * (t0 + t1),
+            _ => {
+                let foot = encroacher.map_or(0.5, |x| {
+                    let (p, q) = (self.at(t0), self.at(t1));
+                    (x - p).dot(q - p) / (q - p).length_squared()
+                });
+                let s = if (0.1..=0.9).contains(&foot) { foot } else { 0.5 };
+                t0 + s * (t1 - t0)
+            }
         };
         let shortest = (t - t0).min(t1 - t) * length;
         if !(shortest >= min_length && shortest > 0.0) {
             return None;
         }
-        let p = if t <= 0.5 {
+        let p = self.at(t);
+        (p != a && p != b && p.is_finite()).then_some((t, p))
+    }
+
+    /// The point at parameter `t`, from the nearer end for accuracy.
+    fn at(&self, t: f64) -> Point3 {
+        let [a, b] = self.points;
+        if t <= 0.5 {
             a + (b - a) * t
         } else {
             b + (a - b) * (1.0 - t)
-        };
-        (p != a && p != b && p.is_finite()).then_some((t, p))
+        }
     }
 }
 

@@ -310,9 +310,11 @@ impl Recovery {
         }) else {
             return Ok(());
         };
-        let from = edge.chain[i].1;
+        let (from, to) = (edge.chain[i].1, edge.chain[i + 1].1);
+        let encroacher = self.encroacher(from, to);
+        let edge = &self.constraints.edges[e];
         let (t, p) = edge
-            .split_point(i, self.min_length)
+            .split_point(i, encroacher, self.min_length)
             .ok_or(PreserveError::TooShort {
                 edge: edge.ends,
                 length: self.min_length,
@@ -329,6 +331,30 @@ impl Recovery {
                 length: self.min_length,
             }),
         }
+    }
+
+    /// The vertex around `u` or `v` that sees them under the widest angle above 90°: the one
+    /// that most encroaches the segment `uv`, if any does.
+    fn encroacher(&mut self, u: VertexId, v: VertexId) -> Option<Point3> {
+        let (pu, pv) = (self.dt.point(u), self.dt.point(v));
+        let mut best: Option<(f64, Point3)> = None;
+        for w in [u, v] {
+            self.dt.incident_cells(w, &mut self.incident);
+            for &c in &self.incident {
+                for x in self.dt.cell(c) {
+                    if x == u || x == v || self.dt.is_infinite_vertex(x) {
+                        continue;
+                    }
+                    let px = self.dt.point(x);
+                    let (a, b) = (pu - px, pv - px);
+                    let cosine = a.dot(b) / (a.length() * b.length());
+                    if cosine < 0.0 && best.is_none_or(|(c, _)| cosine < c) {
+                        best = Some((cosine, px));
+                    }
+                }
+            }
+        }
+        best.map(|(_, p)| p)
     }
 
     /// The error of the vertex cap, counting what is still missing.
