@@ -47,7 +47,11 @@ impl InputEdge {
                     let (p, q) = (self.at(t0), self.at(t1));
                     (x - p).dot(q - p) / (q - p).length_squared()
                 });
-                let s = if (0.1..=0.9).contains(&foot) { foot } else { 0.5 };
+                let s = if (0.1..=0.9).contains(&foot) {
+                    foot
+                } else {
+                    0.5
+                };
                 t0 + s * (t1 - t0)
             }
         };

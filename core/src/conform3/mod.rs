@@ -232,7 +232,7 @@ impl Recovery {
                 }
                 self.checked[e] = self.epoch;
             }
-            for f in 0..self.constraints.facets.len() {
+            for (f, pieces) in faces.iter_mut().enumerate() {
                 let facet = &self.constraints.facets[f];
                 let on = facet.corners.iter().chain(&facet.interior).copied();
                 let along = (0..3).flat_map(|k| self.constraints.facet_edge(f, k));
@@ -243,7 +243,7 @@ impl Recovery {
                 // another in-plane triangulation of a facet whose edges are still being split.
                 match facet_step(self, f)? {
                     FacetStep::Recovered(found) => {
-                        faces[f] = found;
+                        *pieces = found;
                         self.checked[edges + f] = self.epoch;
                     }
                     FacetStep::Refined => changed = true,
@@ -313,12 +313,12 @@ impl Recovery {
         let (from, to) = (edge.chain[i].1, edge.chain[i + 1].1);
         let encroacher = self.encroacher(from, to);
         let edge = &self.constraints.edges[e];
-        let (t, p) = edge
-            .split_point(i, encroacher, self.min_length)
-            .ok_or(PreserveError::TooShort {
-                edge: edge.ends,
-                length: self.min_length,
-            })?;
+        let (t, p) =
+            edge.split_point(i, encroacher, self.min_length)
+                .ok_or(PreserveError::TooShort {
+                    edge: edge.ends,
+                    length: self.min_length,
+                })?;
         let ends = edge.ends;
         match self.insert(p, from)? {
             Some(v) => {
