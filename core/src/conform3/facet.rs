@@ -191,6 +191,7 @@ pub(super) fn facet_step(r: &mut Recovery, f: usize) -> Result<FacetStep, Preser
         }
     }
     let frame = Frame::new(r.constraints.facets[f].corners.map(|v| r.dt.point(v)));
+    let before = r.dt.num_vertices();
     for action in actions {
         match action {
             Action::Split(e, pair) => r.split(e, pair)?,
@@ -202,6 +203,10 @@ pub(super) fn facet_step(r: &mut Recovery, f: usize) -> Result<FacetStep, Preser
                 r.facet_steiner += 1;
             }
         }
+    }
+    if r.dt.num_vertices() == before {
+        // Nothing to insert for pieces that are missing: another pass would do the same.
+        return Err(PreserveError::Stuck(f));
     }
     Ok(FacetStep::Refined)
 }

@@ -104,6 +104,11 @@ pub enum PreserveError {
     /// (surfaces closer than floating point resolves).
     #[error("a Steiner point for input triangle {0} coincides with an existing vertex")]
     Coincident(usize),
+    /// Input triangle has missing pieces but no point to insert for them was found.
+    #[error(
+        "recovery of input triangle {0} is stuck: no Steiner point found for its missing pieces"
+    )]
+    Stuck(usize),
 }
 
 /// A surface kept exactly in a tetrahedral mesh.
