@@ -4,10 +4,12 @@
 use crate::domain::Domain;
 use crate::error::Error;
 use crate::report::{Report, ReportInput, Times};
-use crate::settings::MeshSettings;
+use crate::settings::{FeatureSettings, MeshSettings};
 use crate::sizing::{Fields, grade};
 use delamesh_core::complex::MeshComplex;
+use delamesh_core::conform3::{PreserveOptions, preserve_surface};
 use delamesh_core::mesh::component_euler_characteristics;
+use delamesh_core::mesh::weld_exact;
 use delamesh_core::mesh::{SurfaceMesh, TetMesh};
 use delamesh_core::optimize::{OptimizeOptions, OptimizeReport, optimize};
 use delamesh_core::oracle::Oracle;
@@ -16,6 +18,7 @@ use delamesh_core::refine::{Cancel, MeshError, Progress, RefineError, RefineStat
 use delamesh_formats::image::{Image, is_image_path, read_image};
 use delamesh_formats::{PolygonMesh, WriteOptions, read_polygons, read_surface, write_tet_mesh};
 use delamesh_image_label::ImageOptions;
+use delamesh_polyhedral::{refuse_defects, surface_defects};
 use std::path::Path;
 use std::time::Instant;
 
@@ -227,6 +230,9 @@ impl<'p> Mesher<'p> {
         started: Instant,
         read: std::time::Duration,
     ) -> Result<Meshed, Error> {
+        if self.settings.preserve_surface {
+            return self.mesh_preserving(name, surface, started, read);
+        }
         let t = Instant::now();
         let domain = Domain::from_surface(
             &name,
@@ -242,6 +248,80 @@ impl<'p> Mesher<'p> {
         self.mesh_domain(name, domain, Some(surface), started, times)
     }
 
+    /// `--preserve-surface`: the surface, refused unless it bounds a volume as given, kept in a
+    /// conforming Delaunay tetrahedralisation; the polyhedral oracle names the subdomains.
+    fn mesh_preserving(
+        &mut self,
+        name: String,
+        mut surface: SurfaceMesh,
+        started: Instant,
+        read: std::time::Duration,
+    ) -> Result<Meshed, Error> {
+        let t = Instant::now();
+        let unmeshable = |problem: String| Error::Unmeshable {
+            name: name.clone(),
+            problem,
+        };
+        weld_exact(&mut surface.positions, &mut surface.triangles);
+        refuse_defects(&surface_defects(&surface.positions, &surface.triangles))
+            .map_err(|e| unmeshable(format!("--preserve-surface: {e}")))?;
+        let smooth = FeatureSettings {
+            enabled: false,
+            ..FeatureSettings::default()
+        };
+        let domain = Domain::from_surface(&name, &surface, &smooth, true)?;
+        let mut times = Times {
+            read,
+            oracle: t.elapsed(),
+            ..Times::default()
+        };
+        let t = Instant::now();
+        // Patches numbered from 1, as the polyhedral oracle numbers them.
+        let patches: Vec<u32> = surface.patches.iter().map(|p| p.0 + 1).collect();
+        let options = PreserveOptions {
+            max_vertices: self.settings.max_vertices,
+            ..PreserveOptions::default()
+        };
+        let preserved = preserve_surface(
+            &surface.positions,
+            &surface.triangles,
+            &patches,
+            domain.oracle(),
+            &options,
+        )
+        .map_err(|e| unmeshable(format!("--preserve-surface: {e}")))?;
+        times.refinement = t.elapsed();
+        if preserved.complex.tets.is_empty() {
+            return Err(Error::Empty {
+                name,
+                what: "surface",
+            });
+        }
+        let bbox = domain.oracle().bounding_box();
+        let none = OptimizeOptions::none();
+        let criteria = self.settings.criteria(&bbox);
+        let (complex, optimization) =
+            optimize(preserved.complex, &[], domain.oracle(), &criteria, &none);
+        Ok(Meshed {
+            complex,
+            // The two levels of recovery: Steiner points on input edges, then inside triangles.
+            stats: RefineStats {
+                insertions: vec![preserved.edge_steiner, preserved.facet_steiner],
+                ..RefineStats::default()
+            },
+            warnings: Vec::new(),
+            stopped: None,
+            criteria,
+            times,
+            optimization,
+            domain,
+            name,
+            input: Some(surface),
+            output: None,
+            started,
+        })
+    }
+
     /// Refines `domain` and collects the complex; every input ends here.
     fn mesh_domain(
         &mut self,
@@ -251,6 +331,13 @@ impl<'p> Mesher<'p> {
         started: Instant,
         mut times: Times,
     ) -> Result<Meshed, Error> {
+        if self.settings.preserve_surface {
+            return Err(Error::Unmeshable {
+                name,
+                problem: "--preserve-surface keeps a triangle surface; this input is not one"
+                    .into(),
+            });
+        }
         let oracle = domain.oracle();
         let bbox = oracle.bounding_box();
         let fields = Fields::load(&self.settings.sizing)?;

@@ -66,6 +66,10 @@ pub struct MeshSettings {
     pub optimize: OptimizeOptions,
     /// Sizing fields, per-subdomain and per-patch sizes, gradation.
     pub sizing: SizingSettings,
+    /// Keep the input surface exactly: every input vertex is a mesh vertex and every input
+    /// triangle a union of boundary facets (Steiner points on the input edges and triangles as
+    /// needed, no re-sampling). The surface must be closed and not self-intersecting.
+    pub preserve_surface: bool,
 }
 
 /// Options of segmented and gray-level 3D images (unused for surfaces and plugins).
@@ -118,6 +122,7 @@ impl Default for MeshSettings {
             subdivision: None,
             optimize: OptimizeOptions::none(),
             sizing: SizingSettings::default(),
+            preserve_surface: false,
         }
     }
 }
@@ -193,6 +198,7 @@ impl MeshSettings {
             ));
         }
         self.validate_sizing()?;
+        self.validate_preserve_surface()?;
         if let Some(a) = self.subdivision.as_ref().and_then(|s| s.crease_angle_deg)
             && !(0.0..=180.0).contains(&a)
         {
@@ -211,6 +217,37 @@ impl MeshSettings {
     }
 
     /// The checks of [`SizingSettings`] that need no file: sizes, gradation, expressions.
+    /// `--preserve-surface` keeps the input triangles as they are: options that re-sample the
+    /// surface or refine the volume have nothing to act on (refinement of a kept surface is not
+    /// built yet).
+    fn validate_preserve_surface(&self) -> Result<(), SettingsError> {
+        if !self.preserve_surface {
+            return Ok(());
+        }
+        let conflicts = [
+            ("edge-size", self.edge_size.is_some()),
+            ("edge-min-size", self.edge_min_size.is_some()),
+            ("facet-angle", self.facet_angle.is_some()),
+            ("facet-size", self.facet_size.is_some()),
+            ("facet-distance", self.facet_distance.is_some()),
+            (
+                "cell-radius-edge-ratio",
+                self.cell_radius_edge_ratio.is_some(),
+            ),
+            ("cell-size", self.cell_size.is_some()),
+            ("subdivision", self.subdivision.is_some()),
+        ];
+        match conflicts.iter().find(|c| c.1) {
+            Some((option, _)) => Err(SettingsError::new(
+                "preserve-surface",
+                format!(
+                    "keeps the input triangles as given and cannot be combined with --{option}"
+                ),
+            )),
+            None => Ok(()),
+        }
+    }
+
     fn validate_sizing(&self) -> Result<(), SettingsError> {
         let s = &self.sizing;
         for &size in s.per_subdomain.values() {
@@ -443,6 +480,12 @@ impl MeshSettingsBuilder {
         self.settings.subdivision = Some(options);
         self
     }
+    /// See [`MeshSettings::preserve_surface`].
+    pub fn preserve_surface(mut self, preserve: bool) -> Self {
+        self.settings.preserve_surface = preserve;
+        self
+    }
+
     /// See [`MeshSettings::strict`].
     pub fn strict(mut self, strict: bool) -> Self {
         self.settings.strict = strict;

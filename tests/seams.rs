@@ -123,7 +123,12 @@ fn steps_finer_than_the_mesh_give_valid_solids() {
 #[test]
 fn csg_parts_with_unresolved_seams_give_valid_solids() {
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/csg");
-    for name in ["csg_0900.off", "csg_0907.off", "csg_0913.off", "csg_0951.off"] {
+    for name in [
+        "csg_0900.off",
+        "csg_0907.off",
+        "csg_0913.off",
+        "csg_0951.off",
+    ] {
         let path = dir.join(name);
         let surface = delamesh::formats::read_surface(&path, None)
             .expect("readable fixture")

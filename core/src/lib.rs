@@ -3,6 +3,7 @@
 //! crate `delamesh`).
 
 pub mod complex;
+pub mod conform3;
 pub mod kernel;
 pub mod mesh;
 pub mod mesh2d;

@@ -87,6 +87,11 @@ pub struct MeshArgs {
     /// degrees are creases too.
     #[arg(long, value_name = "DEG", requires = "subdivision")]
     pub crease_angle: Option<f64>,
+    /// Keep the input surface exactly: every input vertex is a mesh vertex and every input triangle
+    /// a union of boundary facets (Steiner points on input edges and triangles where the Delaunay
+    /// tetrahedralisation misses them). The surface must be closed and not self-intersecting.
+    #[arg(long)]
+    pub preserve_surface: bool,
     /// ASCII instead of binary for .vtu / .vtk.
     #[arg(long)]
     pub ascii: bool,
@@ -136,6 +141,7 @@ impl MeshArgs {
             subdivision: self.subdivision_options()?,
             optimize: self.optimize.options()?,
             sizing: self.sizing.settings()?,
+            preserve_surface: self.preserve_surface,
         })
     }
 }

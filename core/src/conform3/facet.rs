@@ -1,0 +1,253 @@
+//! Recovery of one input triangle: the in-plane Delaunay triangulation of the vertices on it
+//! names the faces that should appear; the centres of the missing ones are inserted (or the
+//! sub-segments they encroach split) until all are faces of the 3D triangulation.
+
+use super::{PreserveError, Recovery};
+use crate::kernel::predicates2d::{circumcenter, dot_sign, orient2d};
+use crate::kernel::{Point2, Point3};
+use crate::triangulation::{Delaunay2, Triangulation, VertexId};
+use std::cmp::Ordering;
+
+/// What one step on a facet did.
+pub(super) enum FacetStep {
+    /// Every piece is a face: these faces make up the triangle.
+    Recovered(Vec<[VertexId; 3]>),
+    /// Points were inserted on the triangle or on its edges.
+    Refined,
+}
+
+/// A vertex on the facet: which of the facet's edges it lies on (bit `k` for edge `k`; both
+/// edges of a corner, none inside) and its in-plane coordinates.
+struct OnFacet {
+    vertex: VertexId,
+    edges: u8,
+    at: Point2,
+}
+
+/// An orthonormal frame of the facet's plane, at its first corner.
+struct Frame {
+    origin: Point3,
+    u: Point3,
+    v: Point3,
+}
+
+impl Frame {
+    fn new([a, b, c]: [Point3; 3]) -> Self {
+        let u = (b - a).normalize();
+        let v = (b - a).cross(c - a).cross(u).normalize();
+        Frame { origin: a, u, v }
+    }
+
+    fn project(&self, p: Point3) -> Point2 {
+        let d = p - self.origin;
+        Point2::new(d.dot(self.u), d.dot(self.v))
+    }
+
+    fn lift(&self, p: Point2) -> Point3 {
+        self.origin + self.u * p.x + self.v * p.y
+    }
+}
+
+/// A refinement planned for this step.
+enum Action {
+    /// Split the sub-segment between two vertices of this input edge.
+    Split(usize, [VertexId; 2]),
+    /// Insert this point of the plane inside the facet.
+    Insert(Point2, VertexId),
+}
+
+/// The vertices on facet `f`: its corners, the Steiner points of its edges, those inside.
+fn vertices_on(r: &Recovery, f: usize) -> Vec<(VertexId, u8)> {
+    let mut out = Vec::new();
+    for k in 0..3 {
+        let corner = 1 << k | 1 << ((k + 2) % 3);
+        let mut along: Vec<VertexId> = r.constraints.facet_edge(f, k).collect();
+        along.pop();
+        for (j, v) in along.into_iter().enumerate() {
+            out.push((v, if j == 0 { corner } else { 1 << k }));
+        }
+    }
+    out.extend(r.constraints.facets[f].interior.iter().map(|&v| (v, 0)));
+    out
+}
+
+/// Whether facet `f` is a union of triangulation faces (inserting nothing).
+pub(super) fn is_recovered(r: &mut Recovery, f: usize) -> bool {
+    matches!(pieces(r, f), Ok((_, _, missing)) if missing.is_empty())
+}
+
+/// The vertices on facet `f` in its plane, the pieces of their in-plane Delaunay triangulation
+/// that are faces, and those that are not (as indices into the vertices).
+#[allow(clippy::type_complexity)]
+fn pieces(
+    r: &mut Recovery,
+    f: usize,
+) -> Result<(Vec<OnFacet>, Vec<[VertexId; 3]>, Vec<[usize; 3]>), PreserveError> {
+    let on = vertices_on(r, f);
+    if on.len() == 3 {
+        let corners = r.constraints.facets[f].corners;
+        let at = Vec::new();
+        return Ok(if r.has_face(corners) {
+            (at, vec![corners], Vec::new())
+        } else {
+            let frame = Frame::new(corners.map(|v| r.dt.point(v)));
+            let at = on
+                .iter()
+                .map(|&(vertex, edges)| OnFacet {
+                    vertex,
+                    edges,
+                    at: frame.project(r.dt.point(vertex)),
+                })
+                .collect();
+            (at, Vec::new(), vec![[0, 1, 2]])
+        });
+    }
+    let frame = Frame::new(r.constraints.facets[f].corners.map(|v| r.dt.point(v)));
+    let on: Vec<OnFacet> = on
+        .into_iter()
+        .map(|(vertex, edges)| OnFacet {
+            vertex,
+            edges,
+            at: frame.project(r.dt.point(vertex)),
+        })
+        .collect();
+    let planar: Vec<Point2> = on.iter().map(|o| o.at).collect();
+    let (dt2, outcomes) = Delaunay2::from_points(&planar)?;
+    let mut local = vec![usize::MAX; dt2.num_vertices()];
+    for (i, outcome) in outcomes.iter().enumerate() {
+        let slot = &mut local[outcome.vertex().0 as usize];
+        if *slot != usize::MAX {
+            return Err(PreserveError::Coincident(f));
+        }
+        *slot = i;
+    }
+    let (mut faces, mut missing) = (Vec::new(), Vec::new());
+    for c in dt2.finite_cells() {
+        let tri = dt2.cell(c).map(|v| local[v.0 as usize]);
+        if on[tri[0]].edges & on[tri[1]].edges & on[tri[2]].edges != 0 {
+            // Three points of one input edge: a sliver of rounding, not a piece of the facet.
+            continue;
+        }
+        let face = tri.map(|i| on[i].vertex);
+        if r.has_face(face) {
+            faces.push(face);
+        } else {
+            missing.push(tri);
+        }
+    }
+    Ok((on, faces, missing))
+}
+
+/// One step on facet `f`: its faces if it is recovered, else refinement of its missing pieces
+/// (an independent set: no planned point inside another planned piece's circle).
+pub(super) fn facet_step(r: &mut Recovery, f: usize) -> Result<FacetStep, PreserveError> {
+    let (on, faces, missing) = pieces(r, f)?;
+    if missing.is_empty() {
+        return Ok(FacetStep::Recovered(faces));
+    }
+    let corners: Vec<Point2> = (0..3).map(|k| on[corner_index(&on, k)].at).collect();
+    let boundary = boundary_segments(r, f, &on);
+    let mut planned: Vec<Point2> = Vec::new();
+    let mut actions: Vec<Action> = Vec::new();
+    for tri in missing {
+        let [a, b, c] = tri.map(|i| on[i].at);
+        let center = circumcenter(a, b, c);
+        if !center.is_finite() {
+            continue;
+        }
+        let encroached = boundary
+            .iter()
+            .find(|s| dot_sign(center, s.ends[0], s.ends[1]) == Ordering::Less)
+            .or_else(|| {
+                // Outside the triangle without encroaching: split the longest sub-segment of an
+                // edge the centre lies beyond.
+                (0..3)
+                    .filter(|&k| {
+                        orient2d(corners[k], corners[(k + 1) % 3], center) != Ordering::Greater
+                    })
+                    .flat_map(|k| boundary.iter().filter(move |s| s.side == k))
+                    .max_by(|s, t| s.length2().total_cmp(&t.length2()))
+            });
+        match encroached {
+            // Splits of distinct sub-segments do not interfere.
+            Some(s) => {
+                if !actions
+                    .iter()
+                    .any(|a| matches!(a, Action::Split(e, v) if *e == s.edge && *v == s.vertices))
+                {
+                    actions.push(Action::Split(s.edge, s.vertices));
+                }
+            }
+            None => {
+                let radius2 = (center - a).length_squared();
+                if !planned
+                    .iter()
+                    .any(|q| (*q - center).length_squared() < radius2)
+                {
+                    planned.push(center);
+                    actions.push(Action::Insert(center, on[tri[0]].vertex));
+                }
+            }
+        }
+    }
+    let frame = Frame::new(r.constraints.facets[f].corners.map(|v| r.dt.point(v)));
+    let before = r.dt.num_vertices();
+    for action in actions {
+        match action {
+            Action::Split(e, pair) => r.split(e, pair)?,
+            Action::Insert(at, near) => {
+                let v = r
+                    .insert(frame.lift(at), near)?
+                    .ok_or(PreserveError::Coincident(f))?;
+                r.constraints.facets[f].interior.push(v);
+                r.facet_steiner += 1;
+            }
+        }
+    }
+    if r.dt.num_vertices() == before {
+        // Nothing to insert for pieces that are missing: another pass would do the same.
+        return Err(PreserveError::Stuck(f));
+    }
+    Ok(FacetStep::Refined)
+}
+
+/// Index in `on` of corner `k` (the vertices come edge by edge, each edge from its corner).
+fn corner_index(on: &[OnFacet], k: usize) -> usize {
+    let mask = 1 << k | 1 << ((k + 2) % 3);
+    on.iter().position(|o| o.edges == mask).unwrap_or(0)
+}
+
+/// A sub-segment on the boundary of a facet.
+struct Boundary {
+    /// The facet's edge (0..3) it lies on.
+    side: usize,
+    /// Its input edge.
+    edge: usize,
+    vertices: [VertexId; 2],
+    ends: [Point2; 2],
+}
+
+impl Boundary {
+    fn length2(&self) -> f64 {
+        (self.ends[1] - self.ends[0]).length_squared()
+    }
+}
+
+fn boundary_segments(r: &Recovery, f: usize, on: &[OnFacet]) -> Vec<Boundary> {
+    let index: std::collections::HashMap<VertexId, Point2> =
+        on.iter().map(|o| (o.vertex, o.at)).collect();
+    let at = |v: VertexId| index.get(&v).copied().unwrap_or(Point2::ZERO);
+    let mut out = Vec::new();
+    for side in 0..3 {
+        let along: Vec<VertexId> = r.constraints.facet_edge(f, side).collect();
+        for w in along.windows(2) {
+            out.push(Boundary {
+                side,
+                edge: r.constraints.facets[f].edges[side] as usize,
+                vertices: [w[0], w[1]],
+                ends: [at(w[0]), at(w[1])],
+            });
+        }
+    }
+    out
+}

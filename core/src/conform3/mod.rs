@@ -1,0 +1,383 @@
+//! Boundary-conforming tetrahedralisation of a closed triangle surface (seed 001 in 3D): the input
+//! vertices are inserted into a Delaunay triangulation, then Steiner points on the missing input
+//! edges and triangles until every input triangle is exactly a union of triangulation faces; the
+//! cells are then split into regions by those faces and each region takes the subdomain the
+//! domain's oracle gives it.
+//!
+//! Conforming, not constrained: every cell stays Delaunay, so a constraint is recovered only by
+//! making its pieces small enough that their diametral balls hold no other vertex (Cohen-Steiner,
+//! de Verdière and Yvinec; Shewchuk's Delaunay refinement of PLCs without the cell level). Missing
+//! sub-segments are split first — at the midpoint, or on a power-of-two shell around an input
+//! vertex (Ruppert's concentric shells, so that segments meeting at small angles stop splitting
+//! each other) — then missing sub-facets get the centre of their in-plane Delaunay circle, or split
+//! the sub-segment of their triangle that centre encroaches. Every test is an exact predicate on
+//! the points as stored; Steiner points are computed on their constraint as well as floating point
+//! allows, and the constraint keeps them by combinatorics (the chain of an edge, the point list of
+//! a triangle), never by re-measuring their position.
+
+mod constraints;
+mod facet;
+mod regions;
+
+#[cfg(test)]
+mod tests;
+
+use crate::complex::MeshComplex;
+use crate::kernel::Point3;
+use crate::oracle::{Oracle, PatchId};
+use crate::triangulation::{
+    CellId, Delaunay3, InsertOutcome, InsertReport, Triangulation, TriangulationError, VertexId,
+};
+use constraints::Constraints;
+use facet::{FacetStep, facet_step};
+
+/// Options of [`preserve_surface`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PreserveOptions {
+    /// Most vertices (input and Steiner) the triangulation may reach before recovery gives up.
+    pub max_vertices: usize,
+    /// Shortest sub-segment a split may create, relative to the diagonal of the input's bounding
+    /// box: below it the input is taken to have a feature floating point cannot resolve.
+    pub min_relative_length: f64,
+}
+
+impl Default for PreserveOptions {
+    fn default() -> Self {
+        PreserveOptions {
+            max_vertices: 5_000_000,
+            min_relative_length: 1e-9,
+        }
+    }
+}
+
+/// Why the surface could not be kept.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum PreserveError {
+    /// The surface has no triangles.
+    #[error("the surface has no triangles")]
+    Empty,
+    /// A triangle names a vertex that does not exist.
+    #[error("triangle {triangle} names vertex {index}, but there are {count} vertices")]
+    IndexOutOfRange {
+        /// The triangle.
+        triangle: usize,
+        /// The index it names.
+        index: u32,
+        /// How many vertices there are.
+        count: usize,
+    },
+    /// The patch list does not have one entry per triangle.
+    #[error("{0} patch ids for {1} triangles")]
+    PatchCount(usize, usize),
+    /// A triangle's corners are collinear (or two coincide): it has no plane to recover.
+    #[error("triangle {0} is degenerate (collinear or coincident corners)")]
+    DegenerateTriangle(usize),
+    /// Two input vertices have the same position (the surface must be welded).
+    #[error("input vertices {0} and {1} are at the same position")]
+    DuplicateVertex(u32, u32),
+    /// The triangulation refused a point.
+    #[error("triangulation: {0}")]
+    Triangulation(#[from] TriangulationError),
+    /// The vertex cap was reached before every constraint appeared.
+    #[error(
+        "boundary recovery did not finish within {cap} vertices ({edges} input edges and {facets} input triangles still missing)"
+    )]
+    VertexCap {
+        /// The cap.
+        cap: usize,
+        /// Input edges not yet a chain of triangulation edges.
+        edges: usize,
+        /// Input triangles not yet a union of triangulation faces.
+        facets: usize,
+    },
+    /// A split would create a sub-segment shorter than the resolvable length.
+    #[error(
+        "recovering the input edge between vertices {} and {} would need a piece shorter than {length:e} (input features too close for floating point)", edge[0], edge[1]
+    )]
+    TooShort {
+        /// The input edge, as its two input vertices.
+        edge: [u32; 2],
+        /// The shortest length allowed.
+        length: f64,
+    },
+    /// A Steiner point for an input triangle fell on an existing vertex of another constraint
+    /// (surfaces closer than floating point resolves).
+    #[error("a Steiner point for input triangle {0} coincides with an existing vertex")]
+    Coincident(usize),
+    /// Input triangle has missing pieces but no point to insert for them was found.
+    #[error(
+        "recovery of input triangle {0} is stuck: no Steiner point found for its missing pieces"
+    )]
+    Stuck(usize),
+}
+
+/// A surface kept exactly in a tetrahedral mesh.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Preserved {
+    /// The mesh: every boundary facet lies in one input triangle, whose patch it carries.
+    pub complex: MeshComplex,
+    /// Steiner points inserted on input edges.
+    pub edge_steiner: usize,
+    /// Steiner points inserted inside input triangles.
+    pub facet_steiner: usize,
+    /// Passes over all constraints (the last one finds every constraint present).
+    pub rounds: usize,
+}
+
+impl Preserved {
+    /// Every Steiner point.
+    pub fn steiner_points(&self) -> usize {
+        self.edge_steiner + self.facet_steiner
+    }
+}
+
+/// Tetrahedralises the inside of the closed, non-self-intersecting surface `triangles` over
+/// `points`, keeping every input triangle as a union of boundary facets (with `patches[t]` as
+/// their patch) and every input vertex as a mesh vertex. `oracle` names the subdomain of each
+/// region bounded by the surface (asked once per region, at the centroid of its largest cell).
+///
+/// The surface's closedness and the absence of self-intersections are the caller's to check
+/// (the polyhedral plugin's validation does); this function refuses what it cannot recover.
+pub fn preserve_surface(
+    points: &[Point3],
+    triangles: &[[u32; 3]],
+    patches: &[PatchId],
+    oracle: &dyn Oracle,
+    options: &PreserveOptions,
+) -> Result<Preserved, PreserveError> {
+    let constraints = Constraints::new(points, triangles, patches)?;
+    let mut recovery = Recovery::new(points, constraints, options)?;
+    let faces = recovery.run()?;
+    let complex = regions::complex(&recovery.dt, &faces, &recovery.constraints, oracle);
+    Ok(Preserved {
+        complex,
+        edge_steiner: recovery.edge_steiner,
+        facet_steiner: recovery.facet_steiner,
+        rounds: recovery.rounds,
+    })
+}
+
+/// The triangulation being made to conform, and the constraints' bookkeeping.
+struct Recovery {
+    dt: Delaunay3,
+    constraints: Constraints,
+    max_vertices: usize,
+    min_length: f64,
+    report: InsertReport,
+    incident: Vec<CellId>,
+    edge_steiner: usize,
+    facet_steiner: usize,
+    rounds: usize,
+    /// Insertions so far, plus one: the clock of `touched` and `checked`.
+    epoch: u64,
+    /// Per vertex, the last insertion that changed a cell around it (a face is destroyed only
+    /// with a cell around each of its vertices, all of which the new cells then touch).
+    touched: Vec<u64>,
+    /// Per input edge, then per input triangle (after the edges), the epoch it was last found
+    /// present at; 0: never.
+    checked: Vec<u64>,
+}
+
+impl Recovery {
+    fn new(
+        points: &[Point3],
+        mut constraints: Constraints,
+        options: &PreserveOptions,
+    ) -> Result<Self, PreserveError> {
+        let used = constraints.used_points(points);
+        let mut dt = Delaunay3::new();
+        let vertices = dt.insert_points(&used)?;
+        if let Some((a, b)) = constraints.first_duplicate(&vertices) {
+            return Err(PreserveError::DuplicateVertex(a, b));
+        }
+        constraints.attach(&vertices);
+        let constraints_len = constraints.edges.len() + constraints.facets.len();
+        let diagonal = crate::mesh::Aabb::of(&used).map_or(0.0, |b| (b.max - b.min).length());
+        Ok(Recovery {
+            dt,
+            constraints,
+            max_vertices: options.max_vertices,
+            min_length: options.min_relative_length * diagonal,
+            report: InsertReport::default(),
+            incident: Vec::new(),
+            edge_steiner: 0,
+            facet_steiner: 0,
+            rounds: 0,
+            epoch: 1,
+            touched: vec![1; vertices.len()],
+            checked: vec![0; constraints_len],
+        })
+    }
+
+    /// Passes over every constraint until one inserts nothing; returns the faces making up each
+    /// input triangle.
+    fn run(&mut self) -> Result<Vec<Vec<[VertexId; 3]>>, PreserveError> {
+        let mut faces = vec![Vec::new(); self.constraints.facets.len()];
+        loop {
+            self.rounds += 1;
+            let mut changed = false;
+            let edges = self.constraints.edges.len();
+            for e in 0..edges {
+                let chain = &self.constraints.edges[e].chain;
+                if self.untouched(e, chain.iter().map(|&(_, v)| v)) {
+                    continue;
+                }
+                let mut i = 0;
+                while i + 1 < self.constraints.edges[e].chain.len() {
+                    let (u, v) = {
+                        let chain = &self.constraints.edges[e].chain;
+                        (chain[i].1, chain[i + 1].1)
+                    };
+                    if self.has_edge(u, v) {
+                        i += 1;
+                    } else {
+                        self.split(e, [u, v])?;
+                        changed = true;
+                    }
+                }
+                self.checked[e] = self.epoch;
+            }
+            for (f, pieces) in faces.iter_mut().enumerate() {
+                let facet = &self.constraints.facets[f];
+                let on = facet.corners.iter().chain(&facet.interior).copied();
+                let along = (0..3).flat_map(|k| self.constraints.facet_edge(f, k));
+                if self.untouched(edges + f, on.chain(along)) {
+                    continue;
+                }
+                // One step per facet and round: the edges' pass in between is far cheaper than
+                // another in-plane triangulation of a facet whose edges are still being split.
+                match facet_step(self, f)? {
+                    FacetStep::Recovered(found) => {
+                        *pieces = found;
+                        self.checked[edges + f] = self.epoch;
+                    }
+                    FacetStep::Refined => changed = true,
+                }
+            }
+            if !changed {
+                return Ok(faces);
+            }
+        }
+    }
+
+    /// Whether constraint `k` was found present and none of its vertices has been touched since.
+    fn untouched(&self, k: usize, mut vertices: impl Iterator<Item = VertexId>) -> bool {
+        let at = self.checked[k];
+        at != 0 && vertices.all(|v| self.touched[v.0 as usize] <= at)
+    }
+
+    /// Whether `u` and `v` are joined by an edge of the triangulation.
+    fn has_edge(&mut self, u: VertexId, v: VertexId) -> bool {
+        self.dt.incident_cells(u, &mut self.incident);
+        let dt = &self.dt;
+        self.incident.iter().any(|&c| dt.cell(c).contains(&v))
+    }
+
+    /// Whether `u`, `v`, `w` form a face of the triangulation.
+    fn has_face(&mut self, [u, v, w]: [VertexId; 3]) -> bool {
+        self.dt.incident_cells(u, &mut self.incident);
+        let dt = &self.dt;
+        self.incident.iter().any(|&c| {
+            let cell = dt.cell(c);
+            cell.contains(&v) && cell.contains(&w)
+        })
+    }
+
+    /// Inserts a Steiner point near vertex `near`; `None` when it falls on an existing vertex.
+    fn insert(&mut self, p: Point3, near: VertexId) -> Result<Option<VertexId>, PreserveError> {
+        if self.dt.num_vertices() >= self.max_vertices {
+            return Err(self.cap_error());
+        }
+        let hint = self.dt.vertex_cell(near);
+        match self.dt.insert_reporting(p, hint, &mut self.report)? {
+            InsertOutcome::Inserted(v) => {
+                self.epoch += 1;
+                self.touched.resize(self.dt.num_vertices(), self.epoch);
+                for &c in &self.report.created {
+                    for u in self.dt.cell(c) {
+                        if let Some(t) = self.touched.get_mut(u.0 as usize) {
+                            *t = self.epoch;
+                        }
+                    }
+                }
+                Ok(Some(v))
+            }
+            InsertOutcome::Duplicate(_) | InsertOutcome::Hidden(_) => Ok(None),
+        }
+    }
+
+    /// Splits the sub-segment of input edge `e` between the chain vertices `pair` (nothing when
+    /// they are no longer consecutive).
+    fn split(&mut self, e: usize, pair: [VertexId; 2]) -> Result<(), PreserveError> {
+        let edge = &self.constraints.edges[e];
+        let Some(i) = edge.chain.windows(2).position(|w| {
+            (w[0].1 == pair[0] && w[1].1 == pair[1]) || (w[0].1 == pair[1] && w[1].1 == pair[0])
+        }) else {
+            return Ok(());
+        };
+        let (from, to) = (edge.chain[i].1, edge.chain[i + 1].1);
+        let encroacher = self.encroacher(from, to);
+        let edge = &self.constraints.edges[e];
+        let (t, p) =
+            edge.split_point(i, encroacher, self.min_length)
+                .ok_or(PreserveError::TooShort {
+                    edge: edge.ends,
+                    length: self.min_length,
+                })?;
+        let ends = edge.ends;
+        match self.insert(p, from)? {
+            Some(v) => {
+                self.constraints.edges[e].chain.insert(i + 1, (t, v));
+                self.edge_steiner += 1;
+                Ok(())
+            }
+            None => Err(PreserveError::TooShort {
+                edge: ends,
+                length: self.min_length,
+            }),
+        }
+    }
+
+    /// The vertex around `u` or `v` that sees them under the widest angle above 90°: the one
+    /// that most encroaches the segment `uv`, if any does.
+    fn encroacher(&mut self, u: VertexId, v: VertexId) -> Option<Point3> {
+        let (pu, pv) = (self.dt.point(u), self.dt.point(v));
+        let mut best: Option<(f64, Point3)> = None;
+        for w in [u, v] {
+            self.dt.incident_cells(w, &mut self.incident);
+            for &c in &self.incident {
+                for x in self.dt.cell(c) {
+                    if x == u || x == v || self.dt.is_infinite_vertex(x) {
+                        continue;
+                    }
+                    let px = self.dt.point(x);
+                    let (a, b) = (pu - px, pv - px);
+                    let cosine = a.dot(b) / (a.length() * b.length());
+                    if cosine < 0.0 && best.is_none_or(|(c, _)| cosine < c) {
+                        best = Some((cosine, px));
+                    }
+                }
+            }
+        }
+        best.map(|(_, p)| p)
+    }
+
+    /// The error of the vertex cap, counting what is still missing.
+    fn cap_error(&mut self) -> PreserveError {
+        let mut edges = 0;
+        for e in 0..self.constraints.edges.len() {
+            let chain = self.constraints.edges[e].chain.clone();
+            if chain.windows(2).any(|w| !self.has_edge(w[0].1, w[1].1)) {
+                edges += 1;
+            }
+        }
+        let facets = (0..self.constraints.facets.len())
+            .filter(|&f| !facet::is_recovered(self, f))
+            .count();
+        PreserveError::VertexCap {
+            cap: self.max_vertices,
+            edges,
+            facets,
+        }
+    }
+}

@@ -1,0 +1,131 @@
+//! From a conforming triangulation to the mesh: cells joined across every face that is not a
+//! piece of an input triangle form the regions; the one holding the infinite cells is outside,
+//! each other takes the subdomain the oracle gives its largest cell's centroid.
+
+use super::constraints::Constraints;
+use crate::complex::{MeshComplex, VertexDimension};
+use crate::kernel::{Sign, orient3d};
+use crate::oracle::{OUTSIDE, Oracle, PatchId, SubdomainId};
+use crate::refine::{cell_vertices, facet_vertices};
+use crate::triangulation::{Delaunay3, Triangulation, VertexId};
+use crate::union_find::UnionFind;
+use std::collections::HashMap;
+
+fn key(mut f: [VertexId; 3]) -> [VertexId; 3] {
+    f.sort_unstable();
+    f
+}
+
+/// The interior cells of the recovered surface with their subdomains, and the faces between
+/// subdomains with the patch of the input triangle they lie in.
+pub(super) fn complex(
+    dt: &Delaunay3,
+    faces: &[Vec<[VertexId; 3]>],
+    constraints: &Constraints,
+    oracle: &dyn Oracle,
+) -> MeshComplex {
+    let mut patch_of: HashMap<[VertexId; 3], PatchId> = HashMap::new();
+    for (f, pieces) in faces.iter().enumerate() {
+        for &face in pieces {
+            patch_of.insert(key(face), constraints.facets[f].patch);
+        }
+    }
+    let mut regions = UnionFind::new(dt.cell_capacity());
+    for (c, i) in dt.facets() {
+        let face = facet_vertices(&cell_vertices(dt, c), i);
+        if !patch_of.contains_key(&key(face)) {
+            regions.union(c.0, dt.neighbor(c, i).0);
+        }
+    }
+    // Per region: its subdomain once known, or its largest cell so far.
+    let mut outside = Vec::new();
+    for c in dt.cells().filter(|&c| dt.is_infinite_cell(c)) {
+        outside.push(regions.find(c.0));
+    }
+    outside.sort_unstable();
+    outside.dedup();
+    let mut largest: HashMap<u32, (f64, crate::triangulation::CellId)> = HashMap::new();
+    for c in dt.finite_cells() {
+        let root = regions.find(c.0);
+        if outside.binary_search(&root).is_ok() {
+            continue;
+        }
+        let p = cell_vertices(dt, c).map(|v| dt.point(v));
+        let volume = (p[1] - p[0]).cross(p[2] - p[0]).dot(p[3] - p[0]).abs();
+        let entry = largest.entry(root).or_insert((volume, c));
+        if volume > entry.0 {
+            *entry = (volume, c);
+        }
+    }
+    let subdomain_of_root: HashMap<u32, SubdomainId> = largest
+        .iter()
+        .map(|(&root, &(_, c))| {
+            let p = cell_vertices(dt, c).map(|v| dt.point(v));
+            let centroid = (p[0] + p[1] + p[2] + p[3]) * 0.25;
+            (root, oracle.subdomain(centroid))
+        })
+        .collect();
+    let mut subdomain = vec![OUTSIDE; dt.cell_capacity()];
+    for c in dt.finite_cells() {
+        let root = regions.find(c.0);
+        subdomain[c.0 as usize] = subdomain_of_root.get(&root).copied().unwrap_or(OUTSIDE);
+    }
+    collect(dt, &subdomain, &patch_of)
+}
+
+/// The complex of the cells with a subdomain, vertices numbered in `VertexId` order.
+fn collect(
+    dt: &Delaunay3,
+    subdomain: &[SubdomainId],
+    patch_of: &HashMap<[VertexId; 3], PatchId>,
+) -> MeshComplex {
+    let kept = |c: crate::triangulation::CellId| subdomain[c.0 as usize] != OUTSIDE;
+    let mut used: Vec<VertexId> = dt
+        .finite_cells()
+        .filter(|&c| kept(c))
+        .flat_map(|c| cell_vertices(dt, c))
+        .collect();
+    used.sort_unstable();
+    used.dedup();
+    let mut index = vec![u32::MAX; dt.num_vertices()];
+    let mut complex = MeshComplex::default();
+    for (i, &v) in used.iter().enumerate() {
+        index[v.0 as usize] = i as u32;
+        complex.points.push(dt.point(v));
+        // Every vertex lies on the input surface: its own vertices and the Steiner points.
+        complex.vertex_dimension.push(VertexDimension::Surface);
+    }
+    for c in dt.finite_cells().filter(|&c| kept(c)) {
+        let sub = subdomain[c.0 as usize];
+        let cell = cell_vertices(dt, c);
+        let p = cell.map(|v| dt.point(v));
+        // Finite cells are positive in Shewchuk's sign, the opposite of the output convention.
+        let mut tet = cell.map(|v| index[v.0 as usize]);
+        tet.swap(0, 1);
+        complex.tets.push(tet);
+        complex.tet_subdomain.push(sub);
+        for (i, &apex) in p.iter().enumerate() {
+            let n = dt.neighbor(c, i);
+            let other = if dt.is_infinite_cell(n) {
+                OUTSIDE
+            } else {
+                subdomain[n.0 as usize]
+            };
+            if other >= sub {
+                continue;
+            }
+            let mut f = facet_vertices(&cell, i);
+            let [a, b, d] = f.map(|v| dt.point(v));
+            // The normal (counter-clockwise side) points away from this cell, to `other`.
+            if orient3d(a, b, d, apex) != Sign::Positive {
+                f.swap(0, 1);
+            }
+            complex
+                .facet_patch
+                .push(patch_of.get(&key(f)).copied().unwrap_or(0));
+            complex.facets.push(f.map(|v| index[v.0 as usize]));
+            complex.facet_subdomains.push([sub, other]);
+        }
+    }
+    complex
+}

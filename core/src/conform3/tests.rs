@@ -1,0 +1,115 @@
+use super::*;
+use crate::mesh::SurfaceMesh;
+use crate::oracle::{Aabb, SubdomainId, SurfaceHit, SurfacePoint};
+
+/// Every point in subdomain 1: enough for a single closed surface.
+struct One;
+
+impl Oracle for One {
+    fn bounding_box(&self) -> Aabb {
+        Aabb {
+            min: Point3::splat(-1.0),
+            max: Point3::splat(1.0),
+        }
+    }
+    fn subdomain(&self, _p: Point3) -> SubdomainId {
+        1
+    }
+    fn segment_hits(&self, _a: Point3, _b: Point3, out: &mut Vec<SurfaceHit>) {
+        out.clear();
+    }
+    fn ray_hits(&self, _o: Point3, _d: Point3, out: &mut Vec<SurfaceHit>) {
+        out.clear();
+    }
+    fn initial_points(&self) -> Vec<SurfacePoint> {
+        Vec::new()
+    }
+}
+
+fn run(
+    points: &[Point3],
+    triangles: &[[u32; 3]],
+    options: &PreserveOptions,
+) -> Result<Preserved, PreserveError> {
+    let patches = vec![1; triangles.len()];
+    preserve_surface(points, triangles, &patches, &One, options)
+}
+
+#[test]
+fn a_cube_is_kept_with_every_input_vertex() {
+    let cube = SurfaceMesh::cuboid(Point3::ZERO, Point3::ONE);
+    let kept = run(
+        &cube.positions,
+        &cube.triangles,
+        &PreserveOptions::default(),
+    )
+    .expect("kept");
+    for p in &cube.positions {
+        assert!(kept.complex.points.contains(p));
+    }
+    assert_eq!(kept.complex.points.len(), 8 + kept.steiner_points());
+    let volume: f64 = (0..kept.complex.tets.len())
+        .map(|t| crate::complex::signed_volume(&kept.complex.tet_points(t)) / 6.0)
+        .sum();
+    assert!((volume - 1.0).abs() < 1e-12, "volume {volume}");
+}
+
+#[test]
+fn degenerate_and_out_of_range_triangles_are_refused() {
+    let points = [Point3::ZERO, Point3::X, Point3::X * 2.0, Point3::Y];
+    let options = PreserveOptions::default();
+    assert_eq!(
+        run(&points, &[[0, 1, 2]], &options).unwrap_err(),
+        PreserveError::DegenerateTriangle(0)
+    );
+    assert!(matches!(
+        run(&points, &[[0, 1, 7]], &options).unwrap_err(),
+        PreserveError::IndexOutOfRange { index: 7, .. }
+    ));
+    assert_eq!(
+        run(&points, &[], &options).unwrap_err(),
+        PreserveError::Empty
+    );
+}
+
+#[test]
+fn coincident_input_vertices_are_refused() {
+    let mut cube = SurfaceMesh::cuboid(Point3::ZERO, Point3::ONE);
+    cube.positions.push(cube.positions[0]);
+    let last = cube.positions.len() as u32 - 1;
+    cube.triangles[0][0] = last;
+    assert!(matches!(
+        run(
+            &cube.positions,
+            &cube.triangles,
+            &PreserveOptions::default()
+        )
+        .unwrap_err(),
+        PreserveError::DuplicateVertex(..)
+    ));
+}
+
+#[test]
+fn the_vertex_cap_stops_recovery_with_what_is_missing() {
+    // Four-point faces of a long box are cocircular, so their diagonals are chosen by the
+    // perturbation, not by the input; a long thin box also has facets closer than their size.
+    let long = SurfaceMesh::cuboid(Point3::ZERO, Point3::new(10.0, 0.1, 0.1));
+    let options = PreserveOptions {
+        max_vertices: long.positions.len(),
+        ..PreserveOptions::default()
+    };
+    let kept = run(
+        &long.positions,
+        &long.triangles,
+        &PreserveOptions::default(),
+    )
+    .expect("kept");
+    assert!(kept.steiner_points() > 0, "this box needs Steiner points");
+    match run(&long.positions, &long.triangles, &options) {
+        Err(PreserveError::VertexCap { cap, edges, facets }) => {
+            assert_eq!(cap, long.positions.len());
+            assert!(edges + facets > 0);
+        }
+        other => panic!("{other:?}"),
+    }
+}

@@ -1,0 +1,350 @@
+//! `--preserve-surface`: the input surface kept exactly. Properties checked on every output:
+//! every input vertex is a mesh vertex, every tetrahedron is positive (exact orientation) and
+//! locally Delaunay, every boundary facet lies in one input triangle and carries its patch, the
+//! facets of each input triangle add up to its area, and the volume of each subdomain is the
+//! volume its input surfaces enclose.
+
+mod cli_support;
+mod common;
+
+use cli_support::{delamesh, test_data};
+use common::{Surface, cuboid, sphere};
+use delamesh::core::kernel::{Point3, Sign, insphere, orient3d};
+use delamesh::core::mesh::{PatchId, SurfaceMesh};
+use delamesh::core::oracle::OUTSIDE;
+use delamesh::{MeshSettings, Mesher};
+use glam::DVec3;
+use std::collections::{BTreeMap, HashMap};
+
+fn preserved(name: &str, surface: &Surface) -> delamesh::Meshed {
+    let mut mesh = SurfaceMesh::from_triangles(surface.points.clone(), surface.triangles.clone());
+    // One patch per triangle, so that a facet's patch names the triangle it must lie in.
+    mesh.patches = (0..mesh.triangles.len() as u32).map(PatchId).collect();
+    mesh.patch_names = (0..mesh.triangles.len()).map(|t| format!("t{t}")).collect();
+    let settings = MeshSettings::builder()
+        .preserve_surface(true)
+        .build()
+        .expect("valid settings");
+    Mesher::new(settings)
+        .mesh_surface(name, mesh)
+        .unwrap_or_else(|e| panic!("{name}: {e}"))
+}
+
+fn signed_volume6(p: [Point3; 4]) -> f64 {
+    (p[1] - p[0]).cross(p[2] - p[0]).dot(p[3] - p[0])
+}
+
+/// Volume enclosed by a closed outward-oriented surface (divergence theorem).
+fn enclosed_volume(points: &[DVec3], triangles: &[[u32; 3]]) -> f64 {
+    triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|v| points[v as usize]);
+            a.dot(b.cross(c)) / 6.0
+        })
+        .sum()
+}
+
+fn area(p: [Point3; 3]) -> f64 {
+    0.5 * (p[1] - p[0]).cross(p[2] - p[0]).length()
+}
+
+/// Whether `p` lies in triangle `t`: exactly on its plane when it is an input vertex, within
+/// rounding otherwise, and inside its edges.
+fn lies_in(p: Point3, t: [Point3; 3], input_vertex: bool, tolerance: f64) -> bool {
+    let normal = (t[1] - t[0]).cross(t[2] - t[0]);
+    let unit = normal.normalize();
+    if input_vertex {
+        if orient3d(t[0], t[1], t[2], p) != Sign::Zero {
+            return false;
+        }
+    } else if unit.dot(p - t[0]).abs() > tolerance {
+        return false;
+    }
+    (0..3).all(|k| unit.dot((t[(k + 1) % 3] - t[k]).cross(p - t[k])) >= -tolerance)
+}
+
+/// Every property of a kept surface; `subdomain_volumes` maps each expected subdomain volume.
+fn check(name: &str, surface: &Surface, meshed: &delamesh::Meshed, subdomain_volumes: &[f64]) {
+    let c = &meshed.complex;
+    let diagonal = {
+        let (lo, hi) = surface.points.iter().fold(
+            (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN)),
+            |(lo, hi), &p| (lo.min(p), hi.max(p)),
+        );
+        (hi - lo).length()
+    };
+    let tolerance = 1e-12 * diagonal;
+    // Every input vertex is a mesh vertex.
+    let index: HashMap<[u64; 3], usize> = c
+        .points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (p.to_array().map(f64::to_bits), i))
+        .collect();
+    for p in &surface.points {
+        assert!(
+            index.contains_key(&p.to_array().map(f64::to_bits)),
+            "{name}: input vertex {p} missing"
+        );
+    }
+    let is_input: Vec<bool> = {
+        let set: std::collections::HashSet<[u64; 3]> = surface
+            .points
+            .iter()
+            .map(|p| p.to_array().map(f64::to_bits))
+            .collect();
+        c.points
+            .iter()
+            .map(|p| set.contains(&p.to_array().map(f64::to_bits)))
+            .collect()
+    };
+    // Positive tetrahedra (output convention: the opposite of Shewchuk's orient3d sign).
+    for (t, tet) in c.tets.iter().enumerate() {
+        let p = tet.map(|v| c.points[v as usize]);
+        assert_eq!(
+            orient3d(p[0], p[1], p[2], p[3]),
+            Sign::Negative,
+            "{name}: tet {t} not positive"
+        );
+    }
+    // Locally Delaunay: across every face shared by two tetrahedra, the far vertex is not
+    // strictly inside the other's circumsphere.
+    let mut faces: HashMap<[u32; 3], Vec<(usize, u32)>> = HashMap::new();
+    for (t, tet) in c.tets.iter().enumerate() {
+        for i in 0..4 {
+            let mut f = [0, 1, 2, 3].map(|k| tet[k]);
+            let apex = f[i];
+            let mut face = [f[(i + 1) % 4], f[(i + 2) % 4], f[(i + 3) % 4]];
+            face.sort_unstable();
+            f.sort_unstable();
+            faces.entry(face).or_default().push((t, apex));
+        }
+    }
+    for (face, sides) in &faces {
+        assert!(
+            sides.len() <= 2,
+            "{name}: face {face:?} in {} tets",
+            sides.len()
+        );
+        if let [(t, _), (_, apex)] = sides[..] {
+            let p = c.tets[t].map(|v| c.points[v as usize]);
+            let e = c.points[apex as usize];
+            // Positive output tets are negative in Shewchuk's sign: inside is a negative insphere.
+            assert_ne!(
+                insphere(p[0], p[1], p[2], p[3], e),
+                Sign::Negative,
+                "{name}: not Delaunay across {face:?}"
+            );
+        }
+    }
+    // Boundary facets: each in its input triangle (its patch names it), areas adding up.
+    let mut facet_area: BTreeMap<u32, f64> = BTreeMap::new();
+    for (f, facet) in c.facets.iter().enumerate() {
+        let patch = c.facet_patch[f];
+        assert!(patch >= 1, "{name}: facet {f} without a patch");
+        let t = (patch - 1) as usize;
+        let tri = surface.triangles[t].map(|v| surface.points[v as usize]);
+        for &v in facet {
+            let p = c.points[v as usize];
+            assert!(
+                lies_in(p, tri, is_input[v as usize], tolerance),
+                "{name}: facet {f} vertex {p} not in input triangle {t}"
+            );
+        }
+        *facet_area.entry(t as u32).or_default() += area(facet.map(|v| c.points[v as usize]));
+    }
+    for (t, tri) in surface.triangles.iter().enumerate() {
+        let want = area(tri.map(|v| surface.points[v as usize]));
+        let got = facet_area.get(&(t as u32)).copied().unwrap_or(0.0);
+        assert!(
+            (got - want).abs() <= 1e-9 * want.max(diagonal * diagonal * 1e-6),
+            "{name}: input triangle {t} has area {want}, its facets {got}"
+        );
+    }
+    // Volumes per subdomain.
+    let mut volumes: BTreeMap<u32, f64> = BTreeMap::new();
+    for (t, tet) in c.tets.iter().enumerate() {
+        assert_ne!(c.tet_subdomain[t], OUTSIDE);
+        *volumes.entry(c.tet_subdomain[t]).or_default() +=
+            signed_volume6(tet.map(|v| c.points[v as usize])) / 6.0;
+    }
+    let mut got: Vec<f64> = volumes.values().copied().collect();
+    let mut want = subdomain_volumes.to_vec();
+    got.sort_by(f64::total_cmp);
+    want.sort_by(f64::total_cmp);
+    assert_eq!(got.len(), want.len(), "{name}: subdomains {volumes:?}");
+    for (g, w) in got.iter().zip(&want) {
+        assert!(
+            (g - w).abs() <= 1e-9 * w.abs(),
+            "{name}: volume {g}, input {w}"
+        );
+    }
+}
+
+fn check_closed(name: &str, surface: &Surface) {
+    let meshed = preserved(name, surface);
+    let volume = enclosed_volume(&surface.points, &surface.triangles);
+    check(name, surface, &meshed, &[volume]);
+}
+
+/// The prism over a counter-clockwise polygon `ring` triangulated by `caps`, from z = 0 to `h`.
+fn prism(ring: &[[f64; 2]], caps: &[[u32; 3]], h: f64) -> Surface {
+    let n = ring.len() as u32;
+    let mut points: Vec<DVec3> = ring.iter().map(|p| DVec3::new(p[0], p[1], 0.0)).collect();
+    points.extend(ring.iter().map(|p| DVec3::new(p[0], p[1], h)));
+    let mut triangles = Vec::new();
+    for &[a, b, c] in caps {
+        triangles.push([a, c, b]);
+        triangles.push([a + n, b + n, c + n]);
+    }
+    for i in 0..n {
+        let j = (i + 1) % n;
+        triangles.push([i, j, j + n]);
+        triangles.push([i, j + n, i + n]);
+    }
+    Surface { points, triangles }
+}
+
+#[test]
+fn cube_and_sphere_keep_their_triangles() {
+    check_closed("cube", &cuboid(DVec3::ZERO, DVec3::new(1.0, 2.0, 0.5)));
+    check_closed("sphere", &sphere(DVec3::new(0.1, 0.2, 0.3), 1.0, 2));
+}
+
+#[test]
+fn wedges_of_small_angles_keep_their_triangles() {
+    for degrees in [20.0f64, 5.0, 1.0] {
+        let a = degrees.to_radians();
+        let ring = [[0.0, 0.0], [1.0, 0.0], [a.cos(), a.sin()]];
+        check_closed(
+            &format!("wedge {degrees}°"),
+            &prism(&ring, &[[0, 1, 2]], 0.4),
+        );
+    }
+}
+
+#[test]
+fn box_with_a_thin_slot_keeps_its_triangles() {
+    // A U-shaped section: a slot 0.02 wide and 0.7 deep cut into a 3 × 1 block.
+    let (l, r) = (1.49, 1.51);
+    let ring = [
+        [0.0, 0.0],
+        [l, 0.0],
+        [r, 0.0],
+        [3.0, 0.0],
+        [3.0, 1.0],
+        [r, 1.0],
+        [r, 0.3],
+        [l, 0.3],
+        [l, 1.0],
+        [0.0, 1.0],
+    ];
+    let caps = [
+        [0, 1, 7],
+        [0, 7, 8],
+        [0, 8, 9],
+        [1, 2, 6],
+        [1, 6, 7],
+        [3, 4, 5],
+        [3, 5, 6],
+        [3, 6, 2],
+    ];
+    check_closed("slot", &prism(&ring, &caps, 0.8));
+}
+
+#[test]
+fn nested_boxes_give_two_subdomains() {
+    let outer = cuboid(DVec3::ZERO, DVec3::ONE);
+    let inner = cuboid(DVec3::splat(0.3), DVec3::splat(0.6));
+    let surface = outer.merge(inner);
+    let meshed = preserved("nested", &surface);
+    check("nested", &surface, &meshed, &[1.0 - 0.027, 0.027]);
+}
+
+#[test]
+fn a_random_csg_part_keeps_its_triangles() {
+    let read = delamesh::formats::read_surface(&test_data("csg/csg_0900.off"), None)
+        .expect("fixture reads")
+        .mesh;
+    let surface = Surface {
+        points: read.positions,
+        triangles: read.triangles,
+    };
+    check_closed("csg_0900", &surface);
+}
+
+#[test]
+fn open_and_self_intersecting_surfaces_are_refused() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let mut open = cuboid(DVec3::ZERO, DVec3::ONE);
+    open.triangles.pop();
+    let crossing =
+        cuboid(DVec3::ZERO, DVec3::ONE).merge(cuboid(DVec3::splat(0.5), DVec3::splat(1.5)));
+    for (name, surface, problem) in [
+        ("open", open, "not closed"),
+        ("crossing", crossing, "intersect"),
+    ] {
+        let input = dir.path().join(format!("{name}.off"));
+        std::fs::write(&input, surface.to_off()).expect("write input");
+        let out = dir.path().join(format!("{name}.vtu"));
+        let assert = delamesh()
+            .args(["mesh", "-q", "--preserve-surface"])
+            .arg(&input)
+            .arg("-o")
+            .arg(&out)
+            .assert()
+            .failure()
+            .code(1);
+        let stderr = String::from_utf8_lossy(&assert.get_output().stderr).to_string();
+        assert!(
+            stderr.contains("--preserve-surface") && stderr.contains(problem),
+            "{name}: {stderr}"
+        );
+        assert!(!out.exists(), "{name}: output left behind");
+    }
+}
+
+#[test]
+fn resampling_options_are_refused_with_preserve_surface() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let input = dir.path().join("cube.off");
+    std::fs::write(&input, cuboid(DVec3::ZERO, DVec3::ONE).to_off()).expect("write input");
+    let assert = delamesh()
+        .args(["mesh", "-q", "--preserve-surface", "--facet-size", "0.1"])
+        .arg(&input)
+        .arg("-o")
+        .arg(dir.path().join("cube.vtu"))
+        .assert()
+        .failure();
+    let stderr = String::from_utf8_lossy(&assert.get_output().stderr).to_string();
+    assert!(
+        stderr.contains("--preserve-surface") && stderr.contains("--facet-size"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn the_cli_writes_the_kept_surface() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let input = dir.path().join("cube.off");
+    let cube = cuboid(DVec3::ZERO, DVec3::ONE);
+    std::fs::write(&input, cube.to_off()).expect("write input");
+    let out = dir.path().join("cube.mesh");
+    let report = dir.path().join("report.json");
+    delamesh()
+        .args(["mesh", "-q", "--preserve-surface"])
+        .arg(&input)
+        .arg("-o")
+        .arg(&out)
+        .arg("--report")
+        .arg(&report)
+        .assert()
+        .success();
+    let r: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&report).expect("report written")).expect("JSON");
+    assert_eq!(r["boundary"]["closed"], true);
+    assert_eq!(r["quality"]["inverted_tets"], 0);
+    let ratio = r["approximation"]["volume_ratio"].as_f64().expect("number");
+    assert!((ratio - 1.0).abs() < 1e-12, "volume ratio {ratio}");
+}
