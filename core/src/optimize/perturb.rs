@@ -11,7 +11,7 @@ use super::Deadline;
 use super::state::{Workspace, min_dihedral};
 use crate::complex::VertexDimension;
 use crate::kernel::Point3;
-use crate::oracle::{OUTSIDE, PatchId, SurfaceHit};
+use crate::oracle::{PatchId, SurfaceHit};
 use crate::triangulation::{CellId, Triangulation, VertexId};
 
 /// Step lengths tried along a direction, as fractions of the distance to the nearest other
@@ -22,7 +22,7 @@ const STEPS: [f64; 3] = [0.25, 0.1, 0.04];
 const RANDOM_TRIES: usize = 2;
 /// Whether surface vertices move (along the surface). Off: on two boxes sharing a face the
 /// moves lost a tenth of one box's volume (tests/cli_features.rs), a defect not found yet.
-const MOVE_SURFACE_VERTICES: bool = false;
+const MOVE_SURFACE_VERTICES: bool = true;
 /// Sweeps over the slivers at most.
 const MAX_SWEEPS: usize = 6;
 
@@ -88,8 +88,9 @@ fn perturb_cell(ws: &mut Workspace<'_>, c: CellId, rng: &mut u64) -> bool {
             }
             let w = ws.rt.weight(v);
             if let Some(change) = ws.try_move(v, q, w) {
-                if change.after > change.before && (surface.is_none() || ws.surface_near_around(v))
-                {
+                let on_surface = surface
+                    .is_none_or(|(n, _)| facets_face(ws, v, n) && ws.surface_near_around(v));
+                if change.after > change.before && on_surface {
                     return true;
                 }
                 ws.undo(change);
@@ -122,14 +123,32 @@ fn random_unit(state: &mut u64) -> Point3 {
     }
 }
 
-/// The unit outward normal of the surface at surface vertex `v` (area-weighted over its
-/// boundary facets) and its patch, when all its boundary facets lie on one patch between one
-/// subdomain and the outside (a vertex on several patches sits on a feature and stays).
+/// The unit normal of the surface at surface vertex `v` (area-weighted over its boundary
+/// facets) and its patch, when all its boundary facets lie on one patch between the same two
+/// subdomains (a vertex on several patches, or where a third subdomain meets them, sits on a
+/// feature and stays).
 pub(super) fn surface_frame(ws: &Workspace<'_>, v: VertexId) -> Option<(Point3, PatchId)> {
+    let mut normals = Vec::new();
+    let patch = facet_normals(ws, v, &mut normals)?;
+    let normal = normals.iter().fold(Point3::ZERO, |s, &n| s + n);
+    (normal.length() > 0.0).then(|| (normal.normalize(), patch))
+}
+
+/// Whether every boundary facet around `v` faces the side `n` points to: a surface move that
+/// folds a facet over is refused even when the facet stays near the surface.
+fn facets_face(ws: &Workspace<'_>, v: VertexId, n: Point3) -> bool {
+    let mut normals = Vec::new();
+    facet_normals(ws, v, &mut normals).is_some() && normals.iter().all(|m| m.dot(n) > 0.0)
+}
+
+/// The area-weighted normals of the boundary facets around `v`, oriented from the first of the
+/// two subdomains they separate to the second, and their patch; `None` when they lie on several
+/// patches or between several pairs of subdomains.
+fn facet_normals(ws: &Workspace<'_>, v: VertexId, out: &mut Vec<Point3>) -> Option<PatchId> {
     let mut cells = Vec::new();
     ws.rt.incident_cells(v, &mut cells);
-    let mut normal = Point3::ZERO;
     let mut patch = None;
+    let mut sides = None;
     for &c in &cells {
         if !ws.inside(c) {
             continue;
@@ -148,8 +167,10 @@ pub(super) fn surface_frame(ws: &Workspace<'_>, v: VertexId) -> Option<(Point3, 
                 }
             }
             key.sort_unstable();
-            let Some(pt) = ws.patch(&key) else { continue };
-            if ws.label(ws.rt.neighbor(c, i)) != OUTSIDE || *patch.get_or_insert(pt) != pt {
+            let (Some(pt), Some(sd)) = (ws.patch(&key), ws.sides(&key)) else {
+                continue;
+            };
+            if *patch.get_or_insert(pt) != pt || *sides.get_or_insert(sd) != sd {
                 return None;
             }
             let f: Vec<Point3> = (0..4)
@@ -157,14 +178,14 @@ pub(super) fn surface_frame(ws: &Workspace<'_>, v: VertexId) -> Option<(Point3, 
                 .map(|j| ws.rt.point(q[j]))
                 .collect();
             let mut n = (f[1] - f[0]).cross(f[2] - f[0]);
-            if n.dot(ws.rt.point(q[i]) - f[0]) > 0.0 {
+            // Out of the cell, then from the first side to the second.
+            if (n.dot(ws.rt.point(q[i]) - f[0]) > 0.0) == (ws.label(c) == sd[0]) {
                 n = -n;
             }
-            normal += n;
+            out.push(n);
         }
     }
-    let patch = patch?;
-    (normal.length() > 0.0).then(|| (normal.normalize(), patch))
+    patch
 }
 
 /// The point of `patch` nearest to `q` along the line through `q` with direction `n`, within

@@ -79,6 +79,11 @@ pub(super) struct Workspace<'o> {
     report: MoveReport,
 }
 
+/// A created cell inside the domain with a smallest dihedral angle below this (degrees) is
+/// flat for every purpose of a mesh user, whatever the sign of its volume: a move making one is
+/// refused.
+const FLAT_DEG: f64 = 1e-3;
+
 /// Sorted vertices of a cell.
 fn quad_key(q: [VertexId; 4]) -> [u32; 4] {
     let mut k = q.map(|v| v.0);
@@ -222,6 +227,11 @@ impl<'o> Workspace<'o> {
         self.boundary.contains_key(key)
     }
 
+    /// The two subdomains boundary facet `key` separates, sorted.
+    pub fn sides(&self, key: &FacetKey) -> Option<[SubdomainId; 2]> {
+        self.boundary.get(key).map(|b| b.sides)
+    }
+
     /// The patch of boundary facet `key`.
     pub fn patch(&self, key: &FacetKey) -> Option<PatchId> {
         self.boundary.get(key).map(|b| b.patch)
@@ -276,7 +286,7 @@ impl<'o> Workspace<'o> {
     pub fn undo(&mut self, change: Change) {
         let back = self
             .rt
-            .move_vertex(
+            .move_vertex_back(
                 change.vertex,
                 change.old_point,
                 change.old_weight,
@@ -286,7 +296,7 @@ impl<'o> Workspace<'o> {
         if back {
             self.restore(&change.saved);
         } else {
-            // The old place lies on a facet of the new triangulation: the move (which passed the
+            // The star of the old place could not be rebuilt: the move (which passed the
             // invariants) stays, and the refused undo rebuilt the same cells.
             let saved = self.saved_labels();
             self.restore(&saved);
@@ -424,7 +434,7 @@ impl<'o> Workspace<'o> {
             );
             if new_label[k]? != OUTSIDE {
                 let a = self.cell_min_dihedral(c);
-                if a <= 0.0 {
+                if a < FLAT_DEG {
                     return None;
                 }
                 after = after.min(a);
