@@ -14,6 +14,7 @@ use crate::kernel::Point3;
 use crate::oracle::{OUTSIDE, PatchId, SubdomainId};
 use crate::quality::{dihedral_angles_deg, tet_volume};
 use crate::refine::criteria::Sizing;
+use crate::refine::curves::Polyline;
 use crate::refine::{facet_vertices, triangle_circumcenter};
 use crate::triangulation::{CellId, MoveReport, Regular3, Triangulation, VertexId};
 use std::collections::HashMap;
@@ -76,6 +77,10 @@ pub(super) struct Workspace<'o> {
     facet_distance: Sizing,
     /// The triangulation vertex of each mesh vertex.
     vertex_of: Vec<VertexId>,
+    /// The feature curves of the domain, and the one each curve vertex inside a curve (two
+    /// feature edges on it) moves along.
+    curves: Vec<Polyline>,
+    curve_of: HashMap<u32, usize>,
     report: MoveReport,
 }
 
@@ -83,6 +88,49 @@ pub(super) struct Workspace<'o> {
 /// flat for every purpose of a mesh user, whatever the sign of its volume: a move making one is
 /// refused.
 const FLAT_DEG: f64 = 1e-3;
+
+/// Two boundary facets whose normals make an angle below 30° (this cosine) are a smooth piece
+/// of the surface: a cell under them may be peeled even next to a feature curve.
+const COPLANAR_COS: f64 = 0.866;
+
+/// The feature curves of `oracle` as polylines, and for each curve vertex with exactly two
+/// feature edges on one curve (by triangulation vertex), the index of that curve.
+fn curve_vertices(
+    complex: &MeshComplex,
+    vertex_of: &[VertexId],
+    dimension: &[VertexDimension],
+    oracle: &dyn crate::oracle::Oracle,
+) -> (Vec<Polyline>, HashMap<u32, usize>) {
+    let mut curves = Vec::new();
+    let mut index = HashMap::new();
+    for c in oracle.feature_curves() {
+        if let Some(p) = Polyline::new(&c.points, c.closed) {
+            index.insert(c.id, curves.len());
+            curves.push(p);
+        }
+    }
+    // Per vertex: feature edges seen, and the curve if all are on one.
+    let mut seen: HashMap<u32, (usize, Option<usize>)> = HashMap::new();
+    for (e, &id) in complex.feature_edges.iter().zip(&complex.feature_edge_curve) {
+        let curve = index.get(&id).copied();
+        for &i in e {
+            let Some(&v) = vertex_of.get(i as usize) else {
+                continue;
+            };
+            let entry = seen.entry(v.0).or_insert((0, curve));
+            entry.0 += 1;
+            if entry.1 != curve {
+                entry.1 = None;
+            }
+        }
+    }
+    let curve_of = seen
+        .into_iter()
+        .filter(|&(v, (n, _))| n == 2 && dimension[v as usize] == VertexDimension::Curve)
+        .filter_map(|(v, (_, c))| Some((v, c?)))
+        .collect();
+    (curves, curve_of)
+}
 
 /// Sorted vertices of a cell.
 fn quad_key(q: [VertexId; 4]) -> [u32; 4] {
@@ -177,7 +225,10 @@ impl<'o> Workspace<'o> {
                 [a.min(b), a.max(b)]
             })
             .collect();
+        let (curves, curve_of) = curve_vertices(complex, &vertex_of, &dimension, oracle);
         let ws = Workspace {
+            curves,
+            curve_of,
             rt,
             label,
             boundary,
@@ -199,6 +250,60 @@ impl<'o> Workspace<'o> {
             return Err(WorkspaceError::Boundary);
         }
         Ok(ws)
+    }
+
+    /// The feature curve vertex `v` may move along: it is a curve vertex with exactly two
+    /// feature edges, both on that curve (an end or a junction of curves stays).
+    pub fn curve(&self, v: VertexId) -> Option<&Polyline> {
+        self.curve_of.get(&v.0).map(|&k| &self.curves[k])
+    }
+
+    /// The boundary facets around `v` with their area-weighted normals, oriented from the first
+    /// of the two subdomains they separate to the second.
+    pub fn boundary_normals(&self, v: VertexId) -> Vec<(FacetKey, Point3)> {
+        let mut cells = Vec::new();
+        self.rt.incident_cells(v, &mut cells);
+        let mut out = Vec::new();
+        for &c in &cells {
+            if !self.inside(c) {
+                continue;
+            }
+            let q = self.rt.cell(c);
+            for i in 0..4 {
+                let key = facet_key(q, i);
+                let Some(b) = self.boundary.get(&key) else {
+                    continue;
+                };
+                if q[i] == v {
+                    continue;
+                }
+                let f: Vec<Point3> = (0..4)
+                    .filter(|&m| m != i)
+                    .map(|m| self.rt.point(q[m]))
+                    .collect();
+                let mut n = (f[1] - f[0]).cross(f[2] - f[0]);
+                // Out of the cell, then from the first side to the second.
+                if (n.dot(self.rt.point(q[i]) - f[0]) > 0.0) == (self.label(c) == b.sides[0]) {
+                    n = -n;
+                }
+                out.push((key, n));
+            }
+        }
+        out.sort_unstable_by_key(|&(k, _)| k);
+        out.dedup_by_key(|&mut (k, _)| k);
+        out
+    }
+
+    /// Whether every boundary facet of `before` (from [`Self::boundary_normals`] before a move
+    /// of `v`) still faces the side it faced: a move that folds a facet over is refused even
+    /// when the facet stays near the surface.
+    pub fn none_folded(&self, v: VertexId, before: &[(FacetKey, Point3)]) -> bool {
+        let after = self.boundary_normals(v);
+        after.len() == before.len()
+            && after
+                .iter()
+                .zip(before)
+                .all(|((ka, na), (kb, nb))| ka == kb && na.dot(*nb) > 0.0)
     }
 
     /// Subdomain of live cell `c`.
@@ -498,13 +603,6 @@ impl<'o> Workspace<'o> {
         if self.feature_edges.contains(&[a, b]) || self.is_surface_edge(q[i], q[j]) {
             return false;
         }
-        // Near a feature the two facets may lie on either side of a sharp edge with one patch
-        // label: only cells with all four vertices inside a patch are peeled.
-        if q.iter()
-            .any(|v| self.dimension[v.0 as usize] != VertexDimension::Surface)
-        {
-            return false;
-        }
         let normal = |k: usize| {
             let f: Vec<Point3> = (0..4)
                 .filter(|&m| m != k)
@@ -519,7 +617,13 @@ impl<'o> Workspace<'o> {
             }
         };
         // The new facets face the outside through the peeled cell: against their normal out of it.
-        let old = normal(i) + normal(j);
+        // Near a feature the two facets may lie on either side of a sharp edge with one patch
+        // label: only a cell under two nearly coplanar facets is peeled.
+        let (ni, nj) = (normal(i), normal(j));
+        if ni.dot(nj) <= COPLANAR_COS * ni.length() * nj.length() {
+            return false;
+        }
+        let old = ni + nj;
         let new: Vec<usize> = (0..4).filter(|&k| k != i && k != j).collect();
         if new.iter().any(|&k| normal(k).dot(old) >= 0.0) {
             return false;
@@ -536,7 +640,15 @@ impl<'o> Workspace<'o> {
         let thickness = 3.0 * tet_volume(&p) / largest_face;
         let centroid = (p[0] + p[1] + p[2] + p[3]) / 4.0;
         let allowed = self.facet_distance.at(centroid, old_i.patch);
-        if !(thickness <= allowed || !(allowed > 0.0 && allowed.is_finite())) {
+        // A thicker cell is still peeled when its new facets meet the facet-distance criterion
+        // as refinement measures it (the surface then moves by no more than refinement allows).
+        let near = || {
+            new.iter().all(|&k| {
+                let f: Vec<Point3> = (0..4).filter(|&m| m != k).map(|m| p[m]).collect();
+                self.near_surface([f[0], f[1], f[2]], old_i.patch)
+            })
+        };
+        if !(thickness <= allowed || !(allowed > 0.0 && allowed.is_finite()) || near()) {
             return false;
         }
         self.boundary.remove(&facet_key(q, i));
