@@ -475,7 +475,10 @@ fn optimisation_keeps_corners_and_curve_vertices_on_their_curves_and_lifts_the_s
         // Curve vertices may slide along their curve, never off it.
         let curves = oracle.feature_curves();
         for (e, id) in o.feature_edges.iter().zip(&o.feature_edge_curve) {
-            let c = curves.iter().find(|c| c.id == *id).expect("a curve of the domain");
+            let c = curves
+                .iter()
+                .find(|c| c.id == *id)
+                .expect("a curve of the domain");
             let line = Polyline::new(&c.points, c.closed).expect("a polyline");
             for &v in e {
                 let d = line.project(o.points[v as usize]).distance;

@@ -111,7 +111,11 @@ fn curve_vertices(
     }
     // Per vertex: feature edges seen, and the curve if all are on one.
     let mut seen: HashMap<u32, (usize, Option<usize>)> = HashMap::new();
-    for (e, &id) in complex.feature_edges.iter().zip(&complex.feature_edge_curve) {
+    for (e, &id) in complex
+        .feature_edges
+        .iter()
+        .zip(&complex.feature_edge_curve)
+    {
         let curve = index.get(&id).copied();
         for &i in e {
             let Some(&v) = vertex_of.get(i as usize) else {
