@@ -75,6 +75,11 @@ pub(super) struct Workspace<'o> {
     /// The facet-distance criterion of refinement, which boundary facets changed by the
     /// optimisers must still meet.
     facet_distance: Sizing,
+    /// The cell-size criterion of refinement: no move makes a cell larger than it allows (or
+    /// than the cells it replaces, where refinement left larger ones).
+    cell_size: Sizing,
+    /// The facet-size criterion, which boundary facets changed by the optimisers must meet.
+    facet_size: Sizing,
     /// The triangulation vertex of each mesh vertex.
     vertex_of: Vec<VertexId>,
     /// The feature curves of the domain, and the one each curve vertex inside a curve (two
@@ -183,6 +188,8 @@ impl<'o> Workspace<'o> {
         weights: &[f64],
         oracle: &'o dyn crate::oracle::Oracle,
         facet_distance: Sizing,
+        facet_size: Sizing,
+        cell_size: Sizing,
     ) -> Result<Self, WorkspaceError> {
         let points: Vec<(Point3, f64)> = complex
             .points
@@ -241,6 +248,8 @@ impl<'o> Workspace<'o> {
             peeled: std::collections::HashSet::new(),
             oracle,
             facet_distance,
+            cell_size,
+            facet_size,
             vertex_of,
             report: MoveReport::default(),
         };
@@ -367,8 +376,8 @@ impl<'o> Workspace<'o> {
             self.restore(&saved);
             return None;
         }
-        let before = self.removed_min_dihedral(&saved, v, old_point);
-        match self.relabel() {
+        let (before, size_excess) = self.removed_quality(&saved, v, old_point);
+        match self.relabel(size_excess.max(1.0)) {
             Some(after) => Some(Change {
                 vertex: v,
                 old_point,
@@ -441,30 +450,47 @@ impl<'o> Workspace<'o> {
         }
     }
 
-    /// Smallest dihedral angle of the destroyed cells inside the domain, `v` at `old`.
-    fn removed_min_dihedral(
+    /// Smallest dihedral angle and largest [`Self::size_excess`] of the destroyed cells inside
+    /// the domain, `v` at `old`.
+    fn removed_quality(
         &self,
         saved: &HashMap<[u32; 4], SubdomainId>,
         v: VertexId,
         old: Point3,
-    ) -> f64 {
+    ) -> (f64, f64) {
         let inf = self.rt.infinite_vertex();
-        let mut min = 180.0f64;
+        let (mut min, mut excess) = (180.0f64, 0.0f64);
         for &(_, q) in &self.report.removed {
-            if q.contains(&inf) || saved.get(&quad_key(q)).copied().unwrap_or(OUTSIDE) == OUTSIDE {
+            let sub = saved.get(&quad_key(q)).copied().unwrap_or(OUTSIDE);
+            if q.contains(&inf) || sub == OUTSIDE {
                 continue;
             }
             let p = positive(q).map(|x| if x == v { old } else { self.rt.point(x) });
             min = min.min(min_dihedral(&p));
+            excess = excess.max(self.size_excess(&p, sub));
         }
-        min
+        (min, excess)
+    }
+
+    /// Circumradius of tetrahedron `p` of subdomain `sub` over the cell size at its
+    /// circumcentre (0 without a bound).
+    fn size_excess(&self, p: &[Point3; 4], sub: SubdomainId) -> f64 {
+        let Some(center) = crate::quality::tet_circumcenter(p) else {
+            return f64::INFINITY;
+        };
+        let size = self.cell_size.at(center, sub);
+        if size > 0.0 && size.is_finite() {
+            center.distance(p[0]) / size
+        } else {
+            0.0
+        }
     }
 
     /// Labels the created cells by crossing facets from the cells around them. Returns the
     /// smallest dihedral angle of the created cells inside the domain, or `None` when the
-    /// boundary did not survive (no consistent labelling, a boundary facet gone, or a flat
-    /// cell inside).
-    fn relabel(&mut self) -> Option<f64> {
+    /// boundary did not survive (no consistent labelling, a boundary facet gone), or a cell
+    /// inside is flat or has a [`Self::size_excess`] above `max_excess`.
+    fn relabel(&mut self, max_excess: f64) -> Option<f64> {
         self.grow_labels();
         let created = &self.report.created;
         let index: HashMap<u32, usize> =
@@ -541,9 +567,10 @@ impl<'o> Workspace<'o> {
                     .map(|i| facet_key(q, i))
                     .filter(|k| self.is_boundary(k)),
             );
-            if new_label[k]? != OUTSIDE {
+            let sub = new_label[k]?;
+            if sub != OUTSIDE {
                 let a = self.cell_min_dihedral(c);
-                if a < FLAT_DEG {
+                if a < FLAT_DEG || self.size_excess(&self.points(c), sub) > max_excess {
                     return None;
                 }
                 after = after.min(a);
@@ -562,14 +589,14 @@ impl<'o> Workspace<'o> {
         Some(after)
     }
 
-    /// Peels a flat cell off the boundary: a cell with two boundary facets on one patch (and its
-    /// four vertices on the surface, none on a feature), between
-    /// its subdomain and the outside, becomes outside, and its two other facets take their place
-    /// (the surface edge the two facets share flips to the opposite edge of the cell). Refused
-    /// when the shared edge is a feature edge, when the opposite edge already lies on the surface
-    /// (the flip would make it non-manifold), when a new facet would face the other way from
-    /// the old ones, or when the cell is thicker than the facet distance (the surface would move
-    /// by more). Returns whether the cell was peeled.
+    /// Peels a flat cell off the boundary: a cell with two nearly coplanar boundary facets on
+    /// one patch, between its subdomain and the outside, becomes outside, and its two other
+    /// facets take their place (the surface edge the two facets share flips to the opposite edge
+    /// of the cell). Refused when the shared edge is a feature edge, when the opposite edge
+    /// already lies on the surface (the flip would make it non-manifold), when a new facet would
+    /// face the other way from the old ones, or when the cell is thicker than the facet distance
+    /// and a new facet does not meet the facet-distance criterion (the surface would move by
+    /// more). Returns whether the cell was peeled.
     pub fn peel(&mut self, c: CellId) -> bool {
         if !self.inside(c) {
             return false;
@@ -672,10 +699,14 @@ impl<'o> Workspace<'o> {
         true
     }
 
-    /// Whether triangle `t` on `patch` meets the facet-distance criterion: its circumcentre lies
-    /// within that distance of the surface along the triangle's normal.
+    /// Whether triangle `t` on `patch` meets the facet-distance criterion (its circumcentre lies
+    /// within that distance of the surface along the triangle's normal) and the facet-size one
+    /// (its circumradius is at most the size there).
     pub fn near_surface(&self, t: [Point3; 3], patch: PatchId) -> bool {
         let center = triangle_circumcenter(t[0], t[1], t[2]);
+        if center.distance(t[0]) > self.facet_size.at(center, patch) {
+            return false;
+        }
         let d = self.facet_distance.at(center, patch);
         if !(d > 0.0 && d.is_finite()) {
             return true;
