@@ -11,10 +11,11 @@ use delamesh_core::mesh::component_euler_characteristics;
 use delamesh_core::mesh::{SurfaceMesh, TetMesh};
 use delamesh_core::optimize::{OptimizeOptions, OptimizeReport, optimize};
 use delamesh_core::oracle::Oracle;
-use delamesh_core::refine::criteria::MeshCriteria;
+use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
 use delamesh_core::refine::{Cancel, MeshError, Progress, RefineError, RefineStats, mesh_domain};
 use delamesh_formats::image::{Image, is_image_path, read_image};
 use delamesh_formats::{PolygonMesh, WriteOptions, read_polygons, read_surface, write_tet_mesh};
+use delamesh_image_label::ImageOptions;
 use std::path::Path;
 use std::time::Instant;
 
@@ -154,7 +155,12 @@ impl<'p> Mesher<'p> {
         read: std::time::Duration,
     ) -> Result<Meshed, Error> {
         let t = Instant::now();
-        let domain = Domain::from_image(&name, &image, &self.settings.image.options)?;
+        // `--no-features` also leaves an image's triple lines and border curves unprotected.
+        let options = ImageOptions {
+            features: self.settings.image.options.features && self.settings.features.enabled,
+            ..self.settings.image.options.clone()
+        };
+        let domain = Domain::from_image(&name, &image, &options)?;
         drop(image);
         let times = Times {
             read,
@@ -273,6 +279,19 @@ impl<'p> Mesher<'p> {
         if let (Domain::Image(image), true) = (&domain, no_distance) {
             // Finer than the voxels, the facet distance would chase their staircase.
             options.criteria.facet.distance = image.default_criteria().facet.distance;
+        }
+        if let (Domain::Image(image), None) = (&domain, self.settings.edge_min_size) {
+            options.criteria.edge_min_size = image.default_criteria().edge_min_size;
+        }
+        if let (Domain::Image(_), None) = (&domain, self.settings.edge_size) {
+            // The feature curves of an image are followed at the facet size (CGAL's examples),
+            // not at the bounding-box default.
+            if let (Some(facet), Some(edge)) = (
+                options.criteria.facet.size.smallest(),
+                options.criteria.edge_size.smallest(),
+            ) {
+                options.criteria.edge_size = Sizing::Constant(facet.min(edge));
+            }
         }
         // Warnings were given from the settings before meshing (`MeshSettings::warnings`).
         options

@@ -45,6 +45,7 @@ impl ImageArgs {
                     LabelInterpolation::Nearest => Interpolation::Nearest,
                     LabelInterpolation::Trilinear => Interpolation::Trilinear,
                 },
+                ..ImageOptions::default()
             },
             cell_size_per_label: match &self.cell_size_per_label {
                 Some(spec) => per_label("cell-size-per-label", spec)?,

@@ -45,6 +45,13 @@ pub trait MesherLevel<T: Triangulation> {
     /// Remove the element last returned by `next_element`.
     fn pop_element(&mut self);
 
+    /// Remove the element last returned by `next_element` because its refinement point was
+    /// refused forever (or it bounced too long). A level that refuses other levels' points for
+    /// its elements remembers it, so that an element nobody can refine blocks nothing.
+    fn drop_element(&mut self) {
+        self.pop_element()
+    }
+
     /// Where to insert a point to refine `e`; `None` if `e` cannot be refined (it is then dropped).
     fn refinement_point(&mut self, tr: &T, e: &Self::Element) -> Option<Candidate<T::Point>>;
 
@@ -66,6 +73,7 @@ trait Level<T: Triangulation> {
     fn scan(&mut self, tr: &T);
     fn next_candidate(&mut self, tr: &T) -> Option<Candidate<T::Point>>;
     fn pop(&mut self);
+    fn drop(&mut self);
     fn check(&mut self, tr: &T, c: &Candidate<T::Point>, own: bool) -> Check;
     fn after_insertion(&mut self, tr: &T, v: VertexId, report: &InsertReport, own: bool);
     fn pending(&self) -> usize;
@@ -89,6 +97,9 @@ impl<T: Triangulation, L: MesherLevel<T>> Level<T> for L {
     }
     fn pop(&mut self) {
         self.pop_element()
+    }
+    fn drop(&mut self) {
+        self.drop_element()
     }
     fn check(&mut self, tr: &T, c: &Candidate<T::Point>, own: bool) -> Check {
         MesherLevel::check(self, tr, c, own)
@@ -311,13 +322,13 @@ impl<'a, T: Triangulation> Engine<'a, T> {
                     stats.rejections += 1;
                     rejections_in_a_row[i] += 1;
                     if rejections_in_a_row[i] > self.limits.max_rejections_in_a_row {
-                        self.levels[i].pop();
+                        self.levels[i].drop();
                         stats.dropped += 1;
                         rejections_in_a_row[i] = 0;
                     }
                 }
                 Check::RejectedForever => {
-                    self.levels[i].pop();
+                    self.levels[i].drop();
                     stats.dropped += 1;
                 }
             }
@@ -339,7 +350,17 @@ impl<'a, T: Triangulation> Engine<'a, T> {
         for (j, level) in self.levels[..=i].iter_mut().enumerate() {
             match level.check(tr, c, j == i) {
                 Check::Accepted => {}
-                refused => return refused,
+                refused => {
+                    if std::env::var_os("DBG_REPAIR").is_some() {
+                        eprintln!(
+                            "  refused by {} {:?} own {}",
+                            level.name(),
+                            matches!(refused, Check::Rejected),
+                            j == i
+                        );
+                    }
+                    return refused;
+                }
             }
         }
         Check::Accepted
@@ -355,5 +376,94 @@ impl<'a, T: Triangulation> Engine<'a, T> {
                 .map(|l| (l.name(), l.pending()))
                 .collect(),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::kernel::Point3;
+    use crate::triangulation::Delaunay3;
+
+    /// One point to propose, and what the level does with other levels' points.
+    struct Toy {
+        point: Option<Point3>,
+        /// Refuse forever every other level's point with x < 0 (a protecting ball).
+        guard: bool,
+        /// Refuse other levels' points within distance 2 of the origin while `point` is pending
+        /// and was never dropped (a surface ball nobody can refine).
+        ball: bool,
+        dropped: bool,
+    }
+
+    impl MesherLevel<Delaunay3> for Toy {
+        type Element = Point3;
+        fn name(&self) -> &'static str {
+            "toy"
+        }
+        fn scan(&mut self, _tr: &Delaunay3) {}
+        fn next_element(&mut self, _tr: &Delaunay3) -> Option<Point3> {
+            self.point
+        }
+        fn pop_element(&mut self) {
+            self.point = None;
+        }
+        fn drop_element(&mut self) {
+            self.point = None;
+            self.dropped = true;
+        }
+        fn refinement_point(&mut self, _tr: &Delaunay3, p: &Point3) -> Option<Candidate<Point3>> {
+            Some(Candidate {
+                point: *p,
+                hint: None,
+            })
+        }
+        fn check(&mut self, _tr: &Delaunay3, c: &Candidate<Point3>, own: bool) -> Check {
+            if own {
+                Check::Accepted
+            } else if self.guard && c.point.x < 0.0 {
+                Check::RejectedForever
+            } else if self.ball && !self.dropped && c.point.length() < 2.0 {
+                Check::Rejected
+            } else {
+                Check::Accepted
+            }
+        }
+        fn after_insertion(&mut self, _: &Delaunay3, _: VertexId, _: &InsertReport, _: bool) {}
+        fn pending(&self) -> usize {
+            usize::from(self.point.is_some())
+        }
+    }
+
+    /// The middle level's only element is refused forever by the top level; once dropped it
+    /// must stop refusing the bottom level's point, which is then inserted.
+    #[test]
+    fn an_element_refused_forever_refuses_no_lower_point() {
+        let corners = [-4.0, 4.0].map(|x| [-4.0, 4.0].map(|y| [-4.0, 4.0].map(|z| (x, y, z))));
+        let points: Vec<Point3> = corners
+            .into_iter()
+            .flatten()
+            .flatten()
+            .map(|(x, y, z)| Point3::new(x, y, z))
+            .collect();
+        let mut tr = Delaunay3::from_points(&points).expect("a cube's corners");
+        let toy = |point: Option<Point3>, guard, ball| Toy {
+            point,
+            guard,
+            ball,
+            dropped: false,
+        };
+        let mut top = toy(None, true, false);
+        let mut middle = toy(Some(Point3::new(-1.0, 0.0, 0.0)), false, true);
+        let mut bottom = toy(Some(Point3::new(0.5, 0.0, 0.0)), false, false);
+        let mut engine = Engine::new(Limits::default());
+        engine
+            .push_level(&mut top)
+            .push_level(&mut middle)
+            .push_level(&mut bottom);
+        let stats = engine.refine(&mut tr, &mut |_| {}).expect("no guard trips");
+        assert_eq!(stats.insertions, vec![0, 0, 1]);
+        assert_eq!(stats.rejections, 0);
+        assert!(middle.dropped);
     }
 }

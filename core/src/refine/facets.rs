@@ -19,6 +19,7 @@ use crate::kernel::Point3;
 use crate::oracle::{Aabb, Oracle, PatchId, SurfaceHit};
 use crate::triangulation::{CellId, ConflictZone, InsertReport, Triangulation, VertexId};
 use std::cell::RefCell;
+use std::collections::HashSet;
 use std::rc::Rc;
 
 /// An empty ball centred on the boundary, through the vertices of a restricted facet.
@@ -96,6 +97,10 @@ pub struct SurfaceLevel<'o> {
     zone: ConflictZone,
     /// Squared radius of the ball whose centre was last proposed.
     proposed_radius2: f64,
+    /// Centres (as bits) of the surface balls whose refinement point was refused forever (inside
+    /// a protecting ball, crowding a vertex): such a ball refuses no point of a lower level
+    /// either, or the cell proposing it would bounce on it until dropped.
+    stuck: HashSet<[u64; 3]>,
     /// Patch of the ball whose centre was last proposed.
     proposed_patch: PatchId,
 }
@@ -112,6 +117,7 @@ impl<'o> SurfaceLevel<'o> {
             vertex_patch: None,
             queue: RefineQueue::default(),
             min_radius2: 0.0,
+            stuck: HashSet::new(),
             created_mark: Vec::new(),
             stamp: 0,
             hits: Vec::new(),
@@ -437,6 +443,15 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for SurfaceLevel<'o> {
         self.queue.pop();
     }
 
+    fn drop_element(&mut self) {
+        if let Some(&f) = self.queue.peek()
+            && let Some(ball) = self.balls[f.cell.0 as usize][f.index as usize]
+        {
+            self.stuck.insert(center_bits(ball.center));
+        }
+        self.queue.pop();
+    }
+
     fn refinement_point(&mut self, _tr: &T, f: &QueuedFacet) -> Option<Candidate<Point3>> {
         let ball = self.balls[f.cell.0 as usize][f.index as usize]?;
         self.proposed_radius2 = ball.radius2;
@@ -469,6 +484,7 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for SurfaceLevel<'o> {
                 if let Some(ball) = self.balls[cell.0 as usize][i]
                     && ball.radius2 >= self.min_radius2
                     && ball.center.distance_squared(c.point) < ball.radius2
+                    && !self.stuck.contains(&center_bits(ball.center))
                 {
                     let vertices = cell_vertices(tr, cell);
                     self.queue.push(
@@ -519,4 +535,9 @@ impl<'o, T: Triangulation<Point = Point3>> MesherLevel<T> for SurfaceLevel<'o> {
     fn pending(&self) -> usize {
         self.queue.len()
     }
+}
+
+/// A surface ball's centre as exact bits: a recomputed ball of the same facet has the same centre.
+fn center_bits(p: Point3) -> [u64; 3] {
+    [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
 }

@@ -145,11 +145,16 @@ pub(crate) fn is_flat(p: &[Point3; 4]) -> bool {
     v6.abs() <= FLAT_VOLUME * longest2 * longest2.sqrt()
 }
 
-/// Candidate refinement points of a flat cell: four facets times [`FLAT_HEIGHTS`].
-pub(crate) const FLAT_CANDIDATES: usize = 4 * FLAT_HEIGHTS.len();
+/// Candidate refinement points of a flat cell: four facets times [`FLAT_HEIGHTS`], then four
+/// facets times [`FLAT_FAR_HEIGHTS`].
+pub(crate) const FLAT_CANDIDATES: usize = 4 * (FLAT_HEIGHTS.len() + FLAT_FAR_HEIGHTS.len());
 
 /// Heights of the candidates above a facet's circumcentre, in facet circumradii.
 const FLAT_HEIGHTS: [f64; 3] = [0.5, 0.75, 0.25];
+
+/// Heights of the last candidates, in radii of the cell's largest protecting ball: a flat cell
+/// of ball centres along a feature curve has every nearer candidate inside a ball.
+const FLAT_FAR_HEIGHTS: [f64; 2] = [1.25, 2.0];
 
 /// Candidate `attempt` of the refinement points that destroy a flat cell, with the squared
 /// radius it is refined at.
@@ -175,8 +180,18 @@ pub(crate) fn flat_cell_refinement_point<T: Triangulation<Point = Point3>>(
     };
     let mut facets = [0, 1, 2, 3];
     facets.sort_by(|&x, &y| area2(y).total_cmp(&area2(x)));
-    let i = *facets.get(attempt / FLAT_HEIGHTS.len())?;
-    let height = FLAT_HEIGHTS[attempt % FLAT_HEIGHTS.len()];
+    let near = 4 * FLAT_HEIGHTS.len();
+    let (i, height) = if attempt < near {
+        (
+            attempt / FLAT_HEIGHTS.len(),
+            Height::Near(FLAT_HEIGHTS[attempt % FLAT_HEIGHTS.len()]),
+        )
+    } else {
+        let far = attempt - near;
+        let h = *FLAT_FAR_HEIGHTS.get(far % FLAT_FAR_HEIGHTS.len())?;
+        (far / FLAT_FAR_HEIGHTS.len(), Height::Far(h))
+    };
+    let i = *facets.get(i)?;
     let fv = facet_vertices(cell, i);
     let facet = fv.map(|v| tr.point(v));
     let weights = fv.map(|v| tr.weight(v));
@@ -193,7 +208,32 @@ pub(crate) fn flat_cell_refinement_point<T: Triangulation<Point = Point3>>(
     let apex = cell[i];
     let t = -dual_parameter(center, radius2 + tr.weight(apex), -axis, tr.point(apex));
     let side = if t < 0.0 { -1.0 } else { 1.0 };
-    Some((center + side * height * radius2.sqrt() * axis, radius2))
+    let distance = match height {
+        Height::Near(h) => h * radius2.sqrt(),
+        Height::Far(h) => {
+            let ball = cell
+                .iter()
+                .map(|&v| tr.weight(v))
+                .fold(0.0, f64::max)
+                .sqrt();
+            // Inside the cell's orthosphere, centred `t` along the axis: below `2|t|`.
+            let d = (h * ball).min(0.95 * t.abs());
+            if ball <= radius2.sqrt() || !d.is_finite() {
+                return None;
+            }
+            d
+        }
+    };
+    Some((center + side * distance * axis, radius2))
+}
+
+/// How high above a facet a flat cell's candidate lies.
+#[derive(Clone, Copy)]
+enum Height {
+    /// In facet circumradii.
+    Near(f64),
+    /// In radii of the cell's largest protecting ball.
+    Far(f64),
 }
 
 /// Length of the shortest edge of a tetrahedron.

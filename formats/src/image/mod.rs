@@ -288,7 +288,13 @@ fn gunzip_if_needed(bytes: Vec<u8>) -> Result<Vec<u8>, Problem> {
 
 /// Decompresses a gzip stream (several members allowed, as `cat a.gz b.gz` makes).
 fn gunzip(bytes: &[u8]) -> Result<Vec<u8>, Problem> {
+    // The last member's size (mod 2³²) ends the stream: reserved once instead of doubling the
+    // buffer all the way, within what deflate can expand to.
     let mut out = Vec::new();
+    if let Some(tail) = bytes.len().checked_sub(4).map(|n| &bytes[n..]) {
+        let size = u32::from_le_bytes([tail[0], tail[1], tail[2], tail[3]]) as usize;
+        out.reserve(size.min(bytes.len().saturating_mul(1032)));
+    }
     flate2::read::MultiGzDecoder::new(bytes)
         .read_to_end(&mut out)
         .map_err(|e| Problem::bad(format!("corrupt gzip data: {e}")))?;

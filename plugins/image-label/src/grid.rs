@@ -9,12 +9,14 @@ use rayon::prelude::*;
 
 /// Voxels per block edge. A block `b` covers the closed index box `[B b, B (b + 1)]` on each axis,
 /// so its region is decided by the voxels `B b ..= B (b + 1)` alone, for both interpolations.
-pub(crate) const BLOCK: usize = 8;
+pub(crate) const BLOCK: usize = 4;
 /// Block summary of a block whose voxels have several classes.
 pub(crate) const MIXED: u32 = u32::MAX;
 
-/// Added to the interpolated indicator of class `c` times `c` (see [`ClassGrid::class_at`]).
-const TIE_BIAS: f64 = 1e-2;
+/// Largest bias added to an interpolated indicator (see [`ClassGrid::class_at`]): class `c` of
+/// `n` gets `TIE_BIAS · c / n`, so that however many classes, a voxel's own class wins at its
+/// centre and interfaces move by a few hundredths of a voxel at most.
+const TIE_BIAS: f64 = 4e-2;
 
 /// How the class of a point between voxel centres is chosen.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -55,14 +57,21 @@ pub(crate) struct ClassGrid<C> {
     bricks: [usize; 2],
     classes: Vec<C>,
     pub interpolation: Interpolation,
+    /// The bias per class rank (see [`TIE_BIAS`]).
+    bias: f64,
     blocks: [usize; 3],
     /// Per block: its only class, or [`MIXED`].
     summary: Vec<u32>,
 }
 
 impl<C: Class> ClassGrid<C> {
-    /// The grid of `classes`, given x fastest, then y, then z.
-    pub fn new(dims: [usize; 3], classes: Vec<C>, interpolation: Interpolation) -> Self {
+    /// The grid of `classes` (each below `count`), given x fastest, then y, then z.
+    pub fn new(
+        dims: [usize; 3],
+        classes: Vec<C>,
+        count: usize,
+        interpolation: Interpolation,
+    ) -> Self {
         let blocks = dims.map(|n| (n.saturating_sub(1)).div_ceil(BLOCK).max(1));
         let [bx, by, bz] = dims.map(|n| n.div_ceil(BRICK));
         let [nx, ny, _] = dims;
@@ -89,6 +98,7 @@ impl<C: Class> ClassGrid<C> {
             bricks: [bx, by],
             classes: bricked,
             interpolation,
+            bias: TIE_BIAS / count.max(1) as f64,
             blocks,
             summary: Vec::new(),
         };
@@ -212,7 +222,7 @@ impl<C: Class> ClassGrid<C> {
             // corner patterns lie: there two sheets of one label would touch at a point (a
             // pinch no mesh can follow).
             let total: f64 = (n..8).filter(|&m| c[m] == cn).map(|m| w[m]).sum::<f64>()
-                + TIE_BIAS * f64::from(class);
+                + self.bias * f64::from(class);
             if total > best.0 || (total == best.0 && class < best.1) {
                 best = (total, class);
             }
@@ -273,7 +283,7 @@ mod tests {
             })
             .collect();
         for interpolation in [Interpolation::Nearest, Interpolation::Trilinear] {
-            let g = ClassGrid::new(dims, classes.clone(), interpolation);
+            let g = ClassGrid::new(dims, classes.clone(), 3, interpolation);
             let mut uniform = 0;
             for n in 0..20_000u32 {
                 // A deterministic scatter over the image, faces included.

@@ -88,10 +88,15 @@ pub(crate) fn initial_points<C: Class>(g: &ClassGrid<C>) -> Vec<(DVec3, u32, u32
                 }
                 let stride = group.len().div_ceil(BLOCKS_PER_GROUP);
                 for b in group.iter().step_by(stride) {
-                    let centre =
-                        DVec3::from_array(b.map(|v| (v * BLOCK) as f64)) + 0.5 * BLOCK as f64;
-                    let reach = 0.5 * BLOCK as f64 + 1.5;
-                    for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
+                    // The block's index box, clipped to the image (the last blocks may be
+                    // shorter, a small image smaller than one block).
+                    let lo = DVec3::from_array(b.map(|v| (v * BLOCK) as f64));
+                    let hi = DVec3::from_array(
+                        [0, 1, 2].map(|a| ((b[a] + 1) * BLOCK).min(g.dims[a] - 1) as f64),
+                    );
+                    let centre = 0.5 * (lo + hi);
+                    for (a, axis) in [DVec3::X, DVec3::Y, DVec3::Z].into_iter().enumerate() {
+                        let reach = 0.5 * (hi[a] - lo[a]) + 1.5;
                         let (from, to) = (centre - reach * axis, centre + reach * axis);
                         found.clear();
                         changes(g, from, to, &mut found);

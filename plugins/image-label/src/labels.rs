@@ -20,6 +20,51 @@ pub(crate) enum Field {
 pub(crate) struct Classified {
     pub field: Field,
     pub subdomains: Vec<SubdomainId>,
+    /// The image voxel of the field's voxel `(0, 0, 0)`: the field holds the box of the
+    /// non-background voxels with a voxel of background around it (within the image).
+    pub offset: [usize; 3],
+}
+
+/// The classes of the box of non-background voxels (class 0 is the background) grown by one
+/// voxel within the image, its offset and its dimensions: outside it every voxel is background,
+/// so the class of every point is the same (the domain box of the interpolation shrinks, but
+/// only by background). Returned whole when there is nothing but background.
+fn crop<T: Copy + PartialEq>(
+    dims: [usize; 3],
+    classes: Vec<T>,
+    background: T,
+) -> ([usize; 3], [usize; 3], Vec<T>) {
+    let [nx, ny, _] = dims;
+    let (mut lo, mut hi) = ([usize::MAX; 3], [0usize; 3]);
+    for (row, values) in classes.chunks_exact(nx.max(1)).enumerate() {
+        let Some(first) = values.iter().position(|&c| c != background) else {
+            continue;
+        };
+        let last = values
+            .iter()
+            .rposition(|&c| c != background)
+            .unwrap_or(first);
+        let (j, k) = (row % ny, row / ny);
+        lo = [lo[0].min(first), lo[1].min(j), lo[2].min(k)];
+        hi = [hi[0].max(last), hi[1].max(j), hi[2].max(k)];
+    }
+    if lo[0] == usize::MAX {
+        return ([0; 3], dims, classes);
+    }
+    let lo = [0, 1, 2].map(|a| lo[a].saturating_sub(1));
+    let hi = [0, 1, 2].map(|a| (hi[a] + 1).min(dims[a] - 1));
+    let size = [0, 1, 2].map(|a| hi[a] - lo[a] + 1);
+    if size == dims {
+        return ([0; 3], dims, classes);
+    }
+    let mut out = Vec::with_capacity(size[0] * size[1] * size[2]);
+    for k in lo[2]..=hi[2] {
+        for j in lo[1]..=hi[1] {
+            let row = nx * (j + ny * k);
+            out.extend_from_slice(&classes[row + lo[0]..=row + hi[0]]);
+        }
+    }
+    (lo, size, out)
 }
 
 /// Labels: every voxel value must be a non-negative integer; `background` is the outside. The
@@ -94,14 +139,26 @@ pub(crate) fn classify_labels(
                 .collect(),
         }
     }
-    let field = if count <= 256 {
+    let (field, offset) = if count <= 256 {
         let classes = per_voxel(&image.voxels, &class_of, &label_of, |c| c as u8)?;
-        Field::U8(ClassGrid::new(image.dims, classes, interpolation))
+        let (offset, dims, classes) = crop(image.dims, classes, 0);
+        (
+            Field::U8(ClassGrid::new(dims, classes, count, interpolation)),
+            offset,
+        )
     } else {
         let classes = per_voxel(&image.voxels, &class_of, &label_of, |c| c as u16)?;
-        Field::U16(ClassGrid::new(image.dims, classes, interpolation))
+        let (offset, dims, classes) = crop(image.dims, classes, 0);
+        (
+            Field::U16(ClassGrid::new(dims, classes, count, interpolation)),
+            offset,
+        )
     };
-    Ok(Classified { field, subdomains })
+    Ok(Classified {
+        field,
+        subdomains,
+        offset,
+    })
 }
 
 /// Gray levels: class 1 (subdomain 1) where the value is at least `isovalue`, else background.
@@ -113,9 +170,11 @@ pub(crate) fn classify_isovalue(
     let classes: Vec<u8> = (0..image.voxels.len())
         .map(|i| u8::from(image.voxels.value(i) >= isovalue))
         .collect();
+    let (offset, dims, classes) = crop(image.dims, classes, 0);
     Classified {
-        field: Field::U8(ClassGrid::new(image.dims, classes, interpolation)),
+        field: Field::U8(ClassGrid::new(dims, classes, 2, interpolation)),
         subdomains: vec![0, 1],
+        offset,
     }
 }
 

@@ -9,9 +9,12 @@
 //!
 //! Gray-level images are meshed as `{value ≥ isovalue}` (subdomain 1).
 //!
-//! Not yet: the curves where three or more labels meet (CGAL 6's `Detect_features_in_image`) are
-//! not protected, so triple lines are approximated by the surface facets, not followed by edges.
+//! Feature curves (CGAL 6's `Detect_features_in_image` and `Detect_features_on_image_bbox`): the
+//! curves where three or more labels meet and where labels meet the image border are the
+//! oracle's feature curves, protected by the mesher like the sharp edges of a CAD part, so that
+//! they come out as chains of mesh edges.
 
+mod features;
 mod grid;
 mod initial;
 mod labels;
@@ -25,7 +28,7 @@ pub use labels::MAX_LABELS;
 pub use oracle::ImageLabelOracle;
 
 /// How an image becomes a domain.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ImageOptions {
     /// The label of the outside (0 unless given).
     pub background: u32,
@@ -33,6 +36,20 @@ pub struct ImageOptions {
     pub isovalue: Option<f64>,
     /// The label between voxel centres.
     pub interpolation: Interpolation,
+    /// Protect the curves where three labels meet and where labels meet the image border, so
+    /// that they come out as mesh edges (trilinear interpolation only).
+    pub features: bool,
+}
+
+impl Default for ImageOptions {
+    fn default() -> Self {
+        ImageOptions {
+            background: 0,
+            isovalue: None,
+            interpolation: Interpolation::default(),
+            features: true,
+        }
+    }
 }
 
 /// Why an image cannot be meshed.

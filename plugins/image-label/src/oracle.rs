@@ -2,8 +2,10 @@
 
 use crate::labels::{Classified, Field, classify_isovalue, classify_labels};
 use crate::walk::{Change, changes};
-use crate::{ImageLabelError, ImageOptions, initial};
-use delamesh_core::oracle::{Aabb, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint};
+use crate::{ImageLabelError, ImageOptions, features, initial};
+use delamesh_core::oracle::{
+    Aabb, CurveId, FeatureCurve, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
+};
 use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
 use delamesh_formats::image::Image;
 use glam::{DAffine3, DVec3};
@@ -27,6 +29,9 @@ pub struct ImageLabelOracle {
     to_index: DAffine3,
     bbox: Aabb,
     initial: Vec<SurfacePoint>,
+    /// Triple lines and curves on the image border, in world coordinates.
+    curves: Vec<FeatureCurve>,
+    corners: Vec<DVec3>,
 }
 
 impl ImageLabelOracle {
@@ -35,12 +40,17 @@ impl ImageLabelOracle {
         image
             .validate()
             .map_err(|e| ImageLabelError::Image(e.to_string()))?;
-        let Classified { field, subdomains } = match options.isovalue {
+        let Classified {
+            field,
+            subdomains,
+            offset,
+        } = match options.isovalue {
             Some(v) if !v.is_finite() => return Err(ImageLabelError::BadIsovalue(v)),
             Some(v) => classify_isovalue(image, v, options.interpolation),
             None => classify_labels(image, options.background, options.interpolation)?,
         };
-        let to_world = image.index_to_world;
+        let to_world = image.index_to_world
+            * DAffine3::from_translation(DVec3::from_array(offset.map(|o| o as f64)));
         let to_index = to_world.inverse();
         let index_box = with_grid!(&field, g => initial::occupied_box(g))
             .ok_or(ImageLabelError::Empty(options.background))?;
@@ -52,6 +62,8 @@ impl ImageLabelOracle {
             to_index,
             bbox,
             initial: Vec::new(),
+            curves: Vec::new(),
+            corners: Vec::new(),
         };
         let initial = with_grid!(&oracle.field, g => initial::initial_points(g));
         oracle.initial = initial
@@ -64,7 +76,42 @@ impl ImageLabelOracle {
         if oracle.initial.is_empty() {
             return Err(ImageLabelError::Empty(options.background));
         }
+        if options.features {
+            let found = with_grid!(&oracle.field, g => features::detect(g));
+            oracle.set_features(found);
+        }
         Ok(oracle)
+    }
+
+    /// The detected curves in world coordinates, simplified to within half a voxel: their
+    /// points are crossings of the voxel grid, and every bend of a feature curve is a protecting
+    /// ball's centre, so a bend per voxel would make balls (and the mesh) as fine as the voxels.
+    fn set_features(&mut self, found: features::Features) {
+        let m = self.to_world.matrix3;
+        let voxel = m
+            .x_axis
+            .length()
+            .max(m.y_axis.length())
+            .max(m.z_axis.length());
+        let tolerance = 0.5 * voxel;
+        for (points, closed) in found.curves {
+            let mut points: Vec<DVec3> = points.iter().map(|&q| self.world(q)).collect();
+            points.dedup();
+            if closed && points.len() > 1 && points.first() == points.last() {
+                points.pop();
+            }
+            let points = features::simplify(&points, closed, tolerance);
+            // A loop smaller than the tolerance is no curve to follow.
+            if points.len() < 2 + usize::from(closed) {
+                continue;
+            }
+            self.curves.push(FeatureCurve {
+                id: self.curves.len() as CurveId + 1,
+                points,
+                closed,
+            });
+        }
+        self.corners = found.corners.iter().map(|&q| self.world(q)).collect();
     }
 
     fn world(&self, q: DVec3) -> DVec3 {
@@ -87,17 +134,19 @@ impl ImageLabelOracle {
     }
 
     /// Criteria for a medium-resolution mesh of the image: the bounding-box defaults, with a
-    /// facet distance no finer than the voxels (finer would chase the voxel staircase).
+    /// facet distance no finer than the voxels (finer would chase the voxel staircase) and no
+    /// protecting ball below two voxels (closer than that, feature curves are the segmentation's
+    /// noise, and balls that small would refine the mesh down to it; less in a tiny image).
     pub fn default_criteria(&self) -> MeshCriteria {
         let mut c = MeshCriteria::default_for(&self.bbox);
         let m = self.to_world.matrix3;
-        let voxel = m
-            .x_axis
-            .length()
-            .min(m.y_axis.length())
-            .min(m.z_axis.length());
+        let lengths = [m.x_axis.length(), m.y_axis.length(), m.z_axis.length()];
+        let voxel = lengths.iter().fold(f64::INFINITY, |a, &b| a.min(b));
         let distance = c.facet.distance.at(self.bbox.center(), 1).max(voxel);
         c.facet.distance = Sizing::Constant(distance);
+        let largest = lengths.iter().fold(0.0, |a: f64, &b| a.max(b));
+        let dims = with_grid!(&self.field, g => g.dims);
+        c.edge_min_size = features::short(dims) * largest;
         c
     }
 
@@ -191,6 +240,14 @@ impl Oracle for ImageLabelOracle {
 
     fn initial_points(&self) -> Vec<SurfacePoint> {
         self.initial.clone()
+    }
+
+    fn feature_curves(&self) -> Vec<FeatureCurve> {
+        self.curves.clone()
+    }
+
+    fn corners(&self) -> Vec<DVec3> {
+        self.corners.clone()
     }
 }
 

@@ -1,6 +1,7 @@
 //! The image oracle as a C-ABI plugin library (feature `cdylib`), so that hosts loading plugins
 //! mesh images as the CLI does. Configuration: the path of the image on the first line, then
-//! optional `background=L`, `isovalue=V` and `interpolation=nearest|trilinear` lines.
+//! optional `background=L`, `isovalue=V`, `interpolation=nearest|trilinear` and `features=on|off`
+//! lines.
 //!
 //! Built with `cargo build -p delamesh-image-label --features cdylib`.
 
@@ -34,10 +35,12 @@ impl PluginOracle for ImageLabelOracle {
                 Some(("interpolation", "trilinear")) => {
                     options.interpolation = Interpolation::Trilinear;
                 }
+                Some(("features", "on")) => options.features = true,
+                Some(("features", "off")) => options.features = false,
                 _ => {
                     return Err(format!(
-                        "unknown configuration line {line:?} (expected background=L, isovalue=V or \
-                         interpolation=nearest|trilinear)"
+                        "unknown configuration line {line:?} (expected background=L, isovalue=V, \
+                         interpolation=nearest|trilinear or features=on|off)"
                     ));
                 }
             }

@@ -37,6 +37,10 @@ fn criteria(size: f64, distance: f64) -> MeshCriteria {
     c.facet.size = Sizing::Constant(size);
     c.facet.distance = Sizing::Constant(distance);
     c.cell.size = Sizing::Constant(size);
+    // Feature curves followed at the facet size, as the command line does for images, with the
+    // image's smallest protecting ball.
+    c.edge_size = Sizing::Constant(size);
+    c.edge_min_size = 2.0;
     c
 }
 
@@ -218,49 +222,6 @@ fn an_anisotropic_voxel_size_is_honoured() {
     assert_closed_interfaces(&c, &oracle, &[([0, 1], 2)]);
 }
 
-#[test]
-fn three_touching_boxes_keep_their_labels_and_volumes() {
-    // Boxes side by side in x (labels 1, 2) on top of a slab (label 3): a triple line where the
-    // three meet.
-    let label = |p: DVec3| {
-        let inside = p.cmpge(DVec3::splat(2.0)).all() && p.cmple(DVec3::splat(18.0)).all();
-        match () {
-            _ if !inside => 0,
-            _ if p.z < 8.0 => 3,
-            _ if p.x < 10.0 => 1,
-            _ => 2,
-        }
-    };
-    let img = image([21, 21, 21], DVec3::ONE, label);
-    let oracle = ImageLabelOracle::new(&img, &ImageOptions::default()).expect("valid image");
-    assert_eq!(oracle.subdomains(), vec![1, 2, 3]);
-    let c = mesh(&oracle, criteria(3.0, 0.5));
-    let v = volumes(&c);
-    // Interfaces lie half-way between voxel centres of different labels: the boxes span
-    // [1.5, 18.5] and meet at x = 9.5 and z = 7.5. Their edges are rounded off (no features
-    // here), by at most about the facet distance across each edge.
-    let exact = |dx: f64, dz: f64| dx * 17.0 * dz;
-    for (l, want) in [
-        (1, exact(8.0, 11.0)),
-        (2, exact(9.0, 11.0)),
-        (3, exact(17.0, 6.0)),
-    ] {
-        let got = v[&l];
-        assert!(
-            (got - want).abs() <= 0.05 * want,
-            "label {l}: {got} vs {want}"
-        );
-    }
-    let dist = |p: DVec3| {
-        let mut d = (p.z - 7.5).abs().min((p.x - 9.5).abs());
-        for a in 0..3 {
-            d = d.min((p[a] - 1.5).abs()).min((p[a] - 18.5).abs());
-        }
-        d
-    };
-    assert_tets_in_their_voxels(&c, DVec3::ONE, label, dist, 1.5);
-}
-
 /// The 8-bit image as INR bytes.
 fn inr_bytes(img: &Image, v: &[u8]) -> Vec<u8> {
     let s = img.spacing();
@@ -423,4 +384,312 @@ fn bad_images_are_errors_not_panics() {
         assert!(e.starts_with(&path.display().to_string()), "{e}");
         assert!(!e.contains('\n'), "{e}");
     }
+}
+
+/// The boundary of each label's region (the facets with that label on one side) is a closed
+/// 2-manifold of Euler characteristic `euler`.
+fn assert_closed_regions(c: &MeshComplex, labels: &[u32], euler: i64) {
+    for &l in labels {
+        let facets: Vec<[u32; 3]> = (0..c.facets.len())
+            .filter(|&f| c.facet_subdomains[f].contains(&l))
+            .map(|f| c.facets[f])
+            .collect();
+        let t = quality::surface_topology(&facets);
+        assert_eq!(t.border_edges, 0, "label {l}: border");
+        assert_eq!(t.non_manifold_edges, 0, "label {l}: non-manifold edges");
+        assert_eq!(
+            t.non_manifold_vertices, 0,
+            "label {l}: non-manifold vertices"
+        );
+        assert_eq!(t.euler_characteristic, euler, "label {l}");
+    }
+}
+
+/// The distance from `p` to the mesh's feature edges.
+fn distance_to_feature_edges(c: &MeshComplex, p: DVec3) -> f64 {
+    c.feature_edges
+        .iter()
+        .map(|e| {
+            let (a, b) = (c.points[e[0] as usize], c.points[e[1] as usize]);
+            delamesh_core::refine::curves::point_segment_distance(p, a, b)
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The distance from `p` to the segment `[a, b]`.
+fn to_segment(p: DVec3, a: DVec3, b: DVec3) -> f64 {
+    delamesh_core::refine::curves::point_segment_distance(p, a, b)
+}
+
+#[test]
+fn triple_lines_of_three_touching_boxes_are_mesh_edges() {
+    // Boxes side by side in x (labels 1, 2) on top of a slab (label 3), in the middle of the
+    // image: the triple line where the three meet runs along y at x = 9.5, z = 7.5 (half-way
+    // between voxel centres), and the lines where two of them meet the background run around.
+    let label = |p: DVec3| {
+        let inside = p.cmpge(DVec3::splat(2.0)).all() && p.cmple(DVec3::splat(18.0)).all();
+        match () {
+            _ if !inside => 0,
+            _ if p.z < 8.0 => 3,
+            _ if p.x < 10.0 => 1,
+            _ => 2,
+        }
+    };
+    let img = image([21, 21, 21], DVec3::ONE, label);
+    let oracle = ImageLabelOracle::new(&img, &ImageOptions::default()).expect("valid image");
+    let (lo, hi) = (1.5, 18.5);
+    // Where three classes meet: the line of the three labels, and on the faces of the union box
+    // the lines where two labels meet the background.
+    let triple: Vec<[DVec3; 2]> = {
+        let v = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
+        let mut s = vec![[v(9.5, lo, 7.5), v(9.5, hi, 7.5)]];
+        for y in [lo, hi] {
+            s.push([v(9.5, y, 7.5), v(9.5, y, hi)]);
+            s.push([v(lo, y, 7.5), v(hi, y, 7.5)]);
+        }
+        s.push([v(9.5, lo, hi), v(9.5, hi, hi)]);
+        for x in [lo, hi] {
+            s.push([v(x, lo, 7.5), v(x, hi, 7.5)]);
+        }
+        s
+    };
+    let to_triple = |p: DVec3| {
+        triple
+            .iter()
+            .map(|s| to_segment(p, s[0], s[1]))
+            .fold(f64::INFINITY, f64::min)
+    };
+    assert!(!oracle.feature_curves().is_empty());
+    for curve in oracle.feature_curves() {
+        for &p in &curve.points {
+            assert!(
+                to_triple(p) <= 0.75,
+                "curve {} point {p} off the lines",
+                curve.id
+            );
+        }
+    }
+    let c = mesh(&oracle, criteria(3.0, 0.5));
+    // The lines are chains of mesh edges: every feature edge on a line, every line covered.
+    assert!(!c.feature_edges.is_empty());
+    for e in &c.feature_edges {
+        for &v in e {
+            assert!(to_triple(c.points[v as usize]) <= 0.75);
+        }
+    }
+    for s in &triple {
+        for k in 0..=20 {
+            let p = s[0].lerp(s[1], f64::from(k) / 20.0);
+            assert!(
+                distance_to_feature_edges(&c, p) <= 0.75,
+                "{p} off the mesh edges"
+            );
+        }
+    }
+    assert_closed_regions(&c, &[1, 2, 3], 2);
+    let dist = |p: DVec3| {
+        let mut d = (p.z - 7.5).abs().min((p.x - 9.5).abs());
+        for a in 0..3 {
+            d = d.min((p[a] - lo).abs()).min((p[a] - hi).abs());
+        }
+        d
+    };
+    assert_tets_in_their_voxels(&c, DVec3::ONE, label, dist, 1.5);
+    // The volumes: the triple lines are followed, only the box creases (two classes) are rounded
+    // off, by about the facet distance across each.
+    let v = volumes(&c);
+    let exact = |dx: f64, dz: f64| dx * 17.0 * dz;
+    for (l, want) in [
+        (1, exact(8.0, 11.0)),
+        (2, exact(9.0, 11.0)),
+        (3, exact(17.0, 6.0)),
+    ] {
+        assert!(
+            (v[&l] - want).abs() <= 0.05 * want,
+            "label {l}: {} vs {want}",
+            v[&l]
+        );
+    }
+}
+
+#[test]
+fn labels_filling_the_image_keep_its_box_edges_and_border_curves() {
+    // Two labels split at x = 7.5 fill the whole image: its faces are boundary, its edges creases,
+    // and the interface meets the faces along a square loop.
+    let n = 14;
+    let label = |p: DVec3| if p.x < 7.5 { 1 } else { 2 };
+    let img = image([n, n, n], DVec3::ONE, label);
+    let oracle = ImageLabelOracle::new(&img, &ImageOptions::default()).expect("valid image");
+    let c = mesh(&oracle, criteria(3.0, 0.3));
+    let m = (n - 1) as f64;
+    let v = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
+    let mut lines = Vec::new();
+    for a in [0.0, m] {
+        for b in [0.0, m] {
+            lines.push([v(0.0, a, b), v(m, a, b)]);
+            lines.push([v(a, 0.0, b), v(a, m, b)]);
+            lines.push([v(a, b, 0.0), v(a, b, m)]);
+        }
+        lines.push([v(7.5, a, 0.0), v(7.5, a, m)]);
+        lines.push([v(7.5, 0.0, a), v(7.5, m, a)]);
+    }
+    for s in &lines {
+        for k in 0..=20 {
+            let p = s[0].lerp(s[1], f64::from(k) / 20.0);
+            assert!(
+                distance_to_feature_edges(&c, p) <= 0.5,
+                "{p} off the mesh edges"
+            );
+        }
+    }
+    assert_closed_regions(&c, &[1, 2], 2);
+    // With its edges followed, the box is meshed exactly but for the interface's rounding.
+    let v = volumes(&c);
+    let area = m * m;
+    for (l, want) in [(1, 7.5 * area), (2, (m - 7.5) * area)] {
+        assert!(
+            (v[&l] - want).abs() <= 0.01 * want,
+            "label {l}: {} vs {want}",
+            v[&l]
+        );
+    }
+}
+
+#[test]
+fn random_blobs_of_labels_are_meshed_along_their_junctions() {
+    // Overlapping balls of four labels at seeded random places: junctions nobody laid out.
+    let n = 24;
+    let mut seed = 0x2545_f491_4f6c_dd1du64;
+    let mut next = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let balls: Vec<(DVec3, f64, u8)> = (0..7)
+        .map(|k| {
+            let c = DVec3::new(next(), next(), next()) * 14.0 + 4.5;
+            (c, 3.0 + 3.0 * next(), 1 + (k % 4) as u8)
+        })
+        .collect();
+    let label = |p: DVec3| {
+        balls
+            .iter()
+            .rev()
+            .find(|(c, r, _)| p.distance(*c) <= *r)
+            .map_or(0, |b| b.2)
+    };
+    let img = image([n, n, n], DVec3::ONE, label);
+    let oracle = ImageLabelOracle::new(&img, &ImageOptions::default()).expect("valid image");
+    let c = mesh(&oracle, criteria(2.5, 0.4));
+    // Feature edges only where three classes (the outside of the image among them) meet: near
+    // a cube of voxels with three labels or more.
+    let class = |v: [i64; 3]| {
+        if v.iter().any(|&x| x < 0 || x >= n as i64) {
+            u8::MAX
+        } else {
+            label(DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64))
+        }
+    };
+    let near_junction = |p: DVec3| {
+        let base = p.floor().as_i64vec3();
+        (-1..=1).any(|dz| {
+            (-1..=1).any(|dy| {
+                (-1..=1).any(|dx| {
+                    let o = [base.x + dx, base.y + dy, base.z + dz];
+                    let mut seen = Vec::new();
+                    for m in 0..8 {
+                        let l = class([o[0] + (m & 1), o[1] + ((m >> 1) & 1), o[2] + (m >> 2)]);
+                        if !seen.contains(&l) {
+                            seen.push(l);
+                        }
+                    }
+                    seen.len() >= 3
+                })
+            })
+        })
+    };
+    assert!(!c.feature_edges.is_empty());
+    for e in &c.feature_edges {
+        for &v in e {
+            let p = c.points[v as usize];
+            assert!(near_junction(p), "feature vertex {p} far from any junction");
+        }
+    }
+    // Away from the interfaces (no voxel of another label within 1.5), tets lie in their label.
+    let away = |p: DVec3| {
+        let l = label(p.round());
+        let base = p.round().as_i64vec3();
+        let mut same = true;
+        for dz in -2..=2 {
+            for dy in -2..=2 {
+                for dx in -2..=2 {
+                    let q = DVec3::new(
+                        (base.x + dx) as f64,
+                        (base.y + dy) as f64,
+                        (base.z + dz) as f64,
+                    );
+                    if q.distance(p) <= 1.5 && label(q) != l {
+                        same = false;
+                    }
+                }
+            }
+        }
+        if same { 2.0 } else { 0.0 }
+    };
+    assert_tets_in_their_voxels(&c, DVec3::ONE, label, away, 1.0);
+    // The boundary of the labelled region is a closed 2-manifold (the validity repairs' target;
+    // the interfaces between labels inside it are not repaired to manifolds yet).
+    let outer: Vec<[u32; 3]> = (0..c.facets.len())
+        .filter(|&f| c.facet_subdomains[f].contains(&0))
+        .map(|f| c.facets[f])
+        .collect();
+    let t = quality::surface_topology(&outer);
+    assert_eq!(t.border_edges, 0);
+    assert_eq!(t.non_manifold_edges, 0);
+    assert_eq!(t.non_manifold_vertices, 0);
+}
+
+#[test]
+fn a_single_cube_of_four_labels_keeps_its_junction_and_volumes() {
+    // CGAL's feature-detection case 12323: eight voxels, four classes (the background one), one
+    // junction of triple lines inside the cube, border curves on all its faces.
+    let values = [0u8, 0, 0, 1, 2, 3, 2, 3];
+    let img = Image::axis_aligned(
+        [2, 2, 2],
+        DVec3::ONE,
+        DVec3::ZERO,
+        Voxels::U8(values.to_vec()),
+    );
+    let oracle = ImageLabelOracle::new(&img, &ImageOptions::default()).expect("valid image");
+    assert!(!oracle.feature_curves().is_empty());
+    let distance = 0.03;
+    let mut c = criteria(0.25, distance);
+    c.edge_min_size = oracle.default_criteria().edge_min_size;
+    let c = mesh(&oracle, c);
+    assert!(!c.feature_edges.is_empty());
+    // The volume of each label of the oracle's own partition, by the midpoint rule.
+    let n = 60;
+    let mut exact: BTreeMap<u32, f64> = BTreeMap::new();
+    for k in 0..n {
+        for j in 0..n {
+            for i in 0..n {
+                let p = (DVec3::new(i as f64, j as f64, k as f64) + 0.5) / n as f64;
+                *exact.entry(oracle.subdomain(p)).or_insert(0.0) += 1.0 / (n * n * n) as f64;
+            }
+        }
+    }
+    let v = volumes(&c);
+    for l in [1, 2, 3] {
+        // Each facet within the facet distance of the interfaces (the surface level's bound).
+        let area: f64 = (0..c.facets.len())
+            .filter(|&f| c.facet_subdomains[f].contains(&l))
+            .map(|f| {
+                let [a, b, d] = c.facets[f].map(|v| c.points[v as usize]);
+                0.5 * (b - a).cross(d - a).length()
+            })
+            .sum();
+        assert_volume(v[&l], exact[&l], area, distance, 0.0);
+    }
+    assert_closed_regions(&c, &[1, 2, 3], 2);
 }
