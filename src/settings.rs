@@ -61,8 +61,8 @@ pub struct MeshSettings {
     /// Mesh the input file as the control mesh of a subdivision surface (its limit surface
     /// bounds the domain) instead of as a triangle surface; `None`: a surface.
     pub subdivision: Option<delamesh_subdivision::SubdivisionOptions>,
-    /// The optimisers run after refinement (default: none; `OptimizeOptions::default()` is
-    /// CGAL's perturbation and exudation).
+    /// The optimisers run after refinement (default: CGAL's, perturbation and exudation;
+    /// `OptimizeOptions::none()` for the refined mesh as it is).
     pub optimize: OptimizeOptions,
     /// Sizing fields, per-subdomain and per-patch sizes, gradation.
     pub sizing: SizingSettings,
@@ -120,7 +120,7 @@ impl Default for MeshSettings {
             image: ImageSettings::default(),
             strict: false,
             subdivision: None,
-            optimize: OptimizeOptions::none(),
+            optimize: OptimizeOptions::default(),
             sizing: SizingSettings::default(),
             preserve_surface: false,
         }

@@ -6,6 +6,7 @@ use delamesh_core::kernel::Point3;
 use delamesh_core::oracle::{Aabb, FeatureCurve, Oracle, SubdomainId, SurfaceHit, SurfacePoint};
 use delamesh_core::quality;
 use delamesh_core::refine::criteria::{CellCriteria, FacetCriteria, MeshCriteria, Sizing};
+use delamesh_core::refine::curves::Polyline;
 use delamesh_core::refine::{Limits, MeshOptions, mesh_domain};
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -457,7 +458,7 @@ fn cylinder_rims_are_closed_chains_on_the_circles() {
 }
 
 #[test]
-fn optimisation_keeps_corners_and_curve_vertices_and_lifts_the_smallest_angle() {
+fn optimisation_keeps_corners_and_curve_vertices_on_their_curves_and_lifts_the_smallest_angle() {
     for (oracle, size) in [(&Polyhedron::cube() as &dyn Oracle, 0.3), (&Cylinder, 0.25)] {
         let mut plain = options(size);
         plain.optimize = delamesh_core::optimize::OptimizeOptions::none();
@@ -467,8 +468,21 @@ fn optimisation_keeps_corners_and_curve_vertices_and_lifts_the_smallest_angle() 
         assert_positive_tets(o);
         assert_eq!(r.vertex_dimension, o.vertex_dimension);
         for (v, d) in o.vertex_dimension.iter().enumerate() {
-            if matches!(d, VertexDimension::Corner | VertexDimension::Curve) {
-                assert_eq!(r.points[v], o.points[v], "feature vertex {v} moved");
+            if *d == VertexDimension::Corner {
+                assert_eq!(r.points[v], o.points[v], "corner {v} moved");
+            }
+        }
+        // Curve vertices may slide along their curve, never off it.
+        let curves = oracle.feature_curves();
+        for (e, id) in o.feature_edges.iter().zip(&o.feature_edge_curve) {
+            let c = curves
+                .iter()
+                .find(|c| c.id == *id)
+                .expect("a curve of the domain");
+            let line = Polyline::new(&c.points, c.closed).expect("a polyline");
+            for &v in e {
+                let d = line.project(o.points[v as usize]).distance;
+                assert!(d <= 1e-9, "curve vertex {v} at {d} from curve {id}");
             }
         }
         assert_eq!(r.feature_edges, o.feature_edges);

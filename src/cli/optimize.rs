@@ -8,16 +8,17 @@ use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
 
-/// Mesh optimisation after refinement, on request (CGAL's optimisers: perturbation and
-/// exudation).
+/// Mesh optimisation after refinement (CGAL's optimisers: perturbation and exudation by
+/// default, smoothing on request).
 #[derive(Args, Debug, Default)]
 pub struct OptimizeArgs {
-    /// Sliver perturbation: move the vertices of the worst tets.
+    /// No sliver perturbation (by default the vertices of the worst tets move: inside, along
+    /// the surface and along feature curves).
     #[arg(long)]
-    pub perturb: bool,
-    /// Sliver exudation: pump the weights of the worst tets' vertices.
+    pub no_perturb: bool,
+    /// No sliver exudation (by default the weights of the worst tets' vertices are pumped).
     #[arg(long)]
-    pub exude: bool,
+    pub no_exude: bool,
     /// ODT smoothing of the interior vertices before the sliver steps.
     #[arg(long)]
     pub odt: bool,
@@ -44,8 +45,8 @@ impl OptimizeArgs {
         Ok(OptimizeOptions {
             lloyd: self.lloyd,
             odt: self.odt,
-            perturb: self.perturb,
-            exude: self.exude,
+            perturb: !self.no_perturb,
+            exude: !self.no_exude,
             time_limit,
             ..OptimizeOptions::default()
         })

@@ -14,7 +14,7 @@ use crate::triangulation::{CellId, Triangulation, VertexId};
 /// require less than 1/2; CGAL uses 0.3).
 const DELTA: f64 = 0.35;
 /// Weights tried per vertex, as fractions of the interval between its weight and the bound.
-const PUMPS: [f64; 3] = [0.33, 0.67, 1.0];
+const PUMPS: [f64; 3] = [1.0, 0.67, 0.33];
 /// Sweeps over the slivers at most.
 const MAX_SWEEPS: usize = 3;
 
@@ -27,7 +27,7 @@ pub(super) fn exude(ws: &mut Workspace<'_>, bound: f64, deadline: &Deadline) -> 
     })
 }
 
-/// Gives `v` the weight (among a few up to its bound) that most improves the smallest dihedral
+/// Gives `v` a larger weight (among a few up to its bound) that improves the smallest dihedral
 /// angle around it, if one does.
 fn pump(ws: &mut Workspace<'_>, v: VertexId) -> bool {
     if !matches!(
@@ -44,20 +44,18 @@ fn pump(ws: &mut Workspace<'_>, v: VertexId) -> bool {
     if bound <= w0 {
         return false;
     }
-    let mut best: Option<(f64, f64)> = None;
+    // The largest weight first (it changes the most cells); the first that helps is kept, as
+    // each try costs a move and an undo in the triangulation.
     for f in PUMPS {
         let w = w0 + (bound - w0) * f;
         if let Some(change) = ws.try_move(v, p, w) {
-            if change.after > change.before && best.is_none_or(|(a, _)| change.after > a) {
-                best = Some((change.after, w));
+            if change.after > change.before {
+                return true;
             }
             ws.undo(change);
         }
     }
-    let Some((_, w)) = best else {
-        return false;
-    };
-    ws.try_move(v, p, w).is_some()
+    false
 }
 
 /// `DELTA²` times the squared distance from `v` to the nearest ball of a neighbour (`None` when

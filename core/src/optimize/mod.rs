@@ -5,8 +5,9 @@
 //! meshes keep slivers. The optimisers work on the regular triangulation of the mesh vertices
 //! ([`state::Workspace`]): every step moves vertices or changes weights through one primitive
 //! that keeps the triangulation regular and the boundary facets exactly as refinement left them
-//! (same triangles, patches and subdomains), so the optimised mesh has the same surface
-//! combinatorics, its surface vertices on the surface and its feature vertices in place.
+//! (same triangles, patches and subdomains; only peeling a flat cell off the surface flips a
+//! surface edge), so the optimised mesh has its surface vertices on the surface, its curve
+//! vertices on their curves and its corners in place.
 //! It depends only on the complex, the weights of its vertices and the oracle, not on how
 //! refinement built them. Every step is deterministic (fixed sweep orders and pseudo-random
 //! sequences); only a time limit can make two runs differ.
@@ -177,7 +178,8 @@ impl Deadline {
 
 /// Optimises `complex`, whose vertex `i` had weight `weights[i]` in the triangulation refinement
 /// built (missing weights are 0), over the domain `oracle`; boundary facets the optimisers change
-/// meet the facet-distance criterion of `criteria`. Returns the optimised complex (the
+/// meet the facet-distance and facet-size criteria of `criteria`, and no cell gets larger
+/// than its cell-size criterion allows. Returns the optimised complex (the
 /// input unchanged when it could not be taken over; the report says why).
 pub fn optimize(
     complex: MeshComplex,
@@ -199,7 +201,14 @@ pub fn optimize(
     if !options.any() || complex.tets.is_empty() {
         return (complex, report);
     }
-    let mut ws = match Workspace::new(&complex, weights, oracle, criteria.facet.distance.clone()) {
+    let mut ws = match Workspace::new(
+        &complex,
+        weights,
+        oracle,
+        criteria.facet.distance.clone(),
+        criteria.facet.size.clone(),
+        criteria.cell.size.clone(),
+    ) {
         Ok(ws) => ws,
         Err(e) => {
             report.skipped = Some(e);

@@ -1,8 +1,9 @@
 //! Sliver perturbation (Tournois, Srinivasan and Alliez 2009): a vertex of a sliver moves along
 //! the gradient of the sliver's smallest dihedral angle (or, when that does not help, in a few
 //! pseudo-random directions), by a fraction of its distance to the sliver's other vertices. A
-//! surface vertex moves in the tangent plane and is put back on its patch by the oracle; curve
-//! vertices and corners stay. A move is kept when the smallest dihedral angle of the cells it
+//! surface vertex moves in the tangent plane and is put back on its patch by the oracle, a vertex
+//! inside a feature curve moves along the curve, corners stay; no boundary facet may fold over
+//! or leave the facet distance. A move is kept when the smallest dihedral angle of the cells it
 //! changed is larger than that of the cells it destroyed. A sliver lying on the surface with two
 //! boundary facets cannot be moved away without changing the surface: it is peeled off instead
 //! (see [`Workspace::peel`]), which flips the surface edge under it.
@@ -11,7 +12,8 @@ use super::Deadline;
 use super::state::{Workspace, min_dihedral};
 use crate::complex::VertexDimension;
 use crate::kernel::Point3;
-use crate::oracle::{OUTSIDE, PatchId, SurfaceHit};
+use crate::oracle::{PatchId, SurfaceHit};
+use crate::refine::curves::Polyline;
 use crate::triangulation::{CellId, Triangulation, VertexId};
 
 /// Step lengths tried along a direction, as fractions of the distance to the nearest other
@@ -20,9 +22,6 @@ use crate::triangulation::{CellId, Triangulation, VertexId};
 const STEPS: [f64; 3] = [0.25, 0.1, 0.04];
 /// Pseudo-random directions tried when the gradient does not help (with the middle step).
 const RANDOM_TRIES: usize = 2;
-/// Whether surface vertices move (along the surface). Off: on two boxes sharing a face the
-/// moves lost a tenth of one box's volume (tests/cli_features.rs), a defect not found yet.
-const MOVE_SURFACE_VERTICES: bool = false;
 /// Sweeps over the slivers at most.
 const MAX_SWEEPS: usize = 6;
 
@@ -35,19 +34,19 @@ pub(super) fn perturb(ws: &mut Workspace<'_>, bound: f64, deadline: &Deadline) -
     })
 }
 
+/// Where a vertex of a sliver may go: anywhere (inside a subdomain), along its patch (a
+/// surface vertex: the unit normal there and the patch), or along its feature curve.
+enum Freedom<'a> {
+    Volume,
+    Surface(Point3, PatchId),
+    Curve(&'a Polyline),
+}
+
 /// Tries to improve sliver `c` by moving one of its vertices.
 fn perturb_cell(ws: &mut Workspace<'_>, c: CellId, rng: &mut u64) -> bool {
     let cell = ws.rt.cell(c);
     for k in 0..4 {
         let v = cell[k];
-        let surface = match ws.dimension[v.0 as usize] {
-            VertexDimension::Volume => None,
-            VertexDimension::Surface if MOVE_SURFACE_VERTICES => match surface_frame(ws, v) {
-                Some(frame) => Some(frame),
-                None => continue,
-            },
-            VertexDimension::Surface | VertexDimension::Curve | VertexDimension::Corner => continue,
-        };
         let p = ws.rt.point(v);
         let others: Vec<Point3> = (0..4)
             .filter(|&j| j != k)
@@ -57,39 +56,76 @@ fn perturb_cell(ws: &mut Workspace<'_>, c: CellId, rng: &mut u64) -> bool {
             .iter()
             .map(|q| q.distance(p))
             .fold(f64::INFINITY, f64::min);
-        let tangent = |d: Point3| match surface {
-            Some((n, _)) => d - n * d.dot(n),
-            None => d,
-        };
         let angle_at = |x: Point3| {
             let mut t = cell.map(|u| ws.rt.point(u));
             t[k] = x;
             t.swap(0, 1);
             min_dihedral(&t)
         };
-        let mut tries = Vec::with_capacity(STEPS.len() + RANDOM_TRIES);
-        let g = tangent(gradient(angle_at, p, 1e-4 * reach));
-        if g.length() > 0.0 {
-            tries.extend(STEPS.map(|s| (g.normalize(), s)));
-        }
-        for _ in 0..RANDOM_TRIES {
-            let d = tangent(random_unit(rng));
-            if d.length() > 1e-3 {
-                tries.push((d.normalize(), STEPS[1]));
-            }
-        }
-        for (d, s) in tries {
-            let mut q = p + d * (s * reach);
-            if let Some((n, patch)) = surface {
-                match project(ws, q, n, reach, patch) {
-                    Some(on) => q = on,
-                    None => continue,
+        let freedom = match ws.dimension[v.0 as usize] {
+            VertexDimension::Volume => Freedom::Volume,
+            VertexDimension::Surface => match surface_frame(ws, v) {
+                Some((n, patch)) => Freedom::Surface(n, patch),
+                None => continue,
+            },
+            VertexDimension::Curve => match ws.curve(v) {
+                Some(curve) => Freedom::Curve(curve),
+                None => continue,
+            },
+            VertexDimension::Corner => continue,
+        };
+        let tries: Vec<Point3> = match &freedom {
+            Freedom::Volume | Freedom::Surface(..) => {
+                let tangent = |d: Point3| match &freedom {
+                    Freedom::Surface(n, _) => d - *n * d.dot(*n),
+                    _ => d,
+                };
+                let mut tries = Vec::with_capacity(STEPS.len() + RANDOM_TRIES);
+                let g = tangent(gradient(angle_at, p, 1e-4 * reach));
+                if g.length() > 0.0 {
+                    tries.extend(STEPS.map(|s| p + g.normalize() * (s * reach)));
+                }
+                for _ in 0..RANDOM_TRIES {
+                    let d = tangent(random_unit(rng));
+                    if d.length() > 1e-3 {
+                        tries.push(p + d.normalize() * (STEPS[1] * reach));
+                    }
+                }
+                match freedom {
+                    Freedom::Surface(n, patch) => tries
+                        .into_iter()
+                        .filter_map(|q| project(ws, q, n, reach, patch))
+                        .collect(),
+                    _ => tries,
                 }
             }
+            Freedom::Curve(curve) => {
+                // Along the curve, the way the angle grows first, then the other way.
+                let s0 = curve.project(p).s;
+                let h = 1e-4 * reach;
+                let at = |s: f64| curve.point_at(s);
+                let up = angle_at(at(s0 + h)) >= angle_at(at(s0 - h));
+                let sign = if up { 1.0 } else { -1.0 };
+                let mut tries: Vec<Point3> = STEPS
+                    .iter()
+                    .filter_map(|&s| curve.advance(s0, sign * s * reach).map(at))
+                    .collect();
+                tries.extend(curve.advance(s0, -sign * STEPS[1] * reach).map(at));
+                tries
+            }
+        };
+        let fixed_boundary = !matches!(freedom, Freedom::Volume);
+        let normals = if fixed_boundary {
+            ws.boundary_normals(v)
+        } else {
+            Vec::new()
+        };
+        for q in tries {
             let w = ws.rt.weight(v);
             if let Some(change) = ws.try_move(v, q, w) {
-                if change.after > change.before && (surface.is_none() || ws.surface_near_around(v))
-                {
+                let on_surface =
+                    !fixed_boundary || (ws.none_folded(v, &normals) && ws.surface_near_around(v));
+                if change.after > change.before && on_surface {
                     return true;
                 }
                 ws.undo(change);
@@ -122,48 +158,21 @@ fn random_unit(state: &mut u64) -> Point3 {
     }
 }
 
-/// The unit outward normal of the surface at surface vertex `v` (area-weighted over its
-/// boundary facets) and its patch, when all its boundary facets lie on one patch between one
-/// subdomain and the outside (a vertex on several patches sits on a feature and stays).
+/// The unit normal of the surface at surface vertex `v` (area-weighted over its boundary
+/// facets) and its patch, when all its boundary facets lie on one patch between the same two
+/// subdomains (a vertex on several patches, or where a third subdomain meets them, sits on a
+/// feature and stays).
 pub(super) fn surface_frame(ws: &Workspace<'_>, v: VertexId) -> Option<(Point3, PatchId)> {
-    let mut cells = Vec::new();
-    ws.rt.incident_cells(v, &mut cells);
-    let mut normal = Point3::ZERO;
-    let mut patch = None;
-    for &c in &cells {
-        if !ws.inside(c) {
-            continue;
-        }
-        let q = ws.rt.cell(c);
-        for i in 0..4 {
-            if q[i] == v {
-                continue;
-            }
-            let mut key = [0u32; 3];
-            let mut n = 0;
-            for (j, u) in q.iter().enumerate() {
-                if j != i {
-                    key[n] = u.0;
-                    n += 1;
-                }
-            }
-            key.sort_unstable();
-            let Some(pt) = ws.patch(&key) else { continue };
-            if ws.label(ws.rt.neighbor(c, i)) != OUTSIDE || *patch.get_or_insert(pt) != pt {
-                return None;
-            }
-            let f: Vec<Point3> = (0..4)
-                .filter(|&j| j != i)
-                .map(|j| ws.rt.point(q[j]))
-                .collect();
-            let mut n = (f[1] - f[0]).cross(f[2] - f[0]);
-            if n.dot(ws.rt.point(q[i]) - f[0]) > 0.0 {
-                n = -n;
-            }
-            normal += n;
-        }
+    let facets = ws.boundary_normals(v);
+    let (first, _) = facets.first()?;
+    let (patch, sides) = (ws.patch(first)?, ws.sides(first)?);
+    if facets
+        .iter()
+        .any(|(k, _)| ws.patch(k) != Some(patch) || ws.sides(k) != Some(sides))
+    {
+        return None;
     }
-    let patch = patch?;
+    let normal = facets.iter().fold(Point3::ZERO, |s, &(_, n)| s + n);
     (normal.length() > 0.0).then(|| (normal.normalize(), patch))
 }
 

@@ -14,6 +14,7 @@ use crate::kernel::Point3;
 use crate::oracle::{OUTSIDE, PatchId, SubdomainId};
 use crate::quality::{dihedral_angles_deg, tet_volume};
 use crate::refine::criteria::Sizing;
+use crate::refine::curves::Polyline;
 use crate::refine::{facet_vertices, triangle_circumcenter};
 use crate::triangulation::{CellId, MoveReport, Regular3, Triangulation, VertexId};
 use std::collections::HashMap;
@@ -74,9 +75,70 @@ pub(super) struct Workspace<'o> {
     /// The facet-distance criterion of refinement, which boundary facets changed by the
     /// optimisers must still meet.
     facet_distance: Sizing,
+    /// The cell-size criterion of refinement: no move makes a cell larger than it allows (or
+    /// than the cells it replaces, where refinement left larger ones).
+    cell_size: Sizing,
+    /// The facet-size criterion, which boundary facets changed by the optimisers must meet.
+    facet_size: Sizing,
     /// The triangulation vertex of each mesh vertex.
     vertex_of: Vec<VertexId>,
+    /// The feature curves of the domain, and the one each curve vertex inside a curve (two
+    /// feature edges on it) moves along.
+    curves: Vec<Polyline>,
+    curve_of: HashMap<u32, usize>,
     report: MoveReport,
+}
+
+/// A created cell inside the domain with a smallest dihedral angle below this (degrees) is
+/// flat for every purpose of a mesh user, whatever the sign of its volume: a move making one is
+/// refused.
+const FLAT_DEG: f64 = 1e-3;
+
+/// Two boundary facets whose normals make an angle below 30° (this cosine) are a smooth piece
+/// of the surface: a cell under them may be peeled even next to a feature curve.
+const COPLANAR_COS: f64 = 0.866;
+
+/// The feature curves of `oracle` as polylines, and for each curve vertex with exactly two
+/// feature edges on one curve (by triangulation vertex), the index of that curve.
+fn curve_vertices(
+    complex: &MeshComplex,
+    vertex_of: &[VertexId],
+    dimension: &[VertexDimension],
+    oracle: &dyn crate::oracle::Oracle,
+) -> (Vec<Polyline>, HashMap<u32, usize>) {
+    let mut curves = Vec::new();
+    let mut index = HashMap::new();
+    for c in oracle.feature_curves() {
+        if let Some(p) = Polyline::new(&c.points, c.closed) {
+            index.insert(c.id, curves.len());
+            curves.push(p);
+        }
+    }
+    // Per vertex: feature edges seen, and the curve if all are on one.
+    let mut seen: HashMap<u32, (usize, Option<usize>)> = HashMap::new();
+    for (e, &id) in complex
+        .feature_edges
+        .iter()
+        .zip(&complex.feature_edge_curve)
+    {
+        let curve = index.get(&id).copied();
+        for &i in e {
+            let Some(&v) = vertex_of.get(i as usize) else {
+                continue;
+            };
+            let entry = seen.entry(v.0).or_insert((0, curve));
+            entry.0 += 1;
+            if entry.1 != curve {
+                entry.1 = None;
+            }
+        }
+    }
+    let curve_of = seen
+        .into_iter()
+        .filter(|&(v, (n, _))| n == 2 && dimension[v as usize] == VertexDimension::Curve)
+        .filter_map(|(v, (_, c))| Some((v, c?)))
+        .collect();
+    (curves, curve_of)
 }
 
 /// Sorted vertices of a cell.
@@ -126,6 +188,8 @@ impl<'o> Workspace<'o> {
         weights: &[f64],
         oracle: &'o dyn crate::oracle::Oracle,
         facet_distance: Sizing,
+        facet_size: Sizing,
+        cell_size: Sizing,
     ) -> Result<Self, WorkspaceError> {
         let points: Vec<(Point3, f64)> = complex
             .points
@@ -172,7 +236,10 @@ impl<'o> Workspace<'o> {
                 [a.min(b), a.max(b)]
             })
             .collect();
+        let (curves, curve_of) = curve_vertices(complex, &vertex_of, &dimension, oracle);
         let ws = Workspace {
+            curves,
+            curve_of,
             rt,
             label,
             boundary,
@@ -181,6 +248,8 @@ impl<'o> Workspace<'o> {
             peeled: std::collections::HashSet::new(),
             oracle,
             facet_distance,
+            cell_size,
+            facet_size,
             vertex_of,
             report: MoveReport::default(),
         };
@@ -194,6 +263,60 @@ impl<'o> Workspace<'o> {
             return Err(WorkspaceError::Boundary);
         }
         Ok(ws)
+    }
+
+    /// The feature curve vertex `v` may move along: it is a curve vertex with exactly two
+    /// feature edges, both on that curve (an end or a junction of curves stays).
+    pub fn curve(&self, v: VertexId) -> Option<&Polyline> {
+        self.curve_of.get(&v.0).map(|&k| &self.curves[k])
+    }
+
+    /// The boundary facets around `v` with their area-weighted normals, oriented from the first
+    /// of the two subdomains they separate to the second.
+    pub fn boundary_normals(&self, v: VertexId) -> Vec<(FacetKey, Point3)> {
+        let mut cells = Vec::new();
+        self.rt.incident_cells(v, &mut cells);
+        let mut out = Vec::new();
+        for &c in &cells {
+            if !self.inside(c) {
+                continue;
+            }
+            let q = self.rt.cell(c);
+            for i in 0..4 {
+                let key = facet_key(q, i);
+                let Some(b) = self.boundary.get(&key) else {
+                    continue;
+                };
+                if q[i] == v {
+                    continue;
+                }
+                let f: Vec<Point3> = (0..4)
+                    .filter(|&m| m != i)
+                    .map(|m| self.rt.point(q[m]))
+                    .collect();
+                let mut n = (f[1] - f[0]).cross(f[2] - f[0]);
+                // Out of the cell, then from the first side to the second.
+                if (n.dot(self.rt.point(q[i]) - f[0]) > 0.0) == (self.label(c) == b.sides[0]) {
+                    n = -n;
+                }
+                out.push((key, n));
+            }
+        }
+        out.sort_unstable_by_key(|&(k, _)| k);
+        out.dedup_by_key(|&mut (k, _)| k);
+        out
+    }
+
+    /// Whether every boundary facet of `before` (from [`Self::boundary_normals`] before a move
+    /// of `v`) still faces the side it faced: a move that folds a facet over is refused even
+    /// when the facet stays near the surface.
+    pub fn none_folded(&self, v: VertexId, before: &[(FacetKey, Point3)]) -> bool {
+        let after = self.boundary_normals(v);
+        after.len() == before.len()
+            && after
+                .iter()
+                .zip(before)
+                .all(|((ka, na), (kb, nb))| ka == kb && na.dot(*nb) > 0.0)
     }
 
     /// Subdomain of live cell `c`.
@@ -222,6 +345,11 @@ impl<'o> Workspace<'o> {
         self.boundary.contains_key(key)
     }
 
+    /// The two subdomains boundary facet `key` separates, sorted.
+    pub fn sides(&self, key: &FacetKey) -> Option<[SubdomainId; 2]> {
+        self.boundary.get(key).map(|b| b.sides)
+    }
+
     /// The patch of boundary facet `key`.
     pub fn patch(&self, key: &FacetKey) -> Option<PatchId> {
         self.boundary.get(key).map(|b| b.patch)
@@ -248,8 +376,8 @@ impl<'o> Workspace<'o> {
             self.restore(&saved);
             return None;
         }
-        let before = self.removed_min_dihedral(&saved, v, old_point);
-        match self.relabel() {
+        let (before, size_excess) = self.removed_quality(&saved, v, old_point);
+        match self.relabel(size_excess.max(1.0)) {
             Some(after) => Some(Change {
                 vertex: v,
                 old_point,
@@ -276,7 +404,7 @@ impl<'o> Workspace<'o> {
     pub fn undo(&mut self, change: Change) {
         let back = self
             .rt
-            .move_vertex(
+            .move_vertex_back(
                 change.vertex,
                 change.old_point,
                 change.old_weight,
@@ -286,7 +414,7 @@ impl<'o> Workspace<'o> {
         if back {
             self.restore(&change.saved);
         } else {
-            // The old place lies on a facet of the new triangulation: the move (which passed the
+            // The star of the old place could not be rebuilt: the move (which passed the
             // invariants) stays, and the refused undo rebuilt the same cells.
             let saved = self.saved_labels();
             self.restore(&saved);
@@ -322,30 +450,47 @@ impl<'o> Workspace<'o> {
         }
     }
 
-    /// Smallest dihedral angle of the destroyed cells inside the domain, `v` at `old`.
-    fn removed_min_dihedral(
+    /// Smallest dihedral angle and largest [`Self::size_excess`] of the destroyed cells inside
+    /// the domain, `v` at `old`.
+    fn removed_quality(
         &self,
         saved: &HashMap<[u32; 4], SubdomainId>,
         v: VertexId,
         old: Point3,
-    ) -> f64 {
+    ) -> (f64, f64) {
         let inf = self.rt.infinite_vertex();
-        let mut min = 180.0f64;
+        let (mut min, mut excess) = (180.0f64, 0.0f64);
         for &(_, q) in &self.report.removed {
-            if q.contains(&inf) || saved.get(&quad_key(q)).copied().unwrap_or(OUTSIDE) == OUTSIDE {
+            let sub = saved.get(&quad_key(q)).copied().unwrap_or(OUTSIDE);
+            if q.contains(&inf) || sub == OUTSIDE {
                 continue;
             }
             let p = positive(q).map(|x| if x == v { old } else { self.rt.point(x) });
             min = min.min(min_dihedral(&p));
+            excess = excess.max(self.size_excess(&p, sub));
         }
-        min
+        (min, excess)
+    }
+
+    /// Circumradius of tetrahedron `p` of subdomain `sub` over the cell size at its
+    /// circumcentre (0 without a bound).
+    fn size_excess(&self, p: &[Point3; 4], sub: SubdomainId) -> f64 {
+        let Some(center) = crate::quality::tet_circumcenter(p) else {
+            return f64::INFINITY;
+        };
+        let size = self.cell_size.at(center, sub);
+        if size > 0.0 && size.is_finite() {
+            center.distance(p[0]) / size
+        } else {
+            0.0
+        }
     }
 
     /// Labels the created cells by crossing facets from the cells around them. Returns the
     /// smallest dihedral angle of the created cells inside the domain, or `None` when the
-    /// boundary did not survive (no consistent labelling, a boundary facet gone, or a flat
-    /// cell inside).
-    fn relabel(&mut self) -> Option<f64> {
+    /// boundary did not survive (no consistent labelling, a boundary facet gone), or a cell
+    /// inside is flat or has a [`Self::size_excess`] above `max_excess`.
+    fn relabel(&mut self, max_excess: f64) -> Option<f64> {
         self.grow_labels();
         let created = &self.report.created;
         let index: HashMap<u32, usize> =
@@ -422,9 +567,10 @@ impl<'o> Workspace<'o> {
                     .map(|i| facet_key(q, i))
                     .filter(|k| self.is_boundary(k)),
             );
-            if new_label[k]? != OUTSIDE {
+            let sub = new_label[k]?;
+            if sub != OUTSIDE {
                 let a = self.cell_min_dihedral(c);
-                if a <= 0.0 {
+                if a < FLAT_DEG || self.size_excess(&self.points(c), sub) > max_excess {
                     return None;
                 }
                 after = after.min(a);
@@ -443,14 +589,14 @@ impl<'o> Workspace<'o> {
         Some(after)
     }
 
-    /// Peels a flat cell off the boundary: a cell with two boundary facets on one patch (and its
-    /// four vertices on the surface, none on a feature), between
-    /// its subdomain and the outside, becomes outside, and its two other facets take their place
-    /// (the surface edge the two facets share flips to the opposite edge of the cell). Refused
-    /// when the shared edge is a feature edge, when the opposite edge already lies on the surface
-    /// (the flip would make it non-manifold), when a new facet would face the other way from
-    /// the old ones, or when the cell is thicker than the facet distance (the surface would move
-    /// by more). Returns whether the cell was peeled.
+    /// Peels a flat cell off the boundary: a cell with two nearly coplanar boundary facets on
+    /// one patch, between its subdomain and the outside, becomes outside, and its two other
+    /// facets take their place (the surface edge the two facets share flips to the opposite edge
+    /// of the cell). Refused when the shared edge is a feature edge, when the opposite edge
+    /// already lies on the surface (the flip would make it non-manifold), when a new facet would
+    /// face the other way from the old ones, or when the cell is thicker than the facet distance
+    /// and a new facet does not meet the facet-distance criterion (the surface would move by
+    /// more). Returns whether the cell was peeled.
     pub fn peel(&mut self, c: CellId) -> bool {
         if !self.inside(c) {
             return false;
@@ -488,13 +634,6 @@ impl<'o> Workspace<'o> {
         if self.feature_edges.contains(&[a, b]) || self.is_surface_edge(q[i], q[j]) {
             return false;
         }
-        // Near a feature the two facets may lie on either side of a sharp edge with one patch
-        // label: only cells with all four vertices inside a patch are peeled.
-        if q.iter()
-            .any(|v| self.dimension[v.0 as usize] != VertexDimension::Surface)
-        {
-            return false;
-        }
         let normal = |k: usize| {
             let f: Vec<Point3> = (0..4)
                 .filter(|&m| m != k)
@@ -509,7 +648,13 @@ impl<'o> Workspace<'o> {
             }
         };
         // The new facets face the outside through the peeled cell: against their normal out of it.
-        let old = normal(i) + normal(j);
+        // Near a feature the two facets may lie on either side of a sharp edge with one patch
+        // label: only a cell under two nearly coplanar facets is peeled.
+        let (ni, nj) = (normal(i), normal(j));
+        if ni.dot(nj) <= COPLANAR_COS * ni.length() * nj.length() {
+            return false;
+        }
+        let old = ni + nj;
         let new: Vec<usize> = (0..4).filter(|&k| k != i && k != j).collect();
         if new.iter().any(|&k| normal(k).dot(old) >= 0.0) {
             return false;
@@ -526,7 +671,15 @@ impl<'o> Workspace<'o> {
         let thickness = 3.0 * tet_volume(&p) / largest_face;
         let centroid = (p[0] + p[1] + p[2] + p[3]) / 4.0;
         let allowed = self.facet_distance.at(centroid, old_i.patch);
-        if !(thickness <= allowed || !(allowed > 0.0 && allowed.is_finite())) {
+        // A thicker cell is still peeled when its new facets meet the facet-distance criterion
+        // as refinement measures it (the surface then moves by no more than refinement allows).
+        let near = || {
+            new.iter().all(|&k| {
+                let f: Vec<Point3> = (0..4).filter(|&m| m != k).map(|m| p[m]).collect();
+                self.near_surface([f[0], f[1], f[2]], old_i.patch)
+            })
+        };
+        if !(thickness <= allowed || !(allowed > 0.0 && allowed.is_finite()) || near()) {
             return false;
         }
         self.boundary.remove(&facet_key(q, i));
@@ -546,10 +699,14 @@ impl<'o> Workspace<'o> {
         true
     }
 
-    /// Whether triangle `t` on `patch` meets the facet-distance criterion: its circumcentre lies
-    /// within that distance of the surface along the triangle's normal.
+    /// Whether triangle `t` on `patch` meets the facet-distance criterion (its circumcentre lies
+    /// within that distance of the surface along the triangle's normal) and the facet-size one
+    /// (its circumradius is at most the size there).
     pub fn near_surface(&self, t: [Point3; 3], patch: PatchId) -> bool {
         let center = triangle_circumcenter(t[0], t[1], t[2]);
+        if center.distance(t[0]) > self.facet_size.at(center, patch) {
+            return false;
+        }
         let d = self.facet_distance.at(center, patch);
         if !(d > 0.0 && d.is_finite()) {
             return true;

@@ -150,7 +150,16 @@ fn every_step_keeps_the_triangulation_regular_and_the_mesh_valid() {
     let mesh = refined();
     let refined_volume = volume(&mesh);
     let before = smallest(&mesh);
-    let mut ws = Workspace::new(&mesh, &[], &Ball, Sizing::Constant(DISTANCE)).expect("taken over");
+    let c = criteria();
+    let mut ws = Workspace::new(
+        &mesh,
+        &[],
+        &Ball,
+        c.facet.distance,
+        c.facet.size,
+        c.cell.size,
+    )
+    .expect("taken over");
     let deadline = Deadline(None);
     smooth::smooth(&mut ws, smooth::Smoother::Odt, 3, &deadline);
     assert_eq!(check_regular3(&ws.rt), Ok(()));

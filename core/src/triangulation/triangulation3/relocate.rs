@@ -60,6 +60,32 @@ impl<K: ConflictKernel> Triangulation3<K> {
         w: f64,
         report: &mut MoveReport,
     ) -> Result<bool, TriangulationError> {
+        self.relocate(v, p, w, report, true)
+    }
+
+    /// Moves finite vertex `v` back to `p` with weight `w`, where it was a vertex of this
+    /// triangulation before a move and every other vertex is where it was then (an undo). Such a
+    /// place is neither on the hull nor on another vertex, so, unlike [`Self::move_vertex`], it
+    /// may lie on a facet: on a planar patch the old place of a surface vertex lies in the plane
+    /// of the facets around it, and refusing it would keep a move the caller wanted undone.
+    pub fn move_vertex_back(
+        &mut self,
+        v: VertexId,
+        p: Point3,
+        w: f64,
+        report: &mut MoveReport,
+    ) -> Result<bool, TriangulationError> {
+        self.relocate(v, p, w, report, false)
+    }
+
+    fn relocate(
+        &mut self,
+        v: VertexId,
+        p: Point3,
+        w: f64,
+        report: &mut MoveReport,
+        strictly_inside: bool,
+    ) -> Result<bool, TriangulationError> {
         report.clear();
         let index = v.0 as usize;
         validate_point(p, index)?;
@@ -70,7 +96,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
             return Ok(false);
         }
         let (old_p, old_w) = (self.pt(v.0), self.kernel.weight(v.0));
-        if p != old_p && !self.strictly_inside_a_cell(p, v) {
+        if strictly_inside && p != old_p && !self.strictly_inside_a_cell(p, v) {
             return Ok(false);
         }
         if !self.remove_interior(v.0, report) {
