@@ -68,10 +68,13 @@ fn mutate(rng: &mut Rng, seed: &[u8]) -> Vec<u8> {
     b
 }
 
+/// A reader fed with bytes; its outcome does not matter, only that it returns.
+type Reader = Box<dyn Fn(&[u8])>;
+
 /// The reader a seed folder of `fuzz/seeds` is for (`None`: a reader outside this crate).
-fn reader(folder: &str) -> Option<Box<dyn Fn(&[u8])>> {
+fn reader(folder: &str) -> Option<Reader> {
     let name = folder.trim_start_matches("read_");
-    let image = |format: ImageFormat| -> Option<Box<dyn Fn(&[u8])>> {
+    let image = |format: ImageFormat| -> Option<Reader> {
         Some(Box::new(move |b: &[u8]| {
             if let Ok(image) = read_image_bytes(b, format, None) {
                 let _ = image.validate();
