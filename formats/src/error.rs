@@ -76,3 +76,39 @@ impl Error {
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;
+
+/// Runs a parsing library, turning its panics into errors: vtkio 0.7.0-rc2 slices appended data
+/// without bounds checks and tobj indexes texture and normal arrays unchecked (both found by
+/// fuzzing), so a malformed file can make them panic. The panic hook is silenced for this thread
+/// meanwhile, so the user sees one error line instead of a backtrace; panics of other threads
+/// still reach the previous hook.
+pub(crate) fn contain_panics<T>(
+    parse: impl FnOnce() -> T + std::panic::UnwindSafe,
+) -> Result<T, String> {
+    use std::sync::{Arc, Mutex};
+    static HOOK_SWAP: Mutex<()> = Mutex::new(());
+    let _one_at_a_time = HOOK_SWAP
+        .lock()
+        .unwrap_or_else(|poisoned| poisoned.into_inner());
+    let previous = Arc::new(std::panic::take_hook());
+    let forward = Arc::clone(&previous);
+    let me = std::thread::current().id();
+    std::panic::set_hook(Box::new(move |info| {
+        if std::thread::current().id() != me {
+            forward(info);
+        }
+    }));
+    let result = std::panic::catch_unwind(parse);
+    drop(std::panic::take_hook());
+    match Arc::try_unwrap(previous) {
+        Ok(hook) => std::panic::set_hook(hook),
+        Err(shared) => std::panic::set_hook(Box::new(move |info| shared(info))),
+    }
+    result.map_err(|payload| {
+        payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "unknown panic".into())
+    })
+}

@@ -14,6 +14,50 @@ use std::borrow::Cow;
 use std::io::Read;
 use std::path::Path;
 
+/// Checks a `.glb` container's declared lengths against the bytes before the `gltf` crate reads
+/// it: its GLB parser subtracts and slices by them unchecked (found by fuzzing).
+fn glb_within_bounds(bytes: &[u8]) -> Result<(), Problem> {
+    const HEADER: usize = 12;
+    const CHUNK_HEADER: usize = 8;
+    let word = |at: usize| -> Option<usize> {
+        let b = bytes.get(at..at + 4)?;
+        Some(u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as usize)
+    };
+    let Some(length) = word(8) else {
+        return Err(Problem::at_byte(0, "truncated GLB: no 12-byte header"));
+    };
+    if length < HEADER + CHUNK_HEADER || length > bytes.len() {
+        return Err(Problem::at_byte(
+            8,
+            format!(
+                "the GLB header announces {length} bytes, the file holds {}",
+                bytes.len()
+            ),
+        ));
+    }
+    let mut at = HEADER;
+    while at < length {
+        let chunk = match word(at) {
+            Some(n) if at + CHUNK_HEADER <= length => n,
+            _ => {
+                return Err(Problem::at_byte(
+                    at as u64,
+                    "truncated GLB: a chunk header past the announced length",
+                ));
+            }
+        };
+        let end = at + CHUNK_HEADER + chunk;
+        if end > length {
+            return Err(Problem::at_byte(
+                at as u64,
+                format!("a GLB chunk of {chunk} bytes runs past the announced length {length}"),
+            ));
+        }
+        at = end;
+    }
+    Ok(())
+}
+
 pub(crate) fn read(
     bytes: &[u8],
     dir: Option<&Path>,
@@ -21,6 +65,9 @@ pub(crate) fn read(
     let not_gltf = |e: gltf::Error| Problem::bad(format!("not a readable glTF file: {e}"));
     // JSON glTF is text (a Latin-1 byte in a name should not sink it); `.glb` starts with a magic.
     let text = (!bytes.starts_with(b"glTF")).then(|| String::from_utf8_lossy(bytes));
+    if text.is_none() {
+        glb_within_bounds(bytes)?;
+    }
     let json = text.as_deref().map_or(bytes, str::as_bytes);
     let raw = gltf::Gltf::from_slice_without_validation(json).map_err(not_gltf)?;
     // gltf-json's validation indexes the POSITION accessor without a bounds check: check it first.

@@ -2,7 +2,7 @@
 //! triangulated, negative (relative) indices resolved by tobj. tobj gives each group its own vertex
 //! array, so the caller welds the groups back together by exact position.
 
-use crate::error::Problem;
+use crate::error::{Problem, contain_panics};
 use crate::polygons::PolygonMesh;
 use crate::text::Exact;
 use delamesh_core::mesh::{PatchId, SurfaceMesh};
@@ -26,11 +26,13 @@ fn load(bytes: &[u8], triangulate: bool) -> Result<(Vec<tobj::Model>, Vec<String
         ignore_lines: true,
     };
     // Materials are irrelevant to meshing: never open .mtl files.
-    let (models, _materials) =
+    let (models, _materials) = contain_panics(|| {
         tobj::load_obj_buf(&mut Cursor::new(text.as_bytes()), &options, |_| {
             Err(tobj::LoadError::OpenFileFailed)
         })
-        .map_err(|e| Problem::bad(format!("not a readable OBJ file: {e}")))?;
+    })
+    .map_err(|why| Problem::bad(format!("not a readable OBJ file: {why}")))?
+    .map_err(|e| Problem::bad(format!("not a readable OBJ file: {e}")))?;
     Ok((models, warnings))
 }
 
@@ -121,7 +123,9 @@ pub(crate) fn read(bytes: &[u8]) -> Result<(SurfaceMesh, Vec<String>), Problem> 
 
 /// The text with point and line elements blanked (tobj's `ignore_lines` still hands polylines
 /// over as polygons, which `info` then counted as triangle fans), and how many there were; a face
-/// of fewer than three vertices (which tobj drops silently) is an error at its line.
+/// of fewer than three vertices (which tobj drops silently) is an error at its line. Faces keep
+/// only their position indices: meshing needs no texture coordinates or normals, and tobj
+/// indexes those arrays unchecked.
 fn faces_only(text: &str) -> Result<(String, usize), Problem> {
     let mut out = String::with_capacity(text.len());
     let mut skipped = 0;
@@ -138,7 +142,11 @@ fn faces_only(text: &str) -> Result<(String, usize), Problem> {
                         format!("face with {corners} vertices (a face needs 3 or more)"),
                     ));
                 }
-                out.push_str(line);
+                out.push('f');
+                for corner in content.split_whitespace().skip(1) {
+                    out.push(' ');
+                    out.push_str(corner.split('/').next().unwrap_or(corner));
+                }
             }
             _ => out.push_str(line),
         }
@@ -179,4 +187,17 @@ pub(crate) fn write(w: &mut dyn Write, m: &SurfaceMesh) -> Result<(), Problem> {
         writeln!(w, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1)?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    /// Texture and normal indices that point nowhere (found by fuzzing: tobj indexed them
+    /// unchecked) are dropped with the rest of them: meshing reads positions only.
+    #[test]
+    fn faces_keep_only_their_position_indices() {
+        let text = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/5/7 2/9/-3 3//4\n";
+        let (mesh, _) = super::read(text).unwrap();
+        assert_eq!(mesh.triangles.len(), 1);
+        assert_eq!(mesh.positions.len(), 3);
+    }
 }

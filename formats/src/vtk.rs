@@ -2,7 +2,7 @@
 //! data; tetrahedra, triangles (polygons and strips triangulated), lines as feature edges, with the
 //! cell data `subdomain`, `patch`, `curve` and any other one-component cell array on tets.
 
-use crate::error::Problem;
+use crate::error::{Problem, contain_panics};
 use crate::{AnyMesh, Format};
 use delamesh_core::mesh::{CellField, CurveId, PatchId, SubdomainId, TetMesh};
 use glam::DVec3;
@@ -152,8 +152,9 @@ fn plain(message: &str) -> String {
         Some((i, _)) => {
             let head = &line[..i];
             let cut = head
-                .rfind(|c: char| !c.is_alphanumeric())
-                .map_or(0, |k| k + 1);
+                .char_indices()
+                .rfind(|&(_, c)| !c.is_alphanumeric())
+                .map_or(0, |(k, c)| k + c.len_utf8());
             (&head[..cut], &head[cut..])
         }
         None => (line, ""),
@@ -177,41 +178,6 @@ fn plain(message: &str) -> String {
 
 /// vtkio's ASCII number parser rejects `nan`, which VTK writes (and we write for the cells a per-tet
 /// field does not apply to): spell it as a number that overflows to infinity. `None` if no `nan`.
-/// Runs vtkio, turning its panics into errors. vtkio 0.7.0-rc2 slices appended data without bounds
-/// checks (found by fuzzing), so a malformed file can make it panic. The panic hook is silenced for
-/// this thread meanwhile, so the user sees one error line instead of a backtrace; panics of other
-/// threads still reach the previous hook.
-pub(crate) fn contain_panics<T>(
-    parse: impl FnOnce() -> T + std::panic::UnwindSafe,
-) -> Result<T, String> {
-    use std::sync::{Arc, Mutex};
-    static HOOK_SWAP: Mutex<()> = Mutex::new(());
-    let _one_at_a_time = HOOK_SWAP
-        .lock()
-        .unwrap_or_else(|poisoned| poisoned.into_inner());
-    let previous = Arc::new(std::panic::take_hook());
-    let forward = Arc::clone(&previous);
-    let me = std::thread::current().id();
-    std::panic::set_hook(Box::new(move |info| {
-        if std::thread::current().id() != me {
-            forward(info);
-        }
-    }));
-    let result = std::panic::catch_unwind(parse);
-    drop(std::panic::take_hook());
-    match Arc::try_unwrap(previous) {
-        Ok(hook) => std::panic::set_hook(hook),
-        Err(shared) => std::panic::set_hook(Box::new(move |info| shared(info))),
-    }
-    result.map_err(|payload| {
-        payload
-            .downcast_ref::<&str>()
-            .map(|s| s.to_string())
-            .or_else(|| payload.downcast_ref::<String>().cloned())
-            .unwrap_or_else(|| "unknown panic".into())
-    })
-}
-
 fn spell_nan_for_vtkio(bytes: &[u8]) -> Option<Vec<u8>> {
     let ascii = bytes
         .split(|&b| b == b'\n')
@@ -742,5 +708,7 @@ mod tests {
         );
         assert_eq!(m, "XML error: Deserialization error: invalid int");
         assert_eq!(plain("plain words\nsecond line"), "plain words");
+        // A multi-byte separator before the variant (found by fuzzing): cut on its boundary.
+        assert_eq!(plain("bad «BigValue(3)"), "bad « big value");
     }
 }

@@ -18,6 +18,14 @@ const EXPECTED: &[(&str, &str)] = &[
     ("dimension2.mesh", "line 2: dimension 2"),
     ("empty.off", "the file is empty"),
     (
+        "glb_chunk_past_end.glb",
+        "byte 12: a GLB chunk of 1000 bytes",
+    ),
+    (
+        "glb_length_below_header.glb",
+        "byte 8: the GLB header announces 4 bytes",
+    ),
+    (
         "index_out_of_range.mesh",
         "line 10: vertex index 4 out of range",
     ),
@@ -39,7 +47,10 @@ const EXPECTED: &[(&str, &str)] = &[
     ("not_xml.vtu", "not a readable VTK file"),
     ("out_of_bounds_index.obj", "out of bounds"),
     ("shorter_than_header.stl", "byte 40: truncated binary STL"),
-    ("truncated.glb", "not a readable glTF file"),
+    (
+        "truncated.glb",
+        "the GLB header announces 4000 bytes, the file holds 22",
+    ),
     ("truncated.mesh", "line 6: unexpected end of file"),
     ("truncated.ply", "line 12: not a readable PLY file"),
     ("truncated.vtu", "truncated file"),

@@ -226,6 +226,38 @@ mod tests {
         }
     }
 
+    /// Coordinates near the overflow threshold of each determinant: the filters' error bounds
+    /// stay finite while a term overflows to infinity, which must not decide a sign.
+    #[test]
+    fn an_overflowing_term_does_not_decide_a_sign() {
+        use super::super::{Point3, StaticFilter, insphere, orient3d};
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut unit = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        for (scale, five) in [(1e61, true), (3e61, true), (1e62, true), (3e102, false)] {
+            for _ in 0..500 {
+                let p: [Point3; 5] = std::array::from_fn(|_| {
+                    Point3::new(unit() * scale, unit() * scale, unit() * scale)
+                });
+                let [a, b, c, d, e] = p;
+                let mut filter = StaticFilter::default();
+                p.iter().for_each(|&q| filter.include(q));
+                let expected = exact_oracle::orient3d(a, b, c, d);
+                assert_eq!(orient3d(a, b, c, d), expected, "{p:?}");
+                assert_eq!(filter.orient3d(a, b, c, d), expected, "{p:?}");
+                if five {
+                    let expected = exact_oracle::insphere(a, b, c, d, e);
+                    assert_eq!(insphere(a, b, c, d, e), expected, "{p:?}");
+                    assert_eq!(filter.insphere(a, b, c, d, e), expected, "{p:?}");
+                }
+            }
+        }
+    }
+
     #[test]
     fn subnormal_and_huge_values_leave_the_expansion_range() {
         assert!(expansions_are_exact(&[0.0, 1.0, 0.1, -3.5, 1e-20], 5));

@@ -105,9 +105,9 @@ fn orient3d_refined(a: Point3, b: Point3, c: Point3, d: Point3, det: f64) -> Sig
     // Semi-static filter: each of the six products of three differences is at most
     // m.x * m.y * m.z and is evaluated with a handful of roundings, so the floating-point error
     // stays below ~5e-15 of that product; 1e-14 leaves a margin. The range guard keeps the bound
-    // itself free of underflow.
+    // itself free of underflow; an infinite determinant overflowed and decides nothing.
     let bound = ORIENT3D_ERROR * m.x * m.y * m.z;
-    if det.abs() > bound && m.min_element() > 1e-90 {
+    if det.is_finite() && det.abs() > bound && m.min_element() > 1e-90 {
         return Sign::of(det);
     }
     // Integer points with differences up to 2^16: every intermediate is an integer below 2^53,
@@ -129,6 +129,9 @@ const ORIENT3D_ERROR: f64 = 1e-14;
 const INSPHERE_ERROR: f64 = 1e-12;
 /// Below this, a static bound could be swamped by underflow in the determinants: not used.
 const MIN_STATIC_BOUND: f64 = 1e-200;
+/// Above this box extent a term of the in-sphere determinant (degree five, up to 72 of them)
+/// can overflow while the bound stays finite: the static filters are then not used.
+const MAX_STATIC_EXTENT: f64 = 1e60;
 
 /// Static filters (fixed error bounds) for points inside a known bounding box.
 ///
@@ -172,7 +175,7 @@ impl StaticFilter {
         let e = self.hi - self.lo;
         let m = e.max_element();
         let valid = |b: f64| {
-            if b >= MIN_STATIC_BOUND {
+            if b >= MIN_STATIC_BOUND && m <= MAX_STATIC_EXTENT {
                 b
             } else {
                 f64::INFINITY
@@ -307,9 +310,10 @@ fn insphere_refined(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3, det: 
     let mm = m.max_element();
     // Semi-static filter: the 24 products x * y * z * lift are each at most m.x * m.y * m.z *
     // 3 mm², computed with about ten roundings: the error stays below ~1e-13 of m.x m.y m.z mm²;
-    // 1e-12 leaves a margin. The range guard keeps the bound free of underflow.
+    // 1e-12 leaves a margin. The range guard keeps the bound free of underflow; an infinite
+    // determinant overflowed and decides nothing.
     let bound = INSPHERE_ERROR * m.x * m.y * m.z * mm * mm;
-    if det.abs() > bound && m.min_element() > 1e-55 {
+    if det.is_finite() && det.abs() > bound && m.min_element() > 1e-55 {
         return Sign::of(det);
     }
     // Integer points with differences up to 2^9: |det| < 72 · 2^45 and every intermediate is an

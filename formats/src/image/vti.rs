@@ -6,8 +6,8 @@
 //! precision (vtkio keeps them as `f32`).
 
 use super::{Image, Voxels, positive};
-use crate::error::Problem;
-use crate::vtk::{contain_panics, raw_appended_to_base64};
+use crate::error::{Problem, contain_panics};
+use crate::vtk::raw_appended_to_base64;
 use glam::{DAffine3, DMat3, DVec3};
 use vtkio::model::{Attribute, DataSet, IOBuffer, Piece};
 
