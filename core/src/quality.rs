@@ -247,22 +247,36 @@ pub fn surface_topology(triangles: &[[u32; 3]]) -> SurfaceTopology {
 }
 
 /// Points spread over triangles about `spacing` apart (at least the centroid of each), for
-/// sampled distance measurements. Deterministic.
+/// sampled distance measurements. Deterministic. Rows run parallel to each triangle's longest
+/// edge, as many as its height needs, so a long thin triangle (a fan cap's spoke) gets samples in
+/// proportion to its area rather than to its length squared.
 pub fn sample_triangles(
     triangles: impl IntoIterator<Item = [Point3; 3]>,
     spacing: f64,
 ) -> Vec<Point3> {
+    /// Most samples along one direction of a triangle.
+    const MAX_STEPS: usize = 64;
+    let steps = |length: f64| ((length / spacing).ceil() as usize).clamp(1, MAX_STEPS);
     let mut out = Vec::new();
-    for [a, b, c] in triangles {
-        let longest = a.distance(b).max(b.distance(c)).max(c.distance(a));
-        let n = ((longest / spacing).ceil() as usize).clamp(1, 64);
-        for i in 0..n {
-            for j in 0..n - i {
-                let (u, v) = (
-                    (i as f64 + 1.0 / 3.0) / n as f64,
-                    (j as f64 + 1.0 / 3.0) / n as f64,
-                );
-                out.push(a + u * (b - a) + v * (c - a));
+    for t in triangles {
+        // The longest edge p → q, the apex r.
+        let k = (0..3)
+            .max_by(|&i, &j| {
+                let l = |i: usize| t[i].distance_squared(t[(i + 1) % 3]);
+                l(i).total_cmp(&l(j))
+            })
+            .unwrap_or(0);
+        let (p, q, r) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+        let base = p.distance(q);
+        let height = (q - p).cross(r - p).length() / base.max(f64::MIN_POSITIVE);
+        let rows = steps(height);
+        for i in 0..rows {
+            // Row i at height fraction h; its cross-section is (1 - h) of the base.
+            let h = (i as f64 + 1.0 / 3.0) / rows as f64;
+            let (from, to) = (p.lerp(r, h), q.lerp(r, h));
+            let columns = steps((1.0 - h) * base);
+            for j in 0..columns {
+                out.push(from.lerp(to, (j as f64 + 0.5) / columns as f64));
             }
         }
     }
@@ -481,5 +495,26 @@ mod tests {
             s.iter()
                 .all(|p| p.z == 0.0 && p.x >= 0.0 && p.y >= 0.0 && p.x + p.y <= 1.0)
         );
+        // Every point of the triangle is near a sample.
+        for i in 0..=20 {
+            for j in 0..=20 - i {
+                let q = Point3::new(i as f64 / 20.0, j as f64 / 20.0, 0.0);
+                let d = s
+                    .iter()
+                    .map(|p| p.distance(q))
+                    .fold(f64::INFINITY, f64::min);
+                assert!(d < 0.1, "{q} is {d} from the samples");
+            }
+        }
+    }
+
+    /// A spoke of a fan (length 1, width 0.003) gets samples in proportion to its area.
+    #[test]
+    fn a_thin_triangle_gets_few_samples() {
+        let t = [Point3::ZERO, Point3::X, Point3::new(1.0, 0.003, 0.0)];
+        let s = sample_triangles([t], 0.01);
+        assert!(s.len() <= 100, "{} samples", s.len());
+        let q = Point3::new(0.5, 0.001, 0.0);
+        assert!(s.iter().any(|p| p.distance(q) < 0.01));
     }
 }

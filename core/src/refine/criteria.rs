@@ -121,6 +121,10 @@ pub struct MeshCriteria {
 /// any edge size a user asks for, large enough to bound the protection of features that touch.
 pub const DEFAULT_EDGE_MIN_FRACTION: f64 = 1e-3;
 
+/// Bend tolerance of the protection as a fraction of the smallest facet distance (see
+/// [`MeshCriteria::bend_tolerance`]).
+pub const BEND_TOLERANCE_FRACTION: f64 = 0.25;
+
 /// Refinement floor as a fraction of the smallest protecting ball (see
 /// [`MeshCriteria::refinement_floor`]).
 pub const REFINEMENT_FLOOR_FRACTION: f64 = 0.25;
@@ -133,6 +137,18 @@ impl MeshCriteria {
         } else {
             DEFAULT_EDGE_MIN_FRACTION * bbox.diagonal()
         }
+    }
+
+    /// How far a feature curve's mesh edges may leave the input's tessellation of it
+    /// ([`ProtectLimits::bend_tolerance`](super::protect::ProtectLimits::bend_tolerance)): a
+    /// quarter of the smallest facet distance, so the curves stay well inside the surface's own
+    /// fidelity; 0 (every polyline vertex kept) when no facet distance is asked for.
+    pub fn bend_tolerance(&self) -> f64 {
+        self.facet
+            .distance
+            .smallest()
+            .filter(|d| d.is_finite() && *d > 0.0)
+            .map_or(0.0, |d| BEND_TOLERANCE_FRACTION * d)
     }
 
     /// Radius under which no facet or cell is refined: [`REFINEMENT_FLOOR_FRACTION`] of the

@@ -154,6 +154,7 @@ pub fn mesh_with_features<T: Triangulation<Point = Point3>>(
         min_radius: options.criteria.edge_min_size_for(&oracle.bounding_box()),
         max_balls: options.limits.max_vertices,
         deadline: options.limits.time_limit.map(|t| start + t),
+        bend_tolerance: options.criteria.bend_tolerance(),
     };
     let protection = protect(curves, corners, &options.criteria.edge_size, &limits)?;
     let floor = options.criteria.refinement_floor(&oracle.bounding_box());

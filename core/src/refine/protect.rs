@@ -39,6 +39,13 @@ const INCIDENT_FRACTION: f64 = 1.0 / 3.0;
 /// Distance, relative to a curve's extent, under which a polyline vertex counts as on the chord
 /// of its neighbours (no bend): rounding noise, far below any fidelity that matters.
 const COLLINEAR: f64 = 1e-11;
+/// Most polyline segments in one straight run of [`bends`]: each extension re-checks the run's
+/// vertices, so this bounds the work at `MAX_RUN` per vertex (a finely tessellated, nearly
+/// straight curve gets a bend every `MAX_RUN` vertices, harmless at any ball size).
+const MAX_RUN: usize = 256;
+/// Turning angle (radians, 20°) above which a polyline vertex is a bend even within the bend
+/// tolerance: a tessellated smooth curve turns far less per vertex.
+const SHARP_TURN: f64 = 0.35;
 /// Radius of a ball on a bend, as a fraction of the longer straight run next to it (above 1/2 so
 /// that consecutive bends' balls overlap).
 const BEND_FRACTION: f64 = 0.6;
@@ -123,6 +130,12 @@ pub struct ProtectLimits {
     pub max_balls: usize,
     /// Wall-clock time after which the protection gives up ([`ProtectError::TimeLimit`]).
     pub deadline: Option<Instant>,
+    /// Distance to the chord of its run under which a polyline vertex is not a bend (see
+    /// [`bends`]). A CAD export tessellates each smooth curve (a circle as 2,000 segments):
+    /// following it vertex by vertex would put a ball on every one, far more than the edge size
+    /// asks; within this distance the curve is followed by its chords instead. 0 keeps every
+    /// vertex off a straight line.
+    pub bend_tolerance: f64,
 }
 
 impl Default for ProtectLimits {
@@ -131,6 +144,7 @@ impl Default for ProtectLimits {
             min_radius: 0.0,
             max_balls: 2_000_000,
             deadline: None,
+            bend_tolerance: 0.0,
         }
     }
 }
@@ -149,14 +163,14 @@ struct Piece {
 }
 
 impl Piece {
-    fn new(curve: CurveId, line: Polyline, ends: Option<[usize; 2]>) -> Self {
+    fn new(curve: CurveId, line: Polyline, ends: Option<[usize; 2]>, bend_tolerance: f64) -> Self {
         let pts = line.points();
         let bounds = pts
             .iter()
             .fold((pts[0], pts[0]), |(lo, hi), &p| (lo.min(p), hi.max(p)));
         Piece {
             curve,
-            bends: bends(&line),
+            bends: bends(&line, bend_tolerance),
             line,
             ends,
             limits: Vec::new(),
@@ -264,7 +278,7 @@ pub fn protect(
     }
     let mut pieces = Vec::new();
     for (id, line) in &lines {
-        split_at_corners(*id, line, &corners, tol, &mut pieces);
+        split_at_corners(*id, line, &corners, tol, limits.bend_tolerance, &mut pieces);
     }
     let min_radius = limits.min_radius;
     for piece in &mut pieces {
@@ -321,6 +335,7 @@ fn split_at_corners(
     line: &Polyline,
     corners: &[Point3],
     tol: f64,
+    bend_tolerance: f64,
     out: &mut Vec<Piece>,
 ) {
     let mut cuts: Vec<(f64, usize)> = corners
@@ -336,7 +351,7 @@ fn split_at_corners(
     let l = line.length();
     if line.is_closed() {
         if cuts.is_empty() {
-            out.push(Piece::new(id, line.clone(), None));
+            out.push(Piece::new(id, line.clone(), None, bend_tolerance));
             return;
         }
         for i in 0..cuts.len() {
@@ -345,7 +360,7 @@ fn split_at_corners(
             if s1 <= s0 {
                 s1 += l;
             }
-            push_piece(id, line, s0, s1, [k0, k1], out);
+            push_piece(id, line, (s0, s1), [k0, k1], bend_tolerance, out);
         }
     } else {
         // The ends are corners (added by the caller); interior corners cut the curve.
@@ -359,7 +374,14 @@ fn split_at_corners(
         cuts.push((l, nearest(line.end())));
         for w in cuts.windows(2) {
             if w[1].0 > w[0].0 {
-                push_piece(id, line, w[0].0, w[1].0, [w[0].1, w[1].1], out);
+                push_piece(
+                    id,
+                    line,
+                    (w[0].0, w[1].0),
+                    [w[0].1, w[1].1],
+                    bend_tolerance,
+                    out,
+                );
             }
         }
     }
@@ -368,13 +390,13 @@ fn split_at_corners(
 fn push_piece(
     id: CurveId,
     line: &Polyline,
-    s0: f64,
-    s1: f64,
+    (s0, s1): (f64, f64),
     ends: [usize; 2],
+    bend_tolerance: f64,
     out: &mut Vec<Piece>,
 ) {
     if let Some(sub) = Polyline::new(&line.arc_points(s0, s1), false) {
-        out.push(Piece::new(id, sub, Some(ends)));
+        out.push(Piece::new(id, sub, Some(ends), bend_tolerance));
     }
 }
 
@@ -627,15 +649,16 @@ fn place_on_piece(
 
 /// Arc lengths of the polyline vertices where the curve bends: greedily, the vertices that end
 /// the longest runs whose intermediate vertices all lie on the chord of the run (within a
-/// rounding tolerance relative to the curve's extent). The ends of an open curve are not
-/// listed; a closed curve's first vertex is listed only when the curve bends there.
-fn bends(line: &Polyline) -> Vec<f64> {
+/// rounding tolerance relative to the curve's extent, or within `tolerance` when larger). The
+/// ends of an open curve are not listed; a closed curve's first vertex is listed only when the
+/// curve bends there.
+fn bends(line: &Polyline, tolerance: f64) -> Vec<f64> {
     let pts = line.points();
     let n = pts.len();
     let (lo, hi) = pts
         .iter()
         .fold((pts[0], pts[0]), |(lo, hi), &p| (lo.min(p), hi.max(p)));
-    let tol = COLLINEAR * lo.distance(hi);
+    let tol = (COLLINEAR * lo.distance(hi)).max(tolerance);
     let count = if line.is_closed() { n + 1 } else { n };
     let at = |i: usize| pts[i % n];
     let straight =
@@ -643,8 +666,17 @@ fn bends(line: &Polyline) -> Vec<f64> {
     let mut ends = Vec::new();
     let mut start = 0;
     let mut end = 1;
+    // A vertex where the curve turns sharply stays a bend whatever the tolerance: cutting it
+    // within the tolerance would round a real corner of the curve off.
+    let sharp = |k: usize| {
+        let (a, b, c) = (at(k + n - 1), at(k), at(k + 1));
+        (b - a).angle_between(c - b) > SHARP_TURN
+    };
     while end + 1 < count {
-        if straight(start, end + 1) {
+        if end + 1 - start <= MAX_RUN
+            && !(tolerance > 0.0 && sharp(end))
+            && straight(start, end + 1)
+        {
             end += 1;
         } else {
             ends.push(end);
@@ -951,6 +983,63 @@ mod tests {
         );
     }
 
+    /// A circle tessellated far finer than the edge size: within the bend tolerance its vertices
+    /// are not centres, so the ball count follows the edge size; every input vertex stays within
+    /// the tolerance of the chain's chords, and a polygon corner beyond it is still a centre.
+    #[test]
+    fn vertices_within_the_bend_tolerance_are_not_centres() {
+        let n = 2000;
+        let circle: Vec<[f64; 3]> = (0..n)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / n as f64;
+                [t.cos(), t.sin(), 0.0]
+            })
+            .collect();
+        // An open L, finely tessellated, with a right-angle bend at (4, 0, 0).
+        let ell: Vec<[f64; 3]> = (0..=1000)
+            .map(|k| {
+                let t = k as f64 / 500.0;
+                if t <= 1.0 {
+                    [3.0 + t, 0.0, 0.0]
+                } else {
+                    [4.0, t - 1.0, 0.0]
+                }
+            })
+            .collect();
+        let curves = [curve(1, &circle, true), curve(2, &ell, false)];
+        let size = 0.15;
+        let tolerance = 2e-3;
+        let exact =
+            protect(&curves, &[], &Sizing::Constant(size), &limits(1e-6)).expect("protects");
+        assert!(
+            exact.balls.len() >= n,
+            "without tolerance every vertex is a centre"
+        );
+        let bounded = ProtectLimits {
+            bend_tolerance: tolerance,
+            ..limits(1e-6)
+        };
+        let p = protect(&curves, &[], &Sizing::Constant(size), &bounded).expect("protects");
+        assert_protects(&p, &curves, size);
+        // About 2π / (2 · 0.15 · SPACING-ish) balls: far fewer than the 2,000 vertices.
+        assert!(p.balls.len() < 200, "{} balls", p.balls.len());
+        let bend = Point3::new(4.0, 0.0, 0.0);
+        assert!(p.balls.iter().any(|b| b.center.distance(bend) < 1e-12));
+        for (chain, c) in p.chains.iter().zip(&curves) {
+            let chords: Vec<(Point3, Point3)> = chain
+                .links()
+                .map(|(a, b)| (p.balls[a].center, p.balls[b].center))
+                .collect();
+            for &q in &c.points {
+                let d = chords
+                    .iter()
+                    .map(|&(a, b)| point_segment_distance(q, a, b))
+                    .fold(f64::INFINITY, f64::min);
+                assert!(d <= 2.0 * tolerance, "vertex {q:?} is {d} from the chords");
+            }
+        }
+    }
+
     #[test]
     fn sharp_angles_get_small_balls() {
         for degrees in [20.0f64, 5.0] {
@@ -1018,9 +1107,8 @@ mod tests {
         let (curves, corners) = cube();
         let tiny = Sizing::Constant(1e-300);
         let bounded = ProtectLimits {
-            min_radius: 1e-300,
             max_balls: 1000,
-            deadline: None,
+            ..limits(1e-300)
         };
         assert_eq!(
             protect(&curves, &corners, &tiny, &bounded),
