@@ -123,7 +123,6 @@ pub use error::Error;
 pub use pipeline::{Meshed, Mesher, ProgressFn, mesh_file};
 pub use report::{Report, Times};
 pub use settings::{
-    DEFAULT_MAX_VERTICES, FeatureSettings, ImageSettings, MeshSettings, MeshSettingsBuilder,
-    SettingsError,
+    FeatureSettings, ImageSettings, MeshSettings, MeshSettingsBuilder, SettingsError,
 };
 pub use sizing::{COVER_TOLERANCE, SizeSource, SizingFieldError, SizingSettings};

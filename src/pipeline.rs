@@ -279,7 +279,10 @@ impl<'p> Mesher<'p> {
         // Patches numbered from 1, as the polyhedral oracle numbers them.
         let patches: Vec<u32> = surface.patches.iter().map(|p| p.0 + 1).collect();
         let options = PreserveOptions {
-            max_vertices: self.settings.max_vertices,
+            max_vertices: self
+                .settings
+                .max_vertices
+                .unwrap_or(PreserveOptions::default().max_vertices),
             ..PreserveOptions::default()
         };
         let preserved = preserve_surface(
@@ -387,6 +390,10 @@ impl<'p> Mesher<'p> {
             ) {
                 options.criteria.edge_size = Sizing::Constant(facet.min(edge));
             }
+        }
+        if self.settings.max_vertices.is_none() {
+            // The final criteria (fields, gradation) predict the count.
+            options.limits.max_vertices = options.criteria.vertex_budget(&bbox);
         }
         // Warnings were given from the settings before meshing (`MeshSettings::warnings`).
         options

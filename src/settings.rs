@@ -18,13 +18,10 @@ use std::collections::BTreeMap;
 use std::fmt;
 use std::path::PathBuf;
 
-/// The command line's `--max-vertices` default.
-pub const DEFAULT_MAX_VERTICES: usize = 2_000_000;
-
 /// Everything the meshing pipeline can be told. `Default` gives the command line's defaults:
 /// criteria scaled by the domain's bounding box, sharp features detected at
 /// [`DEFAULT_FEATURE_ANGLE_DEG`](delamesh_piecewise_smooth::DEFAULT_FEATURE_ANGLE_DEG).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct MeshSettings {
     /// Largest protecting ball radius along sharp feature curves (default: bounding-box
     /// diagonal / 20). Unused without features.
@@ -42,8 +39,10 @@ pub struct MeshSettings {
     pub cell_radius_edge_ratio: Option<f64>,
     /// Largest tetrahedron circumradius (default: diagonal / 20).
     pub cell_size: Option<f64>,
-    /// Refinement stops past this many vertices.
-    pub max_vertices: usize,
+    /// Refinement stops past this many vertices; `None`: 50 times the count the criteria predict
+    /// for the domain's bounding box, between 100,000 and 2,000,000
+    /// ([`MeshCriteria::vertex_budget`]).
+    pub max_vertices: Option<usize>,
     /// Refinement (protection included) stops when it has taken longer than this.
     pub time_limit: Option<std::time::Duration>,
     /// When a guard stops refinement, still return the mesh reached (marked as stopped).
@@ -98,31 +97,6 @@ impl Default for FeatureSettings {
             enabled: true,
             angle_deg: delamesh_piecewise_smooth::DEFAULT_FEATURE_ANGLE_DEG,
             polylines: None,
-        }
-    }
-}
-
-impl Default for MeshSettings {
-    fn default() -> Self {
-        MeshSettings {
-            edge_size: None,
-            edge_min_size: None,
-            facet_angle: None,
-            facet_size: None,
-            facet_distance: None,
-            cell_radius_edge_ratio: None,
-            cell_size: None,
-            max_vertices: DEFAULT_MAX_VERTICES,
-            time_limit: None,
-            keep_partial: false,
-            non_manifold: false,
-            features: FeatureSettings::default(),
-            image: ImageSettings::default(),
-            strict: false,
-            subdivision: None,
-            optimize: OptimizeOptions::default(),
-            sizing: SizingSettings::default(),
-            preserve_surface: false,
         }
     }
 }
@@ -330,10 +304,12 @@ impl MeshSettings {
 
     /// The core mesher's options for a domain in `bbox`.
     pub fn mesh_options(&self, bbox: &Aabb) -> MeshOptions {
+        let criteria = self.criteria(bbox);
         MeshOptions {
-            criteria: self.criteria(bbox),
             limits: Limits {
-                max_vertices: self.max_vertices,
+                max_vertices: self
+                    .max_vertices
+                    .unwrap_or_else(|| criteria.vertex_budget(bbox)),
                 time_limit: self.time_limit,
                 ..Limits::default()
             },
@@ -343,6 +319,7 @@ impl MeshSettings {
                 ..ValidityOptions::default()
             },
             optimize: self.optimize.clone(),
+            criteria,
         }
     }
 }
@@ -406,7 +383,7 @@ impl MeshSettingsBuilder {
     }
     /// See [`MeshSettings::max_vertices`].
     pub fn max_vertices(mut self, n: usize) -> Self {
-        self.settings.max_vertices = n;
+        self.settings.max_vertices = Some(n);
         self
     }
     /// See [`MeshSettings::optimize`].

@@ -72,7 +72,7 @@ pub const OPTIONS: &[Opt] = &[
     Opt {
         name: "max_vertices",
         set: |s, v| {
-            s.max_vertices = count(v)?;
+            s.max_vertices = Some(count(v)?);
             Ok(())
         },
     },

@@ -46,9 +46,10 @@ pub struct MeshArgs {
     /// Largest tetrahedron circumradius (default: diagonal / 20).
     #[arg(long)]
     pub cell_size: Option<f64>,
-    /// Stop with an error past this many vertices.
-    #[arg(long, default_value_t = delamesh::DEFAULT_MAX_VERTICES)]
-    pub max_vertices: usize,
+    /// Stop with an error past this many vertices [default: 50 times the count the criteria
+    /// predict for the bounding box, between 100,000 and 2,000,000]
+    #[arg(long)]
+    pub max_vertices: Option<usize>,
     /// Stop with an error when meshing takes longer than this many seconds.
     #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     pub time_limit: Option<f64>,

@@ -125,6 +125,14 @@ pub const DEFAULT_EDGE_MIN_FRACTION: f64 = 1e-3;
 /// [`MeshCriteria::bend_tolerance`]).
 pub const BEND_TOLERANCE_FRACTION: f64 = 0.25;
 
+/// The automatic vertex limit ([`MeshCriteria::vertex_budget`]) as a multiple of the count the
+/// criteria predict, and its bounds.
+pub const VERTEX_BUDGET_FACTOR: f64 = 50.0;
+/// Smallest automatic vertex limit.
+pub const MIN_VERTEX_BUDGET: usize = 100_000;
+/// Largest automatic vertex limit (the limit before it was automatic).
+pub const MAX_VERTEX_BUDGET: usize = 2_000_000;
+
 /// Refinement floor as a fraction of the smallest protecting ball (see
 /// [`MeshCriteria::refinement_floor`]).
 pub const REFINEMENT_FLOOR_FRACTION: f64 = 0.25;
@@ -149,6 +157,36 @@ impl MeshCriteria {
             .smallest()
             .filter(|d| d.is_finite() && *d > 0.0)
             .map_or(0.0, |d| BEND_TOLERANCE_FRACTION * d)
+    }
+
+    /// The vertex limit when none is given: [`VERTEX_BUDGET_FACTOR`] times the count the
+    /// criteria predict for a domain filling `bbox` (its faces sampled at the facet size, or at
+    /// the spacing the facet distance asks on a curvature radius of an eighth of the diagonal;
+    /// its volume at the cell size), within [`MIN_VERTEX_BUDGET`], [`MAX_VERTEX_BUDGET`]. A
+    /// domain that needs far more than its criteria predict (a 1e-6 slab, a 0.1° wedge, whose
+    /// thin parts refine down to the floor) stops within seconds with an error naming the limit,
+    /// instead of running for minutes.
+    pub fn vertex_budget(&self, bbox: &Aabb) -> usize {
+        let e = (bbox.max - bbox.min).max(Point3::ZERO);
+        let d = bbox.diagonal();
+        let smallest = |s: &Sizing| s.smallest().filter(|v| v.is_finite() && *v > 0.0);
+        let mut spacing = [&self.facet.size, &self.edge_size]
+            .into_iter()
+            .filter_map(smallest)
+            .fold(d, f64::min);
+        if let Some(delta) = smallest(&self.facet.distance) {
+            spacing = spacing.min((delta * d / 4.0).sqrt());
+        }
+        let cell = smallest(&self.cell.size).unwrap_or(d).min(d);
+        let area = 2.0 * (e.x * e.y + e.y * e.z + e.z * e.x);
+        let volume = e.x * e.y * e.z;
+        let expected = area / (spacing * spacing) + volume / (cell * cell * cell);
+        let budget = VERTEX_BUDGET_FACTOR * expected;
+        if budget.is_finite() {
+            (budget as usize).clamp(MIN_VERTEX_BUDGET, MAX_VERTEX_BUDGET)
+        } else {
+            MAX_VERTEX_BUDGET
+        }
     }
 
     /// Radius under which no facet or cell is refined: [`REFINEMENT_FLOOR_FRACTION`] of the
@@ -389,6 +427,31 @@ mod tests {
             min: Point3::ZERO,
             max: Point3::ONE,
         }
+    }
+
+    /// The automatic vertex limit follows the criteria: a cube at the defaults gets well above
+    /// what it needs (a few thousand vertices), a thin slab the smallest limit, criteria a
+    /// hundred times finer the largest.
+    #[test]
+    fn the_vertex_budget_follows_the_criteria() {
+        let cube = MeshCriteria::default_for(&unit_box());
+        let budget = cube.vertex_budget(&unit_box());
+        assert!(
+            (MIN_VERTEX_BUDGET..MAX_VERTEX_BUDGET).contains(&budget),
+            "{budget}"
+        );
+        let slab = Aabb {
+            min: Point3::ZERO,
+            max: Point3::new(1.0, 1.0, 1e-6),
+        };
+        let thin = MeshCriteria::default_for(&slab);
+        assert_eq!(thin.vertex_budget(&slab), MIN_VERTEX_BUDGET);
+        let mut fine = cube.clone();
+        fine.facet.size = Sizing::Constant(0.001);
+        assert_eq!(fine.vertex_budget(&unit_box()), MAX_VERTEX_BUDGET);
+        let mut finer_distance = cube.clone();
+        finer_distance.facet.distance = Sizing::Constant(1e-4);
+        assert!(finer_distance.vertex_budget(&unit_box()) > budget);
     }
 
     #[test]
