@@ -12,6 +12,7 @@ pub mod criteria;
 pub mod curves;
 mod engine;
 pub mod facets;
+mod feature_grid;
 mod geometry;
 pub(crate) mod guard;
 pub mod manifold;

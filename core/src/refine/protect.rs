@@ -14,6 +14,7 @@
 
 use super::criteria::Sizing;
 use super::curves::{Polyline, point_segment_distance};
+use super::feature_grid::{FeatureGrid, Item};
 use crate::kernel::Point3;
 use crate::oracle::{CurveId, FeatureCurve};
 use std::time::Instant;
@@ -285,11 +286,17 @@ pub fn protect(
         piece.thin_bends(min_radius);
     }
     let mut corner_limit = vec![f64::INFINITY; corners.len()];
+    let grid = feature_grid(&pieces, &corners);
     for _ in 0..MAX_ROUNDS {
         if limits.deadline.is_some_and(|d| Instant::now() > d) {
             return Err(ProtectError::TimeLimit);
         }
-        let protection = populate(&pieces, &corners, &corner_limit, edge_size, limits)?;
+        let features = Features {
+            pieces: &pieces,
+            corners: &corners,
+            grid: &grid,
+        };
+        let protection = populate(&features, &corner_limit, edge_size, limits)?;
         let mut shrunk = false;
         for (ball, radius) in violations(&protection, &pieces) {
             // A ball already at the smallest radius stays as it is (CGAL's special balls).
@@ -404,49 +411,73 @@ fn push_piece(
 /// the parts of neighbouring pieces inside the ball of a shared corner. Distances of `cap` or
 /// more are not looked for (`cap` is returned).
 fn distance_to_other_features(
-    pieces: &[Piece],
+    features: &Features<'_>,
     i: usize,
     p: Point3,
-    corners: &[Point3],
     corner_radius: &[f64],
     cap: f64,
 ) -> f64 {
+    let Features {
+        pieces,
+        corners,
+        grid,
+    } = features;
     let own = pieces[i].ends;
     let mut d = cap;
-    for (k, &c) in corners.iter().enumerate() {
-        if own.is_none_or(|e| !e.contains(&k)) {
-            d = d.min(c.distance(p));
+    for item in grid.near(p, cap) {
+        match item {
+            Item::Corner(k) => {
+                let k = k as usize;
+                if own.is_none_or(|e| !e.contains(&k)) {
+                    d = d.min(corners[k].distance(p));
+                }
+            }
+            Item::Curve(j) => {
+                let (j, piece) = (j as usize, &pieces[j as usize]);
+                if j == i || piece.distance_bound(p) >= d {
+                    continue;
+                }
+                let shared = match (own, piece.ends) {
+                    (Some(a), Some(b)) => a.iter().copied().find(|k| b.contains(k)),
+                    _ => None,
+                };
+                // Each distance is taken below `d`: only a nearer piece changes it.
+                d = match shared {
+                    Some(k) => piece
+                        .line
+                        .distance_outside_ball(p, corners[k], corner_radius[k], d),
+                    None => piece.line.distance_below(p, d),
+                };
+            }
         }
-    }
-    for (j, piece) in pieces.iter().enumerate() {
-        if j == i || piece.distance_bound(p) >= d {
-            continue;
-        }
-        let shared = match (own, piece.ends) {
-            (Some(a), Some(b)) => a.iter().copied().find(|k| b.contains(k)),
-            _ => None,
-        };
-        // Each distance is taken below `d`: only a nearer piece changes it.
-        d = match shared {
-            Some(k) => piece
-                .line
-                .distance_outside_ball(p, corners[k], corner_radius[k], d),
-            None => piece.line.distance_below(p, d),
-        };
     }
     d
 }
 
+/// The pieces and corners of the features, with a grid over them for nearest-feature queries.
+/// (The grid depends on the geometry only, so it outlives the rounds that change the pieces'
+/// limits.)
+struct Features<'a> {
+    pieces: &'a [Piece],
+    corners: &'a [Point3],
+    grid: &'a FeatureGrid,
+}
+
+/// The grid of the pieces and corners.
+fn feature_grid(pieces: &[Piece], corners: &[Point3]) -> FeatureGrid {
+    let lines = pieces.iter().map(|p| (p.line.points(), p.line.is_closed()));
+    FeatureGrid::new(lines, corners)
+}
+
 /// The radius of the ball centred at arc length `s` of piece `i`.
 fn piece_radius(
-    pieces: &[Piece],
+    features: &Features<'_>,
     i: usize,
     s: f64,
-    corners: &[Point3],
     corner_radius: &[f64],
     edge_size: &Sizing,
 ) -> f64 {
-    let piece = &pieces[i];
+    let piece = &features.pieces[i];
     let p = piece.line.point_at(s);
     let mut r = edge_size.at(p, piece.curve);
     if let Some([a, b]) = piece.ends {
@@ -458,17 +489,19 @@ fn piece_radius(
     }
     r = r.min(piece.bend_cap(s));
     let cap = r / FEATURE_FRACTION;
-    r.min(FEATURE_FRACTION * distance_to_other_features(pieces, i, p, corners, corner_radius, cap))
+    r.min(FEATURE_FRACTION * distance_to_other_features(features, i, p, corner_radius, cap))
 }
 
 /// Balls for the current limits: corners first, then each piece's chain.
 fn populate(
-    pieces: &[Piece],
-    corners: &[Point3],
+    features: &Features<'_>,
     corner_limit: &[f64],
     edge_size: &Sizing,
     limits: &ProtectLimits,
 ) -> Result<Protection, ProtectError> {
+    let Features {
+        pieces, corners, ..
+    } = *features;
     let corner_radius: Vec<f64> = corners
         .iter()
         .enumerate()
@@ -522,9 +555,8 @@ fn populate(
     };
     let mut params = Vec::with_capacity(pieces.len());
     for (i, piece) in pieces.iter().enumerate() {
-        let radius = |s: f64| {
-            piece_radius(pieces, i, s, corners, &corner_radius, edge_size).max(limits.min_radius)
-        };
+        let radius =
+            |s: f64| piece_radius(features, i, s, &corner_radius, edge_size).max(limits.min_radius);
         let l = piece.line.length();
         let (from, to) = match piece.ends {
             Some([a, b]) => (
