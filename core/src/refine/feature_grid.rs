@@ -151,7 +151,7 @@ impl FeatureGrid {
     pub(crate) fn near(&self, p: Point3, radius: f64) -> Vec<Item> {
         let r = Point3::splat(radius);
         let range = self.cell_range(p - r, p + r);
-        if !(radius < f64::INFINITY)
+        if !radius.is_finite()
             || range.iter().map(|r| r.1 - r.0 + 1).product::<usize>() > MAX_CELLS_PER_QUERY
         {
             let corners = (0..self.corners as u32).map(Item::Corner);
