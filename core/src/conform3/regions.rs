@@ -4,10 +4,10 @@
 
 use super::constraints::Constraints;
 use crate::complex::{MeshComplex, VertexDimension};
-use crate::kernel::{Sign, orient3d};
+use crate::kernel::{Point3, Sign, orient3d};
 use crate::oracle::{OUTSIDE, Oracle, PatchId, SubdomainId};
 use crate::refine::{cell_vertices, facet_vertices};
-use crate::triangulation::{Delaunay3, Triangulation, VertexId};
+use crate::triangulation::{CellId, Delaunay3, Triangulation, VertexId};
 use crate::union_find::UnionFind;
 use std::collections::HashMap;
 
@@ -70,7 +70,75 @@ pub(super) fn complex(
         let root = regions.find(c.0);
         subdomain[c.0 as usize] = subdomain_of_root.get(&root).copied().unwrap_or(OUTSIDE);
     }
+    move_flat_cells_across(dt, &mut subdomain, &mut patch_of);
     collect(dt, &subdomain, &patch_of)
+}
+
+/// Whether the tetrahedron `p` is flat: |6V| at most `FLAT` times its longest edge cubed.
+fn is_flat(p: [Point3; 4]) -> bool {
+    /// Relative volume under which a tetrahedron is unusable by a solver.
+    const FLAT: f64 = 1e-12;
+    let longest = (0..4)
+        .flat_map(|i| (i + 1..4).map(move |j| (i, j)))
+        .map(|(i, j)| p[i].distance(p[j]))
+        .fold(0.0, f64::max);
+    let volume6 = (p[1] - p[0]).cross(p[2] - p[0]).dot(p[3] - p[0]).abs();
+    volume6 <= FLAT * longest * longest * longest
+}
+
+/// Steiner points on an input triangle lie on it only up to rounding, so four of them (or with
+/// the triangle's vertices) can make a flat Delaunay cell lying in the triangle's plane. When
+/// such a cell of the domain borders the outside across exactly two faces, those two and its
+/// other two cover the same piece of the plane: the cell moves outside, and its other two
+/// faces, now the boundary, take the patch. Stacked flat cells follow one another; each moves
+/// once. (Between two subdomains either side would keep the cell: it stays.)
+fn move_flat_cells_across(
+    dt: &Delaunay3,
+    subdomain: &mut [SubdomainId],
+    patch_of: &mut HashMap<[VertexId; 3], PatchId>,
+) {
+    let mut flat: Vec<CellId> = dt
+        .finite_cells()
+        .filter(|&c| is_flat(cell_vertices(dt, c).map(|v| dt.point(v))))
+        .collect();
+    let label = |subdomain: &[SubdomainId], c: CellId| {
+        if dt.is_infinite_cell(c) {
+            OUTSIDE
+        } else {
+            subdomain[c.0 as usize]
+        }
+    };
+    loop {
+        let mut moved = false;
+        flat.retain(|&c| {
+            let own = subdomain[c.0 as usize];
+            let across: Vec<(usize, SubdomainId)> = (0..4)
+                .map(|i| (i, label(subdomain, dt.neighbor(c, i))))
+                .filter(|&(_, s)| s != own)
+                .collect();
+            let [(i, other), (j, second)] = across[..] else {
+                return true;
+            };
+            if own == OUTSIDE || other != OUTSIDE || second != OUTSIDE {
+                return true;
+            }
+            let cell = cell_vertices(dt, c);
+            let patch = [i, j]
+                .into_iter()
+                .find_map(|k| patch_of.get(&key(facet_vertices(&cell, k))).copied());
+            if let Some(patch) = patch {
+                for k in (0..4).filter(|&k| k != i && k != j) {
+                    patch_of.insert(key(facet_vertices(&cell, k)), patch);
+                }
+            }
+            subdomain[c.0 as usize] = OUTSIDE;
+            moved = true;
+            false
+        });
+        if !moved {
+            break;
+        }
+    }
 }
 
 /// The complex of the cells with a subdomain, vertices numbered in `VertexId` order.
