@@ -18,7 +18,7 @@ use crate::kernel::Point3;
 use crate::oracle::{OUTSIDE, SubdomainId};
 use crate::triangulation::{CellId, Triangulation, VertexId};
 use crate::union_find::UnionFind;
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 /// What the relabelling did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -86,15 +86,18 @@ pub(crate) fn relabel_to_manifold<T: Triangulation<Point = Point3>>(
                 break;
             }
             let label = majority_label(cells, &regions);
-            // The smallest movable region, one joining surface points only if there is one.
+            // The smallest movable region keeping the domain's Euler characteristic, one joining
+            // surface points only if there is one.
             let Some(r) = regions
                 .iter()
                 .filter(|r| !r.moved && (r.inside || !r.stuck_outside))
-                .min_by(|a, b| {
-                    (a.off_surface, a.volume)
-                        .partial_cmp(&(b.off_surface, b.volume))
+                .map(|r| (changes_euler_characteristic(tr, cells, r), r))
+                .min_by(|(a_changes, a), (b_changes, b)| {
+                    (a_changes, a.off_surface, a.volume)
+                        .partial_cmp(&(b_changes, b.off_surface, b.volume))
                         .unwrap_or(std::cmp::Ordering::Equal)
                 })
+                .map(|(_, r)| r)
             else {
                 result.pinched_left += 1;
                 break;
@@ -276,6 +279,60 @@ fn regions_around<T: Triangulation<Point = Point3>>(
         }
     }
     regions
+}
+
+/// Whether giving `region`'s cells the other label changes the Euler characteristic of the
+/// domain (the closure of the inside cells). A pinch is two sheets of the boundary touching: the
+/// region filling the gap between them, or cutting through the solid, may close a tunnel or open
+/// one, and the vertices of a pinched seam decided one by one on volume alone alternate between
+/// the two and leave handles the input does not have. With `J` the inside cells not in the
+/// region, the change is `±(χ(R̄) − χ(R̄ ∩ J̄))`: zero exactly when the region meets the rest of
+/// the domain in a complex of its own Euler characteristic, as a ball glued on a disc does.
+fn changes_euler_characteristic<T: Triangulation<Point = Point3>>(
+    tr: &T,
+    cells: &CellLevel<'_>,
+    region: &Region,
+) -> bool {
+    let rest = |c: CellId| {
+        !tr.is_infinite_cell(c) && cells.subdomain(c) != OUTSIDE && !region.cells.contains(&c)
+    };
+    let mut vertices: BTreeSet<u32> = BTreeSet::new();
+    let mut edges: BTreeSet<[u32; 2]> = BTreeSet::new();
+    let mut triangles: BTreeSet<[u32; 3]> = BTreeSet::new();
+    // Faces of the region (tets are never shared: `J` holds none of them).
+    let mut euler = -(region.cells.len() as i64);
+    let mut shared = 0i64;
+    for &c in &region.cells {
+        let vs = cell_vertices(tr, c);
+        for i in 0..4 {
+            let mut t = super::geometry::facet_vertices(&vs, i).map(|v| v.0);
+            t.sort_unstable();
+            if triangles.insert(t) {
+                euler += 1;
+                shared += i64::from(rest(tr.neighbor(c, i)));
+            }
+            vertices.insert(vs[i].0);
+            for j in i + 1..4 {
+                edges.insert([vs[i].0.min(vs[j].0), vs[i].0.max(vs[j].0)]);
+            }
+        }
+    }
+    let mut around: BTreeMap<u32, Vec<CellId>> = BTreeMap::new();
+    for &v in &vertices {
+        let mut list = Vec::new();
+        tr.incident_cells(VertexId(v), &mut list);
+        euler += 1;
+        shared += i64::from(list.iter().any(|&c| rest(c)));
+        around.insert(v, list);
+    }
+    for [a, b] in edges {
+        euler -= 1;
+        let on_edge = around[&a]
+            .iter()
+            .any(|&c| rest(c) && tr.cell(c).as_ref().contains(&VertexId(b)));
+        shared -= i64::from(on_edge);
+    }
+    euler != shared
 }
 
 /// The subdomain most of the inside cells around a vertex have (the smallest on a tie).
