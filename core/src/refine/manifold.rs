@@ -86,17 +86,17 @@ pub(crate) fn relabel_to_manifold<T: Triangulation<Point = Point3>>(
                 break;
             }
             let label = majority_label(cells, &regions);
-            // The smallest movable region keeping the domain's Euler characteristic, one joining
+            // The smallest movable region undoing a contact of the boundary with itself (raising
+            // the domain's Euler characteristic) or else keeping the characteristic, one joining
             // surface points only if there is one.
             let Some(r) = regions
                 .iter()
                 .filter(|r| !r.moved && (r.inside || !r.stuck_outside))
-                .map(|r| (changes_euler_characteristic(tr, cells, r), r))
-                .min_by(|(a_changes, a), (b_changes, b)| {
-                    (a_changes, a.off_surface, a.volume)
-                        .partial_cmp(&(b_changes, b.off_surface, b.volume))
-                        .unwrap_or(std::cmp::Ordering::Equal)
+                .map(|r| {
+                    let change = euler_characteristic_change(tr, cells, r).signum();
+                    ((-change, r.off_surface, r.volume), r)
                 })
+                .min_by(|(a, _), (b, _)| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal))
                 .map(|(_, r)| r)
             else {
                 result.pinched_left += 1;
@@ -281,18 +281,20 @@ fn regions_around<T: Triangulation<Point = Point3>>(
     regions
 }
 
-/// Whether giving `region`'s cells the other label changes the Euler characteristic of the
-/// domain (the closure of the inside cells). A pinch is two sheets of the boundary touching: the
-/// region filling the gap between them, or cutting through the solid, may close a tunnel or open
-/// one, and the vertices of a pinched seam decided one by one on volume alone alternate between
-/// the two and leave handles the input does not have. With `J` the inside cells not in the
-/// region, the change is `±(χ(R̄) − χ(R̄ ∩ J̄))`: zero exactly when the region meets the rest of
-/// the domain in a complex of its own Euler characteristic, as a ball glued on a disc does.
-fn changes_euler_characteristic<T: Triangulation<Point = Point3>>(
+/// How much giving `region`'s cells the other label changes the Euler characteristic of the
+/// domain (the closure of the inside cells). A pinch is the boundary touching itself where the
+/// mesh could not resolve two sheets: a slot closed at a vertex or along a seam, a thin wall
+/// pierced there. The contact closes a loop of the domain or of its complement that the input
+/// does not have, lowering the characteristic by one per loop; of the moves that remove the
+/// contact, the one that opens the loop again raises it back, while the others keep the loop as
+/// a handle (the vertices of a pinched seam decided one by one on volume alone alternate between
+/// filling and cutting and leave such handles). With `J` the inside cells not in the region, the
+/// change is `±(χ(R̄) − χ(R̄ ∩ J̄))`: `+` when the region moves in, `−` when it moves out.
+fn euler_characteristic_change<T: Triangulation<Point = Point3>>(
     tr: &T,
     cells: &CellLevel<'_>,
     region: &Region,
-) -> bool {
+) -> i64 {
     let rest = |c: CellId| {
         !tr.is_infinite_cell(c) && cells.subdomain(c) != OUTSIDE && !region.cells.contains(&c)
     };
@@ -332,7 +334,8 @@ fn changes_euler_characteristic<T: Triangulation<Point = Point3>>(
             .any(|&c| rest(c) && tr.cell(c).as_ref().contains(&VertexId(b)));
         shared -= i64::from(on_edge);
     }
-    euler != shared
+    let change = euler - shared;
+    if region.inside { -change } else { change }
 }
 
 /// The subdomain most of the inside cells around a vertex have (the smallest on a tie).
