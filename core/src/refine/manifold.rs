@@ -359,3 +359,109 @@ fn majority_label(cells: &CellLevel<'_>, regions: &[Region]) -> SubdomainId {
 fn facet_of<T: Triangulation<Point = Point3>>(tr: &T, c: CellId, i: usize) -> [VertexId; 3] {
     super::geometry::facet_vertices(&cell_vertices(tr, c), i)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::oracle::{Aabb, Oracle, SurfaceHit, SurfacePoint};
+    use crate::refine::criteria::{CellCriteria, Sizing};
+    use crate::refine::engine::MesherLevel;
+    use crate::triangulation::Delaunay3;
+
+    /// Every point inside: the labels are set by the test.
+    struct Everywhere;
+
+    impl Oracle for Everywhere {
+        fn bounding_box(&self) -> Aabb {
+            Aabb {
+                min: Point3::ZERO,
+                max: Point3::ONE,
+            }
+        }
+        fn subdomain(&self, _p: Point3) -> SubdomainId {
+            1
+        }
+        fn segment_hits(&self, _a: Point3, _b: Point3, out: &mut Vec<SurfaceHit>) {
+            out.clear();
+        }
+        fn ray_hits(&self, _o: Point3, _d: Point3, out: &mut Vec<SurfaceHit>) {
+            out.clear();
+        }
+        fn initial_points(&self) -> Vec<SurfacePoint> {
+            Vec::new()
+        }
+    }
+
+    /// Euler characteristic of the closure of the inside cells, from all its simplices.
+    fn domain_euler<T: Triangulation<Point = Point3>>(tr: &T, cells: &CellLevel<'_>) -> i64 {
+        let mut simplices: BTreeSet<Vec<u32>> = BTreeSet::new();
+        for c in tr.finite_cells() {
+            if cells.subdomain(c) == OUTSIDE {
+                continue;
+            }
+            let mut vs = cell_vertices(tr, c).map(|v| v.0);
+            vs.sort_unstable();
+            for mask in 1u32..16 {
+                let face = (0..4).filter(|&k| mask & (1 << k) != 0).map(|k| vs[k]);
+                simplices.insert(face.collect());
+            }
+        }
+        simplices
+            .iter()
+            .map(|s| if s.len() % 2 == 1 { 1 } else { -1 })
+            .sum()
+    }
+
+    /// On random labellings of a random Delaunay triangulation, the change predicted for moving
+    /// any movable region around any vertex is the change of the whole domain's characteristic.
+    #[test]
+    fn predicted_euler_change_is_the_domains() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let points: Vec<Point3> = (0..80)
+            .map(|_| Point3::new(next(), next(), next()))
+            .collect();
+        let tr = Delaunay3::from_points(&points).expect("points in general position");
+        let criteria = CellCriteria {
+            radius_edge_ratio: 0.0,
+            size: Sizing::Constant(f64::INFINITY),
+        };
+        let mut cells = CellLevel::new(&Everywhere, criteria);
+        let all: Vec<CellId> = tr.finite_cells().collect();
+        let moved = vec![false; tr.cell_capacity()];
+        let mut around = Vec::new();
+        let mut checked = 0;
+        for _ in 0..4 {
+            cells.scan(&tr);
+            for &c in &all {
+                if next() < 0.5 {
+                    cells.set_subdomain(c, OUTSIDE);
+                }
+            }
+            let before = domain_euler(&tr, &cells);
+            for v in tr.vertices() {
+                tr.incident_cells(v, &mut around);
+                let regions = regions_around(&tr, &cells, v, &around, &moved, &|_| true);
+                for r in regions.iter().filter(|r| r.inside || !r.stuck_outside) {
+                    let change = euler_characteristic_change(&tr, &cells, r);
+                    let flip = |cells: &mut CellLevel<'_>, to_inside: bool| {
+                        for &c in &r.cells {
+                            cells.set_subdomain(c, if to_inside { 1 } else { OUTSIDE });
+                        }
+                    };
+                    flip(&mut cells, !r.inside);
+                    assert_eq!(domain_euler(&tr, &cells), before + change);
+                    flip(&mut cells, r.inside);
+                    checked += usize::from(change != 0);
+                }
+            }
+        }
+        // Moves that change the characteristic were among those checked.
+        assert!(checked > 10, "{checked}");
+    }
+}
