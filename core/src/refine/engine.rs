@@ -350,17 +350,7 @@ impl<'a, T: Triangulation> Engine<'a, T> {
         for (j, level) in self.levels[..=i].iter_mut().enumerate() {
             match level.check(tr, c, j == i) {
                 Check::Accepted => {}
-                refused => {
-                    if std::env::var_os("DBG_REPAIR").is_some() {
-                        eprintln!(
-                            "  refused by {} {:?} own {}",
-                            level.name(),
-                            matches!(refused, Check::Rejected),
-                            j == i
-                        );
-                    }
-                    return refused;
-                }
+                refused => return refused,
             }
         }
         Check::Accepted
