@@ -11,8 +11,10 @@ Arguments after `--` are passed to `delamesh mesh`, `diag/N` standing for the in
 bounding-box diagonal divided by N; each further `--` starts another delamesh configuration, all
 compared with the same fTetWild run (one row per configuration).
 """
+import os
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -77,9 +79,16 @@ def main():
 
         # The first configuration runs before fTetWild, the others after it.
         runs = [ours(configs[0])]
-        t0 = time.perf_counter()
-        v, t = pytetwild.tetrahedralize(points, tris.astype(np.int32))
-        t_peer = time.perf_counter() - t0
+        # fTetWild writes `__tracked_surface.stl` into the working directory: run it in a scratch one.
+        cwd = os.getcwd()
+        with tempfile.TemporaryDirectory() as scratch:
+            os.chdir(scratch)
+            try:
+                t0 = time.perf_counter()
+                v, t = pytetwild.tetrahedralize(points, tris.astype(np.int32))
+                t_peer = time.perf_counter() - t0
+            finally:
+                os.chdir(cwd)
         v, t = np.asarray(v), np.asarray(t)
         runs += [ours(c) for c in configs[1:]]
 

@@ -1,10 +1,11 @@
 //! Checks that a triangle surface bounds a volume: closed, edge-manifold, consistently oriented,
 //! without self-intersections.
 
-use crate::predicates::{Crossing, orient, segment_crossing};
+use crate::predicates::{Crossing, orient, orient2d_all_zero, segment_crossing};
 use crate::tree::TriangleTree;
 use delamesh_core::union_find::UnionFind;
 use glam::DVec3;
+use std::cmp::Ordering;
 
 /// What prevents a triangle surface from bounding a volume. All counts zero: it does.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
@@ -77,12 +78,10 @@ fn first_intersection(
     geometry: &[[DVec3; 3]],
     tree: &TriangleTree,
 ) -> Option<(usize, usize)> {
-    let mut first = None;
-    crossing_pairs(triangles, geometry, tree, |i, j| {
-        first = Some((i, j));
-        false
-    });
-    first
+    crossing_pairs(triangles, geometry, tree)
+        .pairs
+        .first()
+        .copied()
 }
 
 /// Which triangles are crossed by another one.
@@ -92,47 +91,226 @@ pub(crate) fn crossed_triangles(
     tree: &TriangleTree,
 ) -> Vec<bool> {
     let mut crossed = vec![false; triangles.len()];
-    crossing_pairs(triangles, geometry, tree, |i, j| {
+    for (i, j) in crossing_pairs(triangles, geometry, tree).pairs {
         crossed[i] = true;
         crossed[j] = true;
-        true
-    });
+    }
     crossed
 }
 
-/// Calls `found(i, j)`, i < j, for the crossing pairs of triangles in order of `i`, while it
-/// returns true.
+/// The crossing pairs of triangles and what finding them cost.
+struct Crossings {
+    /// `(i, j)`, i < j, sorted.
+    pairs: Vec<(usize, usize)>,
+    /// Candidates examined: triangle pairs, and triangles weighed against a whole flat region.
+    /// Tests bound it to show the search stays near-linear on fans of long thin triangles.
+    work: usize,
+}
+
+/// Flat regions of at least this many triangles are weighed as one piece against each other
+/// triangle (see [`FlatRegion`]); smaller ones pair triangle by triangle.
+const LARGE_REGION: usize = 8;
+
+/// A flat region taken whole. The box of a long thin triangle overlaps the boxes of nearly all
+/// its fan neighbours and of the triangles along the fan's rim, so pairing a fan over a polygon
+/// of n sides triangle by triangle costs n² candidates, each settled as no crossing. Taken
+/// whole, a triangle meets the region's plane in a point, a segment, or not at all, and cannot
+/// cross the region when that is one of the region's vertices or edges (the region being a
+/// planar triangulation: its triangles meet at shared vertices and edges only; coplanar
+/// overlaps never count as crossings).
+struct FlatRegion {
+    triangles: Vec<u32>,
+    /// A triangle of the region (none has zero area): its plane is the region's.
+    plane: [DVec3; 3],
+    /// Corner coordinates, sorted (vertices are shared when their coordinates are equal).
+    vertices: Vec<[u64; 3]>,
+    /// Edges as sorted pairs of corner coordinates, sorted.
+    edges: Vec<([u64; 3], [u64; 3])>,
+    min: DVec3,
+    max: DVec3,
+    /// Over `triangles`, in their order.
+    tree: TriangleTree,
+}
+
+/// Exact coordinates as a sortable key (−0 and +0 alike, as `==` has them).
+fn key(p: DVec3) -> [u64; 3] {
+    (p + DVec3::ZERO).to_array().map(f64::to_bits)
+}
+
+fn edge_key(p: DVec3, q: DVec3) -> ([u64; 3], [u64; 3]) {
+    let (a, b) = (key(p), key(q));
+    (a.min(b), a.max(b))
+}
+
+fn bounds(g: &[DVec3; 3]) -> (DVec3, DVec3) {
+    (g[0].min(g[1]).min(g[2]), g[0].max(g[1]).max(g[2]))
+}
+
+impl FlatRegion {
+    fn new(triangles: Vec<u32>, geometry: &[[DVec3; 3]]) -> Self {
+        let corners = || triangles.iter().map(|&t| &geometry[t as usize]);
+        let plane = geometry[triangles[0] as usize];
+        let mut vertices: Vec<[u64; 3]> = corners().flatten().map(|&p| key(p)).collect();
+        vertices.sort_unstable();
+        vertices.dedup();
+        let mut edges: Vec<_> = corners()
+            .flat_map(|g| (0..3).map(move |k| edge_key(g[k], g[(k + 1) % 3])))
+            .collect();
+        edges.sort_unstable();
+        edges.dedup();
+        let (min, max) = corners().map(bounds).fold(
+            (DVec3::INFINITY, DVec3::NEG_INFINITY),
+            |(lo, hi), (a, b)| (lo.min(a), hi.max(b)),
+        );
+        let tree = TriangleTree::new(&corners().copied().collect::<Vec<_>>());
+        FlatRegion {
+            triangles,
+            plane,
+            vertices,
+            edges,
+            min,
+            max,
+            tree,
+        }
+    }
+
+    /// Can the triangle `g` (of another region) cross a triangle of this region? Not when it
+    /// keeps to one side of the plane, lies in it, or meets it only in a vertex or an edge of
+    /// the region.
+    fn may_cross(&self, g: &[DVec3; 3]) -> bool {
+        let [a, b, c] = self.plane;
+        let sides = g.map(|p| orient(a, b, c, p));
+        let off: Vec<Ordering> = sides.into_iter().filter(|s| s.is_ne()).collect();
+        if off.windows(2).any(|w| w[0] != w[1]) {
+            return true;
+        }
+        let on: Vec<DVec3> = (0..3).filter(|&k| sides[k].is_eq()).map(|k| g[k]).collect();
+        match on[..] {
+            [p] => self.vertices.binary_search(&key(p)).is_err(),
+            [p, q] => self.edges.binary_search(&edge_key(p, q)).is_err(),
+            _ => false,
+        }
+    }
+
+    /// Calls `found(t)` for the triangles of the region that cross triangle `g`, `ids` of `g`.
+    fn crossings(
+        &self,
+        ids: &[u32; 3],
+        g: &[DVec3; 3],
+        triangles: &[[u32; 3]],
+        geometry: &[[DVec3; 3]],
+        work: &mut usize,
+        mut found: impl FnMut(usize),
+    ) {
+        *work += 1;
+        if !self.may_cross(g) {
+            return;
+        }
+        let (min, max) = bounds(g);
+        self.tree.for_each_near_box(min, max, |k| {
+            *work += 1;
+            let t = self.triangles[k as usize] as usize;
+            if triangles_cross(ids, g, &triangles[t], &geometry[t]) {
+                found(t);
+            }
+        });
+    }
+}
+
+/// All crossing pairs of triangles: triangles of small flat regions pair through the tree,
+/// large flat regions are weighed whole against the triangles near them (see [`FlatRegion`]).
 fn crossing_pairs(
     triangles: &[[u32; 3]],
     geometry: &[[DVec3; 3]],
     tree: &TriangleTree,
-    mut found: impl FnMut(usize, usize) -> bool,
-) {
-    let plane = flat_regions(triangles, geometry);
-    let mut partners = Vec::new();
-    for (i, t) in triangles.iter().enumerate() {
-        let g = &geometry[i];
-        let (min, max) = (g[0].min(g[1]).min(g[2]), g[0].max(g[1]).max(g[2]));
-        partners.clear();
-        tree.for_each_near_box(min, max, |j| {
-            let j = j as usize;
-            if j > i && plane[i] != plane[j] && triangles_cross(t, g, &triangles[j], &geometry[j]) {
-                partners.push(j);
-            }
-        });
-        partners.sort_unstable();
-        for &j in &partners {
-            if !found(i, j) {
-                return;
-            }
+) -> Crossings {
+    let region = flat_regions(triangles, geometry);
+    let mut members: Vec<(u32, u32)> = (0..triangles.len() as u32)
+        .map(|t| (region[t as usize], t))
+        .collect();
+    members.sort_unstable();
+    let mut small = Vec::new();
+    let mut large = Vec::new();
+    for run in members.chunk_by(|x, y| x.0 == y.0) {
+        let ids = run.iter().map(|m| m.1);
+        if run.len() >= LARGE_REGION {
+            large.push(FlatRegion::new(ids.collect(), geometry));
+        } else {
+            small.extend(ids);
         }
     }
+    small.sort_unstable();
+    let small_tree;
+    let small_tree = if large.is_empty() {
+        tree
+    } else {
+        let g: Vec<[DVec3; 3]> = small.iter().map(|&t| geometry[t as usize]).collect();
+        small_tree = TriangleTree::new(&g);
+        &small_tree
+    };
+    let mut c = Crossings {
+        pairs: Vec::new(),
+        work: 0,
+    };
+    let mut push = |i: usize, j: usize| c.pairs.push((i.min(j), i.max(j)));
+    for &i in &small {
+        let i = i as usize;
+        let (min, max) = bounds(&geometry[i]);
+        small_tree.for_each_near_box(min, max, |j| {
+            c.work += 1;
+            let j = small[j as usize] as usize;
+            if j > i
+                && region[i] != region[j]
+                && triangles_cross(&triangles[i], &geometry[i], &triangles[j], &geometry[j])
+            {
+                push(i, j);
+            }
+        });
+    }
+    for r in &large {
+        let mut near = Vec::new();
+        small_tree.for_each_near_box(r.min, r.max, |j| near.push(small[j as usize] as usize));
+        for i in near {
+            r.crossings(
+                &triangles[i],
+                &geometry[i],
+                triangles,
+                geometry,
+                &mut c.work,
+                |t| push(i, t),
+            );
+        }
+    }
+    // Large regions near each other, found through a tree whose "triangles" span their boxes.
+    let boxes: Vec<[DVec3; 3]> = large.iter().map(|r| [r.min, r.max, r.max]).collect();
+    let region_tree = TriangleTree::new(&boxes);
+    for (a, r) in large.iter().enumerate() {
+        region_tree.for_each_near_box(r.min, r.max, |b| {
+            let other = &large[b as usize];
+            if b as usize > a {
+                for &i in &r.triangles {
+                    let i = i as usize;
+                    other.crossings(
+                        &triangles[i],
+                        &geometry[i],
+                        triangles,
+                        geometry,
+                        &mut c.work,
+                        |t| push(i, t),
+                    );
+                }
+            }
+        });
+    }
+    c.pairs.sort_unstable();
+    c.pairs.dedup();
+    c
 }
 
 /// The flat regions of the surface: triangles joined through edges to neighbours exactly in
-/// their plane share a number. Two triangles of one region lie in one plane and never cross; a
-/// fan over a polygonal cap makes all pairs of its long thin triangles candidates, and settling
-/// each by exact orientations (all of them zero, the dearest case) cost seconds.
+/// their plane share a number. Two triangles of one region lie in one plane and never cross.
+/// Triangles of zero area stay alone: every point is in their "plane", and joining through
+/// them would merge regions of different planes.
 fn flat_regions(triangles: &[[u32; 3]], geometry: &[[DVec3; 3]]) -> Vec<u32> {
     let mut edges: Vec<(u32, u32, u32)> = Vec::with_capacity(3 * triangles.len());
     for (i, t) in triangles.iter().enumerate() {
@@ -142,14 +320,21 @@ fn flat_regions(triangles: &[[u32; 3]], geometry: &[[DVec3; 3]]) -> Vec<u32> {
         }
     }
     edges.sort_unstable();
+    let flat: Vec<bool> = geometry
+        .iter()
+        .map(|g| orient2d_all_zero(g[0], g[1], g[2]))
+        .collect();
     let mut regions = UnionFind::new(triangles.len());
     for uses in edges.chunk_by(|x, y| (x.0, x.1) == (y.0, y.1)) {
         for pair in uses.windows(2) {
             let (i, j) = (pair[0].2 as usize, pair[1].2 as usize);
+            if flat[i] || flat[j] {
+                continue;
+            }
             let [a, b, c] = geometry[i];
             if geometry[j]
                 .iter()
-                .all(|&p| orient(a, b, c, p) == std::cmp::Ordering::Equal)
+                .all(|&p| orient(a, b, c, p) == Ordering::Equal)
             {
                 regions.union(i as u32, j as u32);
             }
@@ -251,4 +436,86 @@ fn separated(edge: (DVec3, DVec3), g: &[DVec3; 3]) -> bool {
         let (sp, sq) = (axis.dot(p), axis.dot(q));
         sp.min(sq) > thi + margin || sp.max(sq) < tlo - margin
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A closed prism over a regular `n`-gon, each cap a fan of long thin triangles from one
+    /// corner, plus the `extra` triangles.
+    fn fan_prism(n: usize, extra: &[[DVec3; 3]]) -> (Vec<[u32; 3]>, Vec<[DVec3; 3]>) {
+        let mut points = Vec::new();
+        for z in [0.0, 1.0] {
+            for i in 0..n {
+                let a = std::f64::consts::TAU * i as f64 / n as f64;
+                points.push(DVec3::new(a.cos(), a.sin(), z));
+            }
+        }
+        let n = n as u32;
+        let mut triangles = Vec::new();
+        for i in 0..n {
+            let j = (i + 1) % n;
+            triangles.push([i, j, n + j]);
+            triangles.push([i, n + j, n + i]);
+        }
+        for i in 1..n - 1 {
+            triangles.push([0, i + 1, i]);
+            triangles.push([n, n + i, n + i + 1]);
+        }
+        for g in extra {
+            let first = points.len() as u32;
+            points.extend(g);
+            triangles.push([first, first + 1, first + 2]);
+        }
+        let geometry = triangles
+            .iter()
+            .map(|t| t.map(|v| points[v as usize]))
+            .collect();
+        (triangles, geometry)
+    }
+
+    fn pairs_of(triangles: &[[u32; 3]], geometry: &[[DVec3; 3]]) -> Crossings {
+        crossing_pairs(triangles, geometry, &TriangleTree::new(geometry))
+    }
+
+    #[test]
+    fn fans_cost_a_few_candidates_per_triangle() {
+        let n = 2000;
+        let (triangles, geometry) = fan_prism(n, &[]);
+        let c = pairs_of(&triangles, &geometry);
+        assert!(c.pairs.is_empty());
+        // Pairing the fans triangle by triangle examines about n² / 2 candidates.
+        assert!(c.work < 40 * n, "{} candidates for {n} sides", c.work);
+    }
+
+    #[test]
+    fn regions_taken_whole_find_the_pairs_of_every_triangle_pair() {
+        let p = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
+        let extras = [
+            // Through the bottom cap's interior, across many of its slivers.
+            [p(-0.5, -0.2, -0.5), p(0.3, 0.4, 0.5), p(0.5, -0.3, 0.2)],
+            // A corner on the bottom cap inside it, the rest above.
+            [p(0.1, 0.1, 0.0), p(0.2, 0.1, 0.5), p(0.1, 0.3, 0.5)],
+            // An edge in the bottom cap, across its slivers.
+            [p(-0.3, -0.3, 0.0), p(0.4, 0.3, 0.0), p(0.0, 0.0, 0.6)],
+            // Along a rim edge of the bottom cap, outside the prism: touches only.
+            [p(1.0, 0.0, 0.0), p(0.5, 0.0, -0.5), p(1.5, 0.0, -0.5)],
+        ];
+        for extra in extras {
+            let (triangles, geometry) = fan_prism(24, &[extra]);
+            let region = flat_regions(&triangles, &geometry);
+            let mut expected = Vec::new();
+            for i in 0..triangles.len() {
+                for j in i + 1..triangles.len() {
+                    if region[i] != region[j]
+                        && triangles_cross(&triangles[i], &geometry[i], &triangles[j], &geometry[j])
+                    {
+                        expected.push((i, j));
+                    }
+                }
+            }
+            assert_eq!(pairs_of(&triangles, &geometry).pairs, expected, "{extra:?}");
+        }
+    }
 }
