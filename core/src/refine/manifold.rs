@@ -55,11 +55,8 @@ pub(crate) fn relabel_to_manifold<T: Triangulation<Point = Point3>>(
     cells: &mut CellLevel<'_>,
     on_surface: &dyn Fn(VertexId) -> bool,
     max_moves: usize,
-    target_euler: Option<i64>,
 ) -> Relabelling {
     let mut result = Relabelling::default();
-    // The domain's characteristic as the moves change it, when there is one to reach.
-    let mut euler = target_euler.map(|_| domain_euler(tr, cells));
     let mut todo: BTreeSet<u32> = BTreeSet::new();
     for c in tr.finite_cells() {
         if cells.subdomain(c) == OUTSIDE {
@@ -96,13 +93,8 @@ pub(crate) fn relabel_to_manifold<T: Triangulation<Point = Point3>>(
                 .iter()
                 .filter(|r| !r.moved && (r.inside || !r.stuck_outside))
                 .map(|r| {
-                    let change = euler_characteristic_change(tr, cells, r);
-                    // Towards the input's characteristic when known, else up (see above).
-                    let rank = match (euler, target_euler) {
-                        (Some(now), Some(target)) => (now + change - target).abs(),
-                        _ => -change.signum(),
-                    };
-                    ((rank, r.off_surface, r.volume), (r, change))
+                    let change = euler_characteristic_change(tr, cells, r).signum();
+                    ((-change, r.off_surface, r.volume), r)
                 })
                 .min_by(|(a, _), (b, _)| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal))
                 .map(|(_, r)| r)
@@ -110,11 +102,7 @@ pub(crate) fn relabel_to_manifold<T: Triangulation<Point = Point3>>(
                 result.pinched_left += 1;
                 break;
             };
-            let (r, change) = r;
             moves += 1;
-            if let Some(now) = euler.as_mut() {
-                *now += change;
-            }
             for &c in &r.cells {
                 moved[c.0 as usize] = true;
                 if r.inside {
@@ -350,32 +338,6 @@ fn euler_characteristic_change<T: Triangulation<Point = Point3>>(
     if region.inside { -change } else { change }
 }
 
-/// Euler characteristic of the closure of the inside cells, from all its simplices.
-pub(crate) fn domain_euler<T: Triangulation<Point = Point3>>(tr: &T, cells: &CellLevel<'_>) -> i64 {
-    let mut vertices = std::collections::HashSet::new();
-    let mut edges = std::collections::HashSet::new();
-    let mut faces = std::collections::HashSet::new();
-    let mut count = 0i64;
-    for c in tr.finite_cells() {
-        if cells.subdomain(c) == OUTSIDE {
-            continue;
-        }
-        count += 1;
-        let mut vs = cell_vertices(tr, c).map(|v| v.0);
-        vs.sort_unstable();
-        for i in 0..4 {
-            vertices.insert(vs[i]);
-            for j in i + 1..4 {
-                edges.insert([vs[i], vs[j]]);
-                for k in j + 1..4 {
-                    faces.insert([vs[i], vs[j], vs[k]]);
-                }
-            }
-        }
-    }
-    vertices.len() as i64 - edges.len() as i64 + faces.len() as i64 - count
-}
-
 /// The subdomain most of the inside cells around a vertex have (the smallest on a tie).
 fn majority_label(cells: &CellLevel<'_>, regions: &[Region]) -> SubdomainId {
     let mut labels: Vec<SubdomainId> = regions
@@ -428,6 +390,26 @@ mod tests {
         fn initial_points(&self) -> Vec<SurfacePoint> {
             Vec::new()
         }
+    }
+
+    /// Euler characteristic of the closure of the inside cells, from all its simplices.
+    fn domain_euler<T: Triangulation<Point = Point3>>(tr: &T, cells: &CellLevel<'_>) -> i64 {
+        let mut simplices: BTreeSet<Vec<u32>> = BTreeSet::new();
+        for c in tr.finite_cells() {
+            if cells.subdomain(c) == OUTSIDE {
+                continue;
+            }
+            let mut vs = cell_vertices(tr, c).map(|v| v.0);
+            vs.sort_unstable();
+            for mask in 1u32..16 {
+                let face = (0..4).filter(|&k| mask & (1 << k) != 0).map(|k| vs[k]);
+                simplices.insert(face.collect());
+            }
+        }
+        simplices
+            .iter()
+            .map(|s| if s.len() % 2 == 1 { 1 } else { -1 })
+            .sum()
     }
 
     /// On random labellings of a random Delaunay triangulation, the change predicted for moving

@@ -281,14 +281,7 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
         // most, so it ends).
         if options.validity.manifold && !validity.manifold {
             let on_surface = |v| surface.is_on_surface(v);
-            // A solid's characteristic is half its boundary's (one component: nested ones make
-            // interfaces, not boundaries).
-            let target = match options.validity.input_euler.as_deref() {
-                Some(&[boundary]) => Some(boundary / 2),
-                _ => None,
-            };
-            let relabelling =
-                relabel_to_manifold(&tr, &mut cells, &on_surface, tr.num_vertices(), target);
+            let relabelling = relabel_to_manifold(&tr, &mut cells, &on_surface, tr.num_vertices());
             validity = find_defects(&tr, &cells, &options.validity, false).validity();
             validity.relabelling = relabelling;
         }
