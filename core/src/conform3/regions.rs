@@ -4,9 +4,9 @@
 
 use super::constraints::Constraints;
 use crate::complex::{MeshComplex, VertexDimension};
-use crate::kernel::{Point3, Sign, orient3d};
+use crate::kernel::{Sign, orient3d};
 use crate::oracle::{OUTSIDE, Oracle, PatchId, SubdomainId};
-use crate::refine::{cell_vertices, facet_vertices};
+use crate::refine::{cell_vertices, facet_vertices, is_flat};
 use crate::triangulation::{CellId, Delaunay3, Triangulation, VertexId};
 use crate::union_find::UnionFind;
 use std::collections::HashMap;
@@ -74,18 +74,6 @@ pub(super) fn complex(
     collect(dt, &subdomain, &patch_of)
 }
 
-/// Whether the tetrahedron `p` is flat: |6V| at most `FLAT` times its longest edge cubed.
-fn is_flat(p: [Point3; 4]) -> bool {
-    /// Relative volume under which a tetrahedron is unusable by a solver.
-    const FLAT: f64 = 1e-12;
-    let longest = (0..4)
-        .flat_map(|i| (i + 1..4).map(move |j| (i, j)))
-        .map(|(i, j)| p[i].distance(p[j]))
-        .fold(0.0, f64::max);
-    let volume6 = (p[1] - p[0]).cross(p[2] - p[0]).dot(p[3] - p[0]).abs();
-    volume6 <= FLAT * longest * longest * longest
-}
-
 /// Steiner points on an input triangle lie on it only up to rounding, so four of them (or with
 /// the triangle's vertices) can make a flat Delaunay cell lying in the triangle's plane. When
 /// such a cell of the domain borders the outside across exactly two faces, those two and its
@@ -99,7 +87,7 @@ fn move_flat_cells_across(
 ) {
     let mut flat: Vec<CellId> = dt
         .finite_cells()
-        .filter(|&c| is_flat(cell_vertices(dt, c).map(|v| dt.point(v))))
+        .filter(|&c| is_flat(&cell_vertices(dt, c).map(|v| dt.point(v))))
         .collect();
     let label = |subdomain: &[SubdomainId], c: CellId| {
         if dt.is_infinite_cell(c) {
