@@ -193,8 +193,8 @@ unsafe extern "C" fn create<T: PluginOracle>(
 unsafe extern "C" fn destroy<T: PluginOracle>(handle: *mut c_void) {
     if !handle.is_null() {
         // A panicking `Drop` is swallowed: there is nobody left to report it to.
-        // SAFETY: `handle` is a live `Box<T>` from `create::<T>`, destroyed once.
         let _ = catch_unwind(AssertUnwindSafe(|| {
+            // SAFETY: `handle` is a live `Box<T>` from `create::<T>`, destroyed once.
             drop(unsafe { Box::from_raw(handle.cast::<T>()) })
         }));
     }
@@ -365,6 +365,7 @@ unsafe extern "C" fn feature_curves<T: PluginOracle>(
             .flat_map(|c| c.points.iter().map(|&p| DmVec3::from(p)));
         // SAFETY: the host passes the capacities of both buffers and both lengths.
         let curves_status = unsafe { fill(table.into_iter(), curves, curves_cap, curves_len) }?;
+        // SAFETY: as above, for the points buffer.
         let points_status = unsafe {
             fill(
                 all_points.collect::<Vec<_>>().into_iter(),

@@ -113,12 +113,12 @@ impl SharedCells {
     }
 }
 
-/// Used only by [`Part::insert`] for the cells of its cavity. SAFETY (both methods): the new
-/// cells take slots of the part; the cells outside the cavity facets are the part's or mixed
-/// cells whose entry facing the cavity only this part writes.
+/// Used only by [`Part::insert`] for the cells of its cavity.
 impl CellWriter for SharedCells {
     #[inline]
     fn place(&mut self, nc: &NewCell) {
+        // SAFETY: the new cells take slots of the part; the cells outside the cavity facets are
+        // the part's or mixed cells whose entry facing the cavity only this part writes.
         unsafe {
             self.write(nc.id, nc.record());
             self.set_neighbor(nc.outside, pack(nc.id, nc.apex as usize));
@@ -127,6 +127,7 @@ impl CellWriter for SharedCells {
 
     #[inline]
     fn link(&mut self, facet: u32, neighbor: u32) {
+        // SAFETY: as in `place`, the facet is the cavity's, facing a cell only this part writes.
         unsafe { self.set_neighbor(facet, neighbor) }
     }
 }
@@ -175,13 +176,15 @@ impl<K: ConflictKernel> Part<'_, K> {
         };
         let (tri, cells, range) = (self.tri, self.cells, self.range);
         let p = tri.points[v as usize];
-        // SAFETY (the closures below): the walk and the cavity search start in a cell of this
-        // part and step only from cells of this part; what they step to is this part's or a
-        // mixed cell, of which they read the vertices only.
+        // The walk and the cavity search start in a cell of this part and step only from cells of
+        // this part; what they step to is this part's or a mixed cell, of which they read the
+        // vertices only.
         let c = match tri.walk(
             p,
             from,
+            // SAFETY: the walk records only the cells it steps from, which are this part's.
             |c| unsafe { cells.record(c) },
+            // SAFETY: a cell stepped to is this part's or mixed; only its vertices are read.
             |c| !range.owns(unsafe { cells.vertices(c) }),
         ) {
             Walk::Found(c) => c,
@@ -199,8 +202,10 @@ impl<K: ConflictKernel> Part<'_, K> {
             &mut s.stack,
             &mut s.cavity,
             &mut s.boundary,
+            // SAFETY: the search reads the neighbours of cavity cells only, which are this part's.
             |c| unsafe { cells.record(c) }.n,
             |n| {
+                // SAFETY: a neighbour is this part's or mixed; only its vertices are read.
                 let v = unsafe { cells.vertices(n) };
                 let conflict = tri.conflicts(v, p, 0.0);
                 (!conflict || range.owns(v)).then_some(conflict)
