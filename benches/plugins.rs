@@ -4,6 +4,9 @@
 //! Run: `cargo bench --bench plugins` (builds the example plugin in the release profile first).
 //! The requirement is on `mesh_torus`: dynamic / static ≤ 1.10.
 
+// `criterion_group!` defines a public function it gives no documentation.
+#![allow(missing_docs)]
+
 #[path = "../tests/plugins_support/mod.rs"]
 mod common;
 

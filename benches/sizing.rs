@@ -3,6 +3,9 @@
 //! (each field constant, so every run inserts the same vertices and the difference is the
 //! field's evaluation). Run: `cargo bench --bench sizing`.
 
+// `criterion_group!` defines a public function it gives no documentation.
+#![allow(missing_docs)]
+
 use criterion::{Criterion, criterion_group, criterion_main};
 use delamesh::core::refine::sizing::{BackgroundMesh, SizeGrid};
 use delamesh::{FeatureSettings, MeshSettings, Mesher, Point3, SizeSource, SurfaceMesh};

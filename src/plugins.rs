@@ -4,6 +4,7 @@
 use crate::domain::Domain;
 use crate::error::Error;
 use delamesh_core::plugin::{DynOracle, PluginLibrary, PluginOracle};
+use delamesh_image_label::ImageLabelOracle;
 use delamesh_piecewise_smooth::PiecewiseSmoothOracle;
 use delamesh_polyhedral::PolyhedralOracle;
 use delamesh_subdivision::SubdivisionOracle;
@@ -45,6 +46,12 @@ pub const BUILT_IN: &[BuiltIn] = &[
         kind: "subdivision-surface",
         description: "the inside of the limit surface of a Loop or Catmull-Clark control mesh (config: path, scheme=, crease-angle=, group-creases=, features=)",
         create: |config| SubdivisionOracle::from_config(config).map(Domain::Subdivision),
+    },
+    BuiltIn {
+        name: "image-label",
+        kind: "image",
+        description: "the labels of a segmented 3D image (config: path, background=, isovalue=, interpolation=, features=)",
+        create: |config| ImageLabelOracle::from_config(config).map(Domain::Image),
     },
 ];
 

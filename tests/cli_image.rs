@@ -65,6 +65,27 @@ fn an_image_is_meshed_with_its_label_values_as_subdomains() {
 }
 
 #[test]
+fn the_built_in_image_plugin_loads_by_name_and_meshes_the_labels() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let image = dir.path().join("balls.inr.gz");
+    write_nested_balls(&image);
+    let out = dir.path().join("balls.mesh");
+    delamesh()
+        .args(["mesh", "-q", "--plugin", "image-label", "--plugin-config"])
+        .arg(&image)
+        .arg("-o")
+        .arg(&out)
+        .args(["--cell-size", "1.5", "--facet-size", "1.5"])
+        .assert()
+        .success();
+    let mesh = delamesh_formats::read_tet_mesh(&out, None).expect("mesh readable");
+    let mut labels: Vec<u32> = mesh.subdomains.iter().map(|s| s.0).collect();
+    labels.sort_unstable();
+    labels.dedup();
+    assert_eq!(labels, [2, 5]);
+}
+
+#[test]
 fn bad_images_and_options_fail_with_one_line_and_no_output() {
     let dir = tempfile::tempdir().expect("temp dir");
     let good = dir.path().join("balls.inr.gz");

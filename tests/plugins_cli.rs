@@ -182,7 +182,12 @@ fn plugin_config_requires_a_plugin() {
 #[test]
 fn built_in_plugins_are_listed_and_load_by_name_as_the_file_path_meshes() {
     let listing = stdout_of(delamesh().arg("plugins"));
-    for name in ["polyhedral", "piecewise-smooth"] {
+    for name in [
+        "polyhedral",
+        "piecewise-smooth",
+        "subdivision",
+        "image-label",
+    ] {
         assert!(
             listing.lines().any(|l| l.trim_start().starts_with(name)),
             "{name} missing from {listing}"

@@ -3,6 +3,9 @@
 //! Sample counts are kept at criterion's minimum so the whole bench runs in a few minutes.
 //! The CGAL comparison (same N, construction time only) is `examples/dt3_points.rs`.
 
+// `criterion_group!` defines a public function it gives no documentation.
+#![allow(missing_docs)]
+
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use delamesh_core::kernel::Point3;
 use delamesh_core::triangulation::{Delaunay3, Regular3, Triangulation};

@@ -2,6 +2,9 @@
 //! PSLGs compared with Triangle (see `triangle_compare.py` next to this file for the side-by-side
 //! run), and Pébay's Algorithm 3.2.
 
+// `criterion_group!` defines a public function it gives no documentation.
+#![allow(missing_docs)]
+
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use delamesh_core::mesh2d::mesher::{MeshOptions, mesh};
 use delamesh_core::mesh2d::{ConformOptions, Point2, Pslg, conform};

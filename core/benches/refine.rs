@@ -1,6 +1,9 @@
 //! The mesher on an analytic sphere (no plugin, no file): refinement throughput of the engine,
 //! the surface level and the cell level.
 
+// `criterion_group!` defines a public function it gives no documentation.
+#![allow(missing_docs)]
+
 use criterion::{Criterion, criterion_group, criterion_main};
 use delamesh_core::kernel::Point3;
 use delamesh_core::oracle::{Aabb, OUTSIDE, Oracle, SubdomainId, SurfaceHit, SurfacePoint};

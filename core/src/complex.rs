@@ -14,19 +14,26 @@ use crate::triangulation::{Triangulation, VertexId};
 /// (the dimension of the feature, as CGAL's `in_dimension`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum VertexDimension {
+    /// A corner of the input: never moved.
     Corner = 0,
+    /// On a feature curve: moves only along it.
     Curve = 1,
+    /// On a boundary surface: moves only on its patch.
     Surface = 2,
+    /// Inside a subdomain.
     Volume = 3,
 }
 
 /// A mesh complex with compact vertex numbering (vertices of no tetrahedron are dropped).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct MeshComplex {
+    /// Vertex positions.
     pub points: Vec<Point3>,
+    /// One entry per vertex: the feature it lies on.
     pub vertex_dimension: Vec<VertexDimension>,
     /// Positively oriented tetrahedra (signed volume > 0).
     pub tets: Vec<[u32; 4]>,
+    /// One subdomain per tetrahedron.
     pub tet_subdomain: Vec<SubdomainId>,
     /// Facets between tetrahedra of different subdomains (or a tetrahedron and the outside),
     /// oriented so that the normal points to the side with the smaller subdomain id.
@@ -156,6 +163,7 @@ impl MeshComplex {
             .collect();
     }
 
+    /// The number of vertices.
     pub fn num_vertices(&self) -> usize {
         self.points.len()
     }

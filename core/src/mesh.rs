@@ -29,6 +29,7 @@ pub struct CurveId(pub u32);
 
 /// A structural defect found by a `validate` method: the model forbids it, whatever the file said.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[allow(missing_docs, reason = "each variant's #[error] message documents it")]
 pub enum MeshError {
     #[error("vertex {vertex} has a non-finite coordinate ({x}, {y}, {z})")]
     NonFinite {
@@ -64,7 +65,9 @@ pub enum MeshError {
 /// A triangulated surface with a patch label per triangle.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SurfaceMesh {
+    /// Vertex coordinates.
     pub positions: Vec<DVec3>,
+    /// Vertex indices of each triangle, counter-clockwise seen from outside on a closed surface.
     pub triangles: Vec<[u32; 3]>,
     /// One entry per triangle.
     pub patches: Vec<PatchId>,
@@ -75,7 +78,9 @@ pub struct SurfaceMesh {
 /// A named scalar per tetrahedron, e.g. `min_dihedral_deg` or `radius_edge`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CellField {
+    /// The name written to the file (a VTK array name, for instance).
     pub name: String,
+    /// One value per tetrahedron.
     pub values: Vec<f64>,
 }
 
@@ -86,13 +91,17 @@ pub struct CellField {
 /// closed boundary are oriented with outward normals.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TetMesh {
+    /// Vertex coordinates.
     pub positions: Vec<DVec3>,
+    /// Vertex indices of each tetrahedron, positively oriented.
     pub tets: Vec<[u32; 4]>,
     /// One entry per tet.
     pub subdomains: Vec<SubdomainId>,
+    /// Boundary triangles: between two subdomains or a subdomain and the outside.
     pub boundary: Vec<[u32; 3]>,
     /// One entry per boundary triangle.
     pub boundary_patches: Vec<PatchId>,
+    /// Mesh edges along the input's feature curves, written as line cells.
     pub feature_edges: Vec<[u32; 2]>,
     /// One entry per feature edge.
     pub feature_curves: Vec<CurveId>,
@@ -103,11 +112,14 @@ pub struct TetMesh {
 /// Voxel labels of a 3D image, stored x fastest, then y, then z.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Labels {
+    /// Labels stored in one byte each.
     U8(Vec<u8>),
+    /// Labels stored in two bytes each (images with more than 256 labels).
     U16(Vec<u16>),
 }
 
 impl Labels {
+    /// The number of voxels.
     pub fn len(&self) -> usize {
         match self {
             Labels::U8(v) => v.len(),
@@ -115,6 +127,7 @@ impl Labels {
         }
     }
 
+    /// Whether the image has no voxel.
     pub fn is_empty(&self) -> bool {
         self.len() == 0
     }
@@ -123,9 +136,13 @@ impl Labels {
 /// A labelled 3D image: voxel `(i, j, k)` has its centre at `origin + spacing * (i, j, k)`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LabelledImage {
+    /// Voxel counts along x, y and z.
     pub dims: [usize; 3],
+    /// Distance between voxel centres along each axis.
     pub spacing: DVec3,
+    /// Centre of voxel `(0, 0, 0)`.
     pub origin: DVec3,
+    /// One label per voxel, x fastest.
     pub labels: Labels,
 }
 
@@ -143,6 +160,8 @@ impl LabelledImage {
         }
     }
 
+    /// Checks that there is one label per voxel and that the spacing is positive and finite,
+    /// so that the oracle built on the image can index it without checks.
     pub fn validate(&self) -> Result<(), MeshError> {
         let expected = self.dims.iter().product::<usize>();
         if expected == 0 {
@@ -155,7 +174,9 @@ impl LabelledImage {
 /// Axis-aligned bounding box of a point set.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Aabb {
+    /// The corner with the smallest coordinates.
     pub min: DVec3,
+    /// The corner with the largest coordinates.
     pub max: DVec3,
 }
 
@@ -394,6 +415,7 @@ impl SurfaceMesh {
         Ok(())
     }
 
+    /// The box around the vertices, or `None` for an empty mesh.
     pub fn bounding_box(&self) -> Option<Aabb> {
         Aabb::of(&self.positions)
     }
@@ -444,6 +466,7 @@ impl TetMesh {
         Ok(())
     }
 
+    /// The box around the vertices, or `None` for an empty mesh.
     pub fn bounding_box(&self) -> Option<Aabb> {
         Aabb::of(&self.positions)
     }

@@ -28,10 +28,12 @@ impl Aabb {
         (self.max - self.min).length()
     }
 
+    /// The centre of the box.
     pub fn center(&self) -> Point3 {
         0.5 * (self.min + self.max)
     }
 
+    /// Whether `p` is in the closed box.
     pub fn contains(&self, p: Point3) -> bool {
         p.cmpge(self.min).all() && p.cmple(self.max).all()
     }
@@ -40,16 +42,20 @@ impl Aabb {
 /// One crossing of a segment or a ray with a boundary surface.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfaceHit {
+    /// Where the query crosses the surface.
     pub point: Point3,
     /// Parameter along the query: `a + t (b - a)` for a segment (t ∈ [0, 1]), `o + t d` for a ray.
     pub t: f64,
+    /// The patch crossed.
     pub patch: PatchId,
 }
 
 /// A point on a boundary surface, with the patch it lies on (patches are numbered from 1).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfacePoint {
+    /// The point.
     pub point: Point3,
+    /// The patch it lies on.
     pub patch: PatchId,
 }
 
@@ -57,7 +63,9 @@ pub struct SurfacePoint {
 /// Curves are numbered from 1.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FeatureCurve {
+    /// The curve's label, numbered from 1.
     pub id: CurveId,
+    /// The polyline's points in order, ends included.
     pub points: Vec<Point3>,
     /// The last point joins the first.
     pub closed: bool,

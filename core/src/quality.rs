@@ -81,12 +81,16 @@ pub fn enclosed_volume(points: &[Point3], triangles: &[[u32; 3]]) -> f64 {
 /// Counts of values in equal-width bins over `[lo, hi]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Histogram {
+    /// Lower end of the first bin.
     pub lo: f64,
+    /// Upper end of the last bin.
     pub hi: f64,
+    /// Values per bin; a value outside `[lo, hi]` counts in the nearest end bin.
     pub counts: Vec<u64>,
 }
 
 impl Histogram {
+    /// An empty histogram of `bins` bins over `[lo, hi]`.
     pub fn new(lo: f64, hi: f64, bins: usize) -> Self {
         Histogram {
             lo,
@@ -111,17 +115,23 @@ impl Histogram {
 /// Quality figures of a set of tetrahedra.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TetQuality {
+    /// Smallest dihedral angle of all tetrahedra, in degrees.
     pub min_dihedral_deg: f64,
+    /// Largest dihedral angle of all tetrahedra, in degrees.
     pub max_dihedral_deg: f64,
+    /// Largest circumradius-to-shortest-edge ratio.
     pub max_radius_edge: f64,
+    /// Mean circumradius-to-shortest-edge ratio.
     pub mean_radius_edge: f64,
     /// Smallest dihedral angle of each tetrahedron, 18 bins of 10°.
     pub min_dihedral_histogram: Histogram,
+    /// Sum of the signed volumes.
     pub volume: f64,
     /// Tetrahedra with non-positive volume.
     pub inverted: usize,
 }
 
+/// The quality figures of `tets` (each given by its four corners).
 pub fn tet_quality(tets: impl IntoIterator<Item = [Point3; 4]>) -> TetQuality {
     let mut q = TetQuality {
         min_dihedral_deg: 180.0,
@@ -159,8 +169,11 @@ pub fn tet_quality(tets: impl IntoIterator<Item = [Point3; 4]>) -> TetQuality {
 /// Topology of a triangle surface.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct SurfaceTopology {
+    /// Vertices used by a triangle.
     pub vertices: usize,
+    /// Distinct edges.
     pub edges: usize,
+    /// Triangles.
     pub faces: usize,
     /// Edges with one incident triangle.
     pub border_edges: usize,
@@ -170,6 +183,7 @@ pub struct SurfaceTopology {
     pub non_manifold_vertices: usize,
     /// Connected components (through shared edges).
     pub components: usize,
+    /// `vertices - edges + faces`.
     pub euler_characteristic: i64,
 }
 
@@ -299,6 +313,7 @@ pub fn one_sided_distance(
 /// How one input feature curve is followed by the mesh's feature edges.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CurveFidelity {
+    /// The input curve.
     pub curve: CurveId,
     /// Feature edges of the mesh on this curve.
     pub edges: usize,
@@ -310,7 +325,9 @@ pub struct CurveFidelity {
 /// How the sharp features of the input survive in a mesh.
 #[derive(Clone, Debug, PartialEq)]
 pub struct FeatureFidelity {
+    /// One entry per input curve.
     pub curves: Vec<CurveFidelity>,
+    /// Input corners.
     pub corners: usize,
     /// Corners without a mesh vertex.
     pub missing_corners: usize,

@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 /// Where in a file a problem was found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Location {
+    /// Nowhere more precise than the file.
     Unknown,
     /// 1-based line of a text file.
     Line(usize),
@@ -26,6 +27,7 @@ impl fmt::Display for Location {
 
 /// What went wrong, without the file name (see [`Error`]).
 #[derive(Debug, thiserror::Error)]
+#[allow(missing_docs, reason = "each variant's #[error] message documents it")]
 pub enum Problem {
     #[error("{0}")]
     Io(#[from] std::io::Error),
@@ -62,7 +64,9 @@ impl Problem {
 #[derive(Debug, thiserror::Error)]
 #[error("{}: {problem}", path.display())]
 pub struct Error {
+    /// The file.
     pub path: PathBuf,
+    /// What is wrong with it.
     pub problem: Problem,
 }
 
@@ -75,6 +79,7 @@ impl Error {
     }
 }
 
+/// The result of reading or writing a file.
 pub type Result<T, E = Error> = std::result::Result<T, E>;
 
 /// Runs a parsing library, turning its panics into errors: vtkio 0.7.0-rc2 slices appended data

@@ -7,9 +7,13 @@ use std::str::FromStr;
 /// A mesh file format.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Format {
+    /// STL, ASCII or binary.
     Stl,
+    /// Wavefront OBJ.
     Obj,
+    /// Stanford PLY, ASCII or binary.
     Ply,
+    /// Object File Format (`.off`).
     Off,
     /// glTF 2.0 JSON (`.gltf`) or binary (`.glb`); the reader tells them apart by magic.
     Gltf,
@@ -40,6 +44,7 @@ const TABLE: &[(Format, &str, &[&str])] = &[
 ];
 
 impl Format {
+    /// Every format.
     pub const ALL: [Format; 10] = [
         Format::Stl,
         Format::Obj,
@@ -62,6 +67,7 @@ impl Format {
             .map(|(f, _, _)| *f)
     }
 
+    /// The format's name, as `--format` takes it.
     pub fn name(self) -> &'static str {
         TABLE
             .iter()

@@ -40,13 +40,16 @@ use std::path::Path;
 /// What a file held: a surface, or a volume mesh (which may have no tets, only labelled triangles).
 #[derive(Clone, Debug, PartialEq)]
 pub enum AnyMesh {
+    /// A triangle surface.
     Surface(SurfaceMesh),
+    /// A tetrahedral mesh.
     Volume(TetMesh),
 }
 
 /// A mesh read from a file, with what the reader had to say about it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MeshRead {
+    /// The mesh.
     pub mesh: AnyMesh,
     /// Things skipped or repaired (unsupported primitives, sections we do not keep...).
     pub warnings: Vec<String>,
@@ -57,8 +60,11 @@ pub struct MeshRead {
 /// A surface read from a file (see [`read_surface`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SurfaceRead {
+    /// The surface, welded.
     pub mesh: SurfaceMesh,
+    /// Things skipped or repaired, as in [`MeshRead`].
     pub warnings: Vec<String>,
+    /// Duplicate vertices merged by welding.
     pub welded_vertices: usize,
 }
 

@@ -8,6 +8,7 @@ use std::path::{Path, PathBuf};
 
 /// Why a `.poly` file could not be read.
 #[derive(Debug, thiserror::Error)]
+#[allow(missing_docs, reason = "each variant's #[error] message documents it")]
 pub enum PolyError {
     #[error("cannot read {path}")]
     Io {

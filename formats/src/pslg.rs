@@ -14,6 +14,7 @@ use std::path::Path;
 
 /// Why a PSLG file could not be read.
 #[derive(Debug, thiserror::Error)]
+#[allow(missing_docs, reason = "each variant's #[error] message documents it")]
 pub enum PslgReadError {
     #[error(transparent)]
     Poly(#[from] PolyError),

@@ -13,11 +13,14 @@ use num_bigint::BigInt;
 /// A point with a weight (a squared radius): the vertex type of a regular triangulation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WeightedPoint3 {
+    /// The point.
     pub point: Point3,
+    /// Its weight: the square of the radius of its sphere.
     pub weight: f64,
 }
 
 impl WeightedPoint3 {
+    /// A point with a weight.
     pub fn new(point: Point3, weight: f64) -> Self {
         WeightedPoint3 { point, weight }
     }

@@ -14,8 +14,11 @@ use robust::{Coord, Coord3D};
 /// The sign of a determinant. Triangulations branch on signs only, never on magnitudes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Sign {
+    /// Below zero.
     Negative,
+    /// Exactly zero: degenerate.
     Zero,
+    /// Above zero.
     Positive,
 }
 

@@ -32,6 +32,7 @@ pub enum Algorithm {
 /// Options of [`conform`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ConformOptions {
+    /// Which of Pébay's algorithms makes the constraints admissible.
     pub algorithm: Algorithm,
     /// Maximum number of projection / cleaning steps before giving up.
     pub max_iterations: usize,
@@ -51,6 +52,7 @@ impl Default for ConformOptions {
 
 /// Why [`conform`] failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[allow(missing_docs, reason = "each variant's #[error] message documents it")]
 pub enum ConformError {
     #[error("invalid constraint")]
     Invalid(#[from] PslgError),
@@ -75,6 +77,7 @@ pub struct Conformed {
     pub segment_origins: Vec<u32>,
     /// Projection and cleaning steps performed.
     pub iterations: usize,
+    /// The conforming triangulation.
     pub triangulation: Delaunay2,
     /// The triangulation vertex of each point.
     pub vertex_of_point: Vec<VertexId>,

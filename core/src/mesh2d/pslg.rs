@@ -10,24 +10,32 @@ use std::cmp::Ordering;
 /// optional area bound of its own.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Region {
+    /// A point inside the region.
     pub point: DVec2,
+    /// The attribute its triangles get.
     pub attribute: f64,
+    /// An area bound for its triangles, tighter than the global one.
     pub max_area: Option<f64>,
 }
 
 /// Points, segments between them (indices into `points`), hole seeds and region seeds.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Pslg {
+    /// The vertices.
     pub points: Vec<DVec2>,
+    /// Segments the triangulation must keep, as pairs of point indices.
     pub segments: Vec<[u32; 2]>,
     /// Boundary marker of each segment (0 when the input gives none).
     pub segment_markers: Vec<i32>,
+    /// Points inside holes: the part of the domain around each is removed.
     pub holes: Vec<DVec2>,
+    /// Region seeds.
     pub regions: Vec<Region>,
 }
 
 /// Why a PSLG is not a valid constraint field.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[allow(missing_docs, reason = "each variant's #[error] message documents it")]
 pub enum PslgError {
     #[error("point {0} has a non-finite coordinate")]
     NonFinite(usize),

@@ -26,8 +26,11 @@ pub const DM_BUFFER_TOO_SMALL: i32 = 2;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct DmVec3 {
+    /// The x coordinate.
     pub x: f64,
+    /// The y coordinate.
     pub y: f64,
+    /// The z coordinate.
     pub z: f64,
 }
 
@@ -35,7 +38,9 @@ pub struct DmVec3 {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct DmAabb {
+    /// The corner with the smallest coordinates.
     pub min: DmVec3,
+    /// The corner with the largest coordinates.
     pub max: DmVec3,
 }
 
@@ -43,6 +48,7 @@ pub struct DmAabb {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct DmSurfaceHit {
+    /// Where the query crosses the surface.
     pub point: DmVec3,
     /// Parameter along the query: `a + t (b - a)` for a segment (0 ≤ t ≤ 1), `origin + t dir` for
     /// a ray (t ≥ 0).
@@ -55,6 +61,7 @@ pub struct DmSurfaceHit {
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct DmSurfacePoint {
+    /// The point on the surface.
     pub point: DmVec3,
     /// Surface patch id, numbered from 1.
     pub patch: u32,
@@ -69,7 +76,9 @@ pub struct DmFeatureCurve {
     pub id: u32,
     /// Non-zero when the last point joins the first.
     pub closed: u32,
+    /// Index of the curve's first point in the points buffer.
     pub first: usize,
+    /// Number of points of the curve.
     pub len: usize,
 }
 
@@ -176,15 +185,25 @@ pub struct DmPluginV1 {
     pub kind: *const c_char,
     /// The plugin's own version, e.g. "1.2.0".
     pub version: *const c_char,
+    /// Creates an oracle from a configuration string: see [`DmCreateFn`].
     pub create: DmCreateFn,
+    /// Frees an oracle made by `create`.
     pub destroy: DmDestroyFn,
+    /// The message of the last failed call on this thread.
     pub last_error: DmLastErrorFn,
+    /// A box around the whole domain.
     pub bounding_box: DmBoundingBoxFn,
+    /// The subdomain of each point of a batch (0 outside).
     pub subdomains: DmSubdomainsFn,
+    /// The crossings of a segment with the boundary, sorted by `t`.
     pub segment_hits: DmHitsFn,
+    /// The crossings of a ray with the boundary, sorted by `t`.
     pub ray_hits: DmHitsFn,
+    /// Points on the boundary, at least one per component, to start refinement.
     pub initial_points: DmInitialPointsFn,
+    /// The 1D features as polylines; NULL when there are none.
     pub feature_curves: DmFeatureCurvesFn,
+    /// The 0D features; NULL when there are none.
     pub corners: DmCornersFn,
 }
 

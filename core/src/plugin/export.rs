@@ -51,6 +51,7 @@ impl ExportedTable {
         })
     }
 
+    /// The pointer `delamesh_plugin_v1` returns: the table lives as long as the library.
     pub const fn as_ptr(&'static self) -> *const DmPluginV1 {
         &self.0
     }

@@ -38,11 +38,13 @@ fn one_line(text: &str) -> String {
 pub struct PluginError {
     /// The plugin's name and library path, or the path alone before the table is read.
     pub plugin: String,
+    /// What went wrong.
     pub problem: PluginProblem,
 }
 
 /// What went wrong, for callers that react differently (e.g. tests).
 #[derive(Debug, Clone, thiserror::Error)]
+#[allow(missing_docs, reason = "each variant's #[error] message documents it")]
 pub enum PluginProblem {
     #[error("cannot load the library: {0}")]
     Load(String),
@@ -71,10 +73,15 @@ pub enum PluginProblem {
 /// Identity of a plugin, read from its table without creating an oracle.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct PluginInfo {
+    /// The name in the plugin's table.
     pub name: String,
+    /// What the plugin meshes, as its table says.
     pub kind: String,
+    /// The plugin's own version.
     pub version: String,
+    /// The ABI version of the table.
     pub abi_version: u32,
+    /// The library file.
     pub path: PathBuf,
 }
 
@@ -213,6 +220,7 @@ impl PluginLibrary {
         })
     }
 
+    /// The plugin's identity, read when the library was opened.
     pub fn info(&self) -> &PluginInfo {
         &self.info
     }
@@ -426,6 +434,7 @@ impl DynOracle {
         Err(self.contract(query, "asked for a larger buffer twice".into()))
     }
 
+    /// [`Oracle::bounding_box`], with the plugin's failure as an error rather than recorded.
     pub fn try_bounding_box(&self) -> Result<Aabb, PluginError> {
         let mut out = DmAabb::default();
         // SAFETY: `out` is valid for one write.
@@ -467,6 +476,7 @@ impl DynOracle {
         self.status("subdomains", status)
     }
 
+    /// [`Oracle::subdomain`], with the plugin's failure as an error rather than recorded.
     pub fn try_subdomain(&self, p: Point3) -> Result<SubdomainId, PluginError> {
         let mut label = OUTSIDE;
         let point = DmVec3::from(p);
@@ -512,6 +522,7 @@ impl DynOracle {
         })
     }
 
+    /// [`Oracle::segment_hits`], with the plugin's failure as an error rather than recorded.
     pub fn try_segment_hits(
         &self,
         a: Point3,
@@ -521,6 +532,7 @@ impl DynOracle {
         self.try_hits("segment_hits", self.functions.segment_hits, a, b, 1.0, out)
     }
 
+    /// [`Oracle::ray_hits`], with the plugin's failure as an error rather than recorded.
     pub fn try_ray_hits(
         &self,
         origin: Point3,
@@ -537,6 +549,7 @@ impl DynOracle {
         )
     }
 
+    /// [`Oracle::initial_points`], with the plugin's failure as an error rather than recorded.
     pub fn try_initial_points(&self) -> Result<Vec<SurfacePoint>, PluginError> {
         const QUERY: &str = "initial_points";
         let mut buffer = Vec::new();
@@ -561,6 +574,7 @@ impl DynOracle {
             .collect()
     }
 
+    /// [`Oracle::corners`], with the plugin's failure as an error rather than recorded.
     pub fn try_corners(&self) -> Result<Vec<Point3>, PluginError> {
         let Some(corners) = self.functions.corners else {
             return Ok(Vec::new());
@@ -576,6 +590,7 @@ impl DynOracle {
             .collect()
     }
 
+    /// [`Oracle::feature_curves`], with the plugin's failure as an error rather than recorded.
     pub fn try_feature_curves(&self) -> Result<Vec<FeatureCurve>, PluginError> {
         const QUERY: &str = "feature_curves";
         let Some(features) = self.functions.feature_curves else {

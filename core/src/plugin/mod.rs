@@ -5,7 +5,10 @@
 // A C ABI is raw pointers and foreign calls: the two sides of the boundary are where the plugin
 // code is unsafe, each block with the invariant that makes it sound.
 pub mod abi;
-#[allow(unsafe_code, reason = "the exported entry points dereference the host's pointers")]
+#[allow(
+    unsafe_code,
+    reason = "the exported entry points dereference the host's pointers"
+)]
 pub mod export;
 #[allow(unsafe_code, reason = "the loader calls into a foreign library")]
 pub mod host;

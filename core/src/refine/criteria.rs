@@ -104,6 +104,7 @@ pub struct CellCriteria {
 }
 
 #[derive(Clone, Debug)]
+/// Every criterion of a 3D mesh: feature edges, boundary facets and cells.
 pub struct MeshCriteria {
     /// Upper bound on the radius of the protecting balls along feature curves (CGAL's
     /// `edge_size`), so on the length of the mesh edges that follow them; the label is the curve.
@@ -113,7 +114,9 @@ pub struct MeshCriteria {
     /// no longer split, but still meshed. 0 picks [`DEFAULT_EDGE_MIN_FRACTION`] of the bounding-box
     /// diagonal. Unused by smooth domains.
     pub edge_min_size: f64,
+    /// The criteria of the boundary facets.
     pub facet: FacetCriteria,
+    /// The criteria of the cells.
     pub cell: CellCriteria,
 }
 

@@ -25,7 +25,9 @@ const CHUNK: usize = 8;
 pub struct Projection {
     /// Arc length of the nearest point.
     pub s: f64,
+    /// The nearest point.
     pub point: Point3,
+    /// Its distance to the query point.
     pub distance: f64,
 }
 
@@ -85,10 +87,12 @@ impl Polyline {
         Some(line)
     }
 
+    /// Whether the last point joins the first.
     pub fn is_closed(&self) -> bool {
         self.closed
     }
 
+    /// The arc length of the whole curve.
     pub fn length(&self) -> f64 {
         self.arc[self.arc.len() - 1]
     }
@@ -103,6 +107,7 @@ impl Polyline {
         &self.points
     }
 
+    /// The first point.
     pub fn start(&self) -> Point3 {
         self.points[0]
     }

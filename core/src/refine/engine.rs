@@ -9,6 +9,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// Answer of a level asked whether a refinement point may be inserted.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Check {
+    /// The point may be inserted.
     Accepted,
     /// The point encroaches a constrained element of the checking level, which that level queued:
     /// the element refined first, the proposing element is kept and tried again later.
@@ -20,7 +21,9 @@ pub enum Check {
 /// A refinement point with a cell near it, so that checks and insertion walk a short way.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Candidate<P> {
+    /// The point to insert.
     pub point: P,
+    /// A cell near it, where the walk starts.
     pub hint: Option<CellId>,
 }
 
@@ -172,7 +175,9 @@ impl Default for Limits {
 /// A snapshot handed to the progress callback.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Progress<'n> {
+    /// Vertices in the triangulation.
     pub vertices: usize,
+    /// Refinement points inserted so far.
     pub insertions: usize,
     /// `(level name, queued elements)` in priority order.
     pub pending: Vec<(&'n str, usize)>,
@@ -208,6 +213,7 @@ impl RefineStats {
 }
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[allow(missing_docs, reason = "each variant's #[error] message documents it")]
 pub enum RefineError {
     #[error(
         "refinement needs more than {limit} vertices (max-vertices); raise the limit or coarsen \
@@ -230,6 +236,7 @@ pub struct Engine<'a, T: Triangulation> {
 }
 
 impl<'a, T: Triangulation> Engine<'a, T> {
+    /// An engine without levels, under `limits`.
     pub fn new(limits: Limits) -> Self {
         Engine {
             levels: Vec::new(),

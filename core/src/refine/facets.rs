@@ -25,8 +25,11 @@ use std::rc::Rc;
 /// An empty ball centred on the boundary, through the vertices of a restricted facet.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SurfaceBall {
+    /// The ball's centre, on the boundary.
     pub center: Point3,
+    /// The squared radius.
     pub radius2: f64,
+    /// The patch the centre lies on.
     pub patch: PatchId,
 }
 
@@ -63,10 +66,13 @@ impl ClearFacets {
 /// vertices at that time (to detect that the cell was destroyed).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct QueuedFacet {
+    /// The cell the facet was seen from.
     pub cell: CellId,
+    /// The index in `cell` of the vertex opposite the facet.
     pub index: u8,
     /// Queued by R3.2 (a cell's circumcentre lies in its ball): refined whatever its quality.
     pub forced: bool,
+    /// The cell's vertices when queued.
     pub vertices: [VertexId; 4],
 }
 
@@ -74,6 +80,7 @@ pub struct QueuedFacet {
 /// refinement point (R3.2): before any R2 facet.
 const URGENT: f64 = f64::INFINITY;
 
+/// The level refining the restricted surface facets (R1, R2) with their surface balls.
 pub struct SurfaceLevel<'o> {
     oracle: &'o dyn Oracle,
     /// The oracle's bounding box: dual edges are clipped to its neighbourhood.
@@ -106,6 +113,7 @@ pub struct SurfaceLevel<'o> {
 }
 
 impl<'o> SurfaceLevel<'o> {
+    /// The level for the boundary of `oracle`, under `criteria`.
     pub fn new(oracle: &'o dyn Oracle, criteria: FacetCriteria) -> Self {
         SurfaceLevel {
             oracle,
@@ -182,6 +190,7 @@ impl<'o> SurfaceLevel<'o> {
         self.on_surface[i] = true;
     }
 
+    /// Whether `v` was inserted on the boundary.
     pub fn is_on_surface(&self, v: VertexId) -> bool {
         self.on_surface.get(v.0 as usize).copied().unwrap_or(false)
     }

@@ -21,8 +21,11 @@ use std::collections::HashMap;
 use std::time::{Duration, Instant};
 
 #[derive(Clone, Debug)]
+/// What [`mesh_domain`] is asked for: criteria, guards and what to keep on failure.
 pub struct MeshOptions {
+    /// The quality and size criteria.
     pub criteria: MeshCriteria,
+    /// Guards against runs that would not end (vertex cap, time, cancellation).
     pub limits: Limits,
     /// On a tripped guard, return the mesh reached so far inside the error.
     pub keep_partial: bool,
@@ -35,17 +38,24 @@ pub struct MeshOptions {
 /// Wall time of each phase.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PhaseTimes {
+    /// Protection of features and the initial points on the boundary.
     pub initial_points: Duration,
+    /// Refinement to the criteria, validity repairs included.
     pub refinement: Duration,
+    /// Building the output complex.
     pub complex: Duration,
     /// Sliver perturbation, exudation and smoothing.
     pub optimization: Duration,
 }
 
 #[derive(Debug)]
+/// The result of [`mesh_domain`]: the complex, with what it took to get there.
 pub struct MeshOutcome {
+    /// The mesh.
     pub complex: MeshComplex,
+    /// Counts of the refinement.
     pub stats: RefineStats,
+    /// Time of each phase.
     pub times: PhaseTimes,
     /// What the validity repairs reached (see [`ValidityOptions`]).
     pub validity: Validity,
@@ -54,6 +64,7 @@ pub struct MeshOutcome {
 }
 
 #[derive(Debug, thiserror::Error)]
+#[allow(missing_docs, reason = "each variant's #[error] message documents it")]
 pub enum MeshError {
     #[error("cannot protect the sharp features")]
     Protection(#[from] ProtectError),

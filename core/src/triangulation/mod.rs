@@ -64,13 +64,16 @@ impl InsertOutcome {
 /// Ids in `removed` may reappear in `created` (slots are recycled).
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct InsertReport {
+    /// Cells the insertion created.
     pub created: Vec<CellId>,
+    /// Cells the insertion destroyed (its conflict zone).
     pub removed: Vec<CellId>,
     /// Vertices that this insertion hid (they are in no cell any more; regular triangulations).
     pub hidden: Vec<VertexId>,
 }
 
 impl InsertReport {
+    /// Empties the report for reuse, keeping its allocations.
     pub fn clear(&mut self) {
         self.created.clear();
         self.removed.clear();
@@ -90,6 +93,7 @@ pub struct ConflictZone {
 }
 
 impl ConflictZone {
+    /// Empties the zone for reuse, keeping its allocations.
     pub fn clear(&mut self) {
         self.cells.clear();
         self.boundary_facets.clear();
@@ -98,6 +102,7 @@ impl ConflictZone {
 
 /// Why a point was refused.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[allow(missing_docs, reason = "each variant's #[error] message documents it")]
 pub enum TriangulationError {
     #[error("point {index} has a non-finite coordinate ({x}, {y}, {z})")]
     NonFinite {
@@ -164,6 +169,7 @@ pub trait Triangulation {
     fn vertices(&self) -> impl Iterator<Item = VertexId> + '_;
     /// The infinite vertex.
     fn infinite_vertex(&self) -> VertexId;
+    /// Whether `v` is the infinite vertex.
     fn is_infinite_vertex(&self, v: VertexId) -> bool {
         v == self.infinite_vertex()
     }
@@ -174,6 +180,7 @@ pub trait Triangulation {
     fn neighbor(&self, c: CellId, i: usize) -> CellId;
     /// The index of facet `(c, i)` in `neighbor(c, i)`.
     fn mirror_index(&self, c: CellId, i: usize) -> usize;
+    /// Whether `c` has the infinite vertex.
     fn is_infinite_cell(&self, c: CellId) -> bool {
         let inf = self.infinite_vertex();
         self.cell(c).as_ref().contains(&inf)

@@ -16,7 +16,10 @@
 
 mod cavity;
 mod kernel;
-#[allow(unsafe_code, reason = "two threads write disjoint cells of one shared store")]
+#[allow(
+    unsafe_code,
+    reason = "two threads write disjoint cells of one shared store"
+)]
 mod parallel;
 mod regular;
 mod relocate;

@@ -12,6 +12,7 @@ use crate::kernel::{Sign, orient3d};
 
 /// The first defect found.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[allow(missing_docs, reason = "each variant's #[error] message documents it")]
 pub enum ValidityError {
     #[error("the triangulation spans fewer than 3 dimensions but has {0} cells")]
     CellsBeforeDimension3(usize),

@@ -19,7 +19,6 @@ mod grid;
 mod initial;
 mod labels;
 mod oracle;
-#[cfg(feature = "cdylib")]
 mod plugin_export;
 mod walk;
 

@@ -1,9 +1,11 @@
-//! The image oracle as a C-ABI plugin library (feature `cdylib`), so that hosts loading plugins
-//! mesh images as the CLI does. Configuration: the path of the image on the first line, then
-//! optional `background=L`, `isovalue=V`, `interpolation=nearest|trilinear` and `features=on|off`
-//! lines.
+//! The image oracle as a plugin: built in (`--plugin image-label`, through
+//! [`PluginOracle::from_config`]) and, with the feature `cdylib`, exported through
+//! `delamesh_plugin_v1`, so that hosts loading plugins mesh images as the CLI does.
+//! Configuration: the path of the image on the first line, then optional `background=L`,
+//! `isovalue=V`, `interpolation=nearest|trilinear` and `features=on|off` lines.
 //!
-//! Built with `cargo build -p delamesh-image-label --features cdylib`.
+//! The C-ABI library: `cargo rustc -p delamesh-image-label --lib --crate-type cdylib --features
+//! cdylib`.
 
 use crate::{ImageLabelOracle, ImageOptions, Interpolation};
 use delamesh_core::plugin::PluginOracle;
@@ -50,4 +52,5 @@ impl PluginOracle for ImageLabelOracle {
     }
 }
 
+#[cfg(feature = "cdylib")]
 delamesh_core::export_oracle_plugin!(ImageLabelOracle, name = "image-label", kind = "image");

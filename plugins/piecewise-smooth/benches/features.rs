@@ -3,6 +3,9 @@
 //! Run: `cargo bench -p delamesh-piecewise-smooth --bench features`. Set
 //! `DELAMESH_BENCH_SURFACE=path/to/surface.off` (e.g. CGAL's `fandisk.off`) to add a real CAD part.
 
+// `criterion_group!` defines a public function it gives no documentation.
+#![allow(missing_docs)]
+
 use criterion::{Criterion, criterion_group, criterion_main};
 use delamesh_core::mesh::SurfaceMesh;
 use delamesh_piecewise_smooth::models::{cylinder, voxels};

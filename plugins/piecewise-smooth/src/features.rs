@@ -34,6 +34,7 @@ impl Default for FeatureOptions {
 
 /// Why features cannot be extracted.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[allow(missing_docs, reason = "each variant's #[error] message documents it")]
 pub enum FeatureError {
     #[error("the feature angle must be between 0 and 180 degrees, got {0}")]
     Angle(f64),
@@ -60,6 +61,7 @@ pub enum FeatureError {
 /// A feature curve: a polyline along surface edges, between two corners or closed.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Curve {
+    /// The curve's label, numbered from 1.
     pub id: CurveId,
     /// Indices into [`Features::positions`]; a closed curve does not repeat its first vertex.
     pub vertices: Vec<u32>,
@@ -150,6 +152,7 @@ pub struct Features {
     /// Patch of each input triangle, numbered from 1: connected regions across non-feature edges,
     /// numbered in order of their first triangle. Both copies of a shared face get one patch.
     pub triangle_patches: Vec<PatchId>,
+    /// The number of patches.
     pub num_patches: u32,
     /// Numbered from 1, in order of their first corner (then loops by smallest vertex).
     pub curves: Vec<Curve>,

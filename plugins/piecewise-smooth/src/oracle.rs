@@ -11,6 +11,7 @@ use glam::DVec3;
 
 /// Why a piecewise-smooth domain cannot be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[allow(missing_docs, reason = "each variant's #[error] message documents it")]
 pub enum PiecewiseSmoothError {
     #[error(transparent)]
     Features(#[from] FeatureError),
@@ -55,6 +56,7 @@ impl PiecewiseSmoothOracle {
         Ok(PiecewiseSmoothOracle { surface, features })
     }
 
+    /// The detected curves, corners and patches.
     pub fn features(&self) -> &Features {
         &self.features
     }

@@ -9,11 +9,13 @@ use std::path::{Path, PathBuf};
 pub struct Polyline {
     /// 1-based line number in the file.
     pub line: usize,
+    /// The polyline's points in order.
     pub points: Vec<DVec3>,
 }
 
 /// Why a polylines file cannot be used.
 #[derive(Debug, thiserror::Error)]
+#[allow(missing_docs, reason = "each variant's #[error] message documents it")]
 pub enum PolylineError {
     #[error("{path}: cannot read: {source}")]
     Io {

@@ -4,6 +4,9 @@
 //! cell size 0.05). Its planar faces make many nearly flat cells, the hard case for the
 //! surface level. Run: `cargo bench -p delamesh-polyhedral --bench mesh`.
 
+// `criterion_group!` defines a public function it gives no documentation.
+#![allow(missing_docs)]
+
 use criterion::{Criterion, criterion_group, criterion_main};
 use delamesh_core::mesh::SurfaceMesh;
 use delamesh_core::refine::criteria::{CellCriteria, FacetCriteria, MeshCriteria, Sizing};

@@ -14,6 +14,7 @@ use glam::DVec3;
 use std::sync::OnceLock;
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[allow(missing_docs, reason = "each variant's #[error] message documents it")]
 pub enum PolyhedralError {
     #[error("the surface has no triangles")]
     Empty,

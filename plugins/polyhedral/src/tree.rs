@@ -25,6 +25,7 @@ pub struct TriangleTree {
 const LEAF_SIZE: usize = 4;
 
 impl TriangleTree {
+    /// The tree over `triangles`; query results are indices into that slice.
     pub fn new(triangles: &[[DVec3; 3]]) -> Self {
         let mut order: Vec<u32> = (0..triangles.len() as u32).collect();
         let centroids: Vec<DVec3> = triangles

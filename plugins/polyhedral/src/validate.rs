@@ -23,6 +23,7 @@ pub struct SurfaceDefects {
 }
 
 impl SurfaceDefects {
+    /// Whether no defect was found.
     pub fn is_empty(&self) -> bool {
         *self == SurfaceDefects::default()
     }

@@ -79,6 +79,7 @@ impl Mesh {
 
 /// Why [`mesh`] failed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[allow(missing_docs, reason = "each variant's #[error] message documents it")]
 pub enum MeshError {
     #[error("invalid input")]
     Invalid(#[from] PslgError),

@@ -7,6 +7,7 @@ use std::cmp::Ordering;
 
 /// The first defect the checker found.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[allow(missing_docs, reason = "each variant's #[error] message documents it")]
 pub enum ValidityError {
     #[error("cell {0:?} has a dead or asymmetric neighbour across edge {1}")]
     Adjacency(CellId, usize),

@@ -18,8 +18,19 @@ use delamesh_core::plugin::PluginOracle;
 /// The shapes this example knows, in their own local frame (centred at the origin).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Shape {
-    Sphere { radius: f64 },
-    Torus { major: f64, minor: f64 },
+    /// A sphere.
+    Sphere {
+        /// Its radius.
+        radius: f64,
+    },
+    /// A torus around the z axis.
+    Torus {
+        /// The radius of the circle the tube follows.
+        major: f64,
+        /// The radius of the tube.
+        minor: f64,
+    },
+    /// The tanglecube, a closed surface of genus 5.
     Tanglecube,
 }
 
@@ -67,6 +78,8 @@ const SEED_GRID: usize = 24;
 const MAX_INITIAL_POINTS: usize = 64;
 
 impl ImplicitOracle {
+    /// The oracle of `shape` moved to `center`, with `samples` sign samples per segment;
+    /// an error for non-positive sizes or no samples.
     pub fn new(shape: Shape, center: Point3, samples: usize) -> Result<Self, String> {
         let valid = match shape {
             Shape::Sphere { radius } => radius.is_finite() && radius > 0.0,
