@@ -91,8 +91,9 @@
 //! ```
 //!
 //! The workspace crates stay reachable one level down: [`core`], [`formats`], [`polyhedral`],
-//! [`piecewise_smooth`], [`image_label`]. The command line (`src/main.rs`, `src/cli/`) is behind the default `cli`
-//! feature; `default-features = false` leaves only the library.
+//! [`piecewise_smooth`], [`image_label`], [`subdivision`]. The command line (`src/main.rs`,
+//! `src/cli/`) is behind the default `cli` feature; `default-features = false` leaves only the
+//! library.
 
 mod delaunay;
 mod domain;
