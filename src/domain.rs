@@ -87,13 +87,6 @@ impl Domain {
         .map_err(|e| unmeshable(&e))
     }
 
-    /// The domain of the plugin `spec` (a library path, a name looked up in
-    /// [`PLUGIN_PATH_VAR`](crate::plugins::PLUGIN_PATH_VAR), or a built-in plugin's name), created
-    /// from `config` (and self-checked, for a library).
-    pub fn from_plugin(spec: &str, config: &str) -> Result<Domain, Error> {
-        crate::plugins::load_domain(spec, config)
-    }
-
     /// The domain of a 3D image (`name` says which input it is, in errors).
     pub fn from_image(name: &str, image: &Image, options: &ImageOptions) -> Result<Domain, Error> {
         ImageLabelOracle::new(image, options)

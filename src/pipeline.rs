@@ -3,6 +3,7 @@
 
 use crate::domain::Domain;
 use crate::error::Error;
+use crate::plugins::load_domain;
 use crate::report::{Report, ReportInput, Times};
 use crate::settings::{FeatureSettings, MeshSettings};
 use crate::sizing::{Fields, grade};
@@ -14,7 +15,9 @@ use delamesh_core::mesh::{SurfaceMesh, TetMesh};
 use delamesh_core::optimize::{OptimizeOptions, OptimizeReport, optimize};
 use delamesh_core::oracle::Oracle;
 use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
-use delamesh_core::refine::{Cancel, MeshError, Progress, RefineError, RefineStats, mesh_domain};
+use delamesh_core::refine::{
+    Cancel, MeshError, MeshOptions, Progress, RefineError, RefineStats, mesh_domain,
+};
 use delamesh_formats::image::{Image, is_image_path, read_image};
 use delamesh_formats::{PolygonMesh, WriteOptions, read_polygons, read_surface, write_tet_mesh};
 use delamesh_image_label::ImageOptions;
@@ -119,12 +122,13 @@ impl<'p> Mesher<'p> {
         self.mesh_surface_from(name.to_string(), surface, started, Default::default())
     }
 
-    /// Meshes the domain of the plugin `spec` (a library path, or a name looked up in
-    /// [`PLUGIN_PATH_VAR`](crate::plugins::PLUGIN_PATH_VAR)) created from `config`.
+    /// Meshes the domain of the plugin `spec` (a library path, a name looked up in
+    /// [`PLUGIN_PATH_VAR`](crate::plugins::PLUGIN_PATH_VAR), or a built-in plugin's name) created
+    /// from `config` (see [`load_domain`]).
     pub fn mesh_plugin(&mut self, spec: &str, config: &str) -> Result<Meshed, Error> {
         self.settings.validate()?;
         let started = Instant::now();
-        let domain = Domain::from_plugin(spec, config)?;
+        let domain = load_domain(spec, config)?;
         let times = Times {
             oracle: started.elapsed(),
             ..Times::default()
@@ -325,31 +329,24 @@ impl<'p> Mesher<'p> {
         })
     }
 
-    /// Refines `domain` and collects the complex; every input ends here.
-    fn mesh_domain(
-        &mut self,
-        name: String,
-        domain: Domain,
-        input: Option<SurfaceMesh>,
-        started: Instant,
-        mut times: Times,
-    ) -> Result<Meshed, Error> {
-        if self.settings.preserve_surface {
-            return Err(Error::Unmeshable {
-                name,
-                problem: "--preserve-surface keeps a triangle surface; this input is not one"
-                    .into(),
-            });
-        }
+    /// The criteria and guards for `domain`: the settings with the sizing fields, the input's
+    /// topology for the validity repairs, the defaults of image and subdivision domains, and the
+    /// vertex budget; checked, so that what cannot terminate is refused before meshing.
+    fn refinement_options(
+        &self,
+        name: &str,
+        domain: &Domain,
+        input: Option<&SurfaceMesh>,
+        fields: &Fields,
+    ) -> Result<MeshOptions, Error> {
         let oracle = domain.oracle();
         let bbox = oracle.bounding_box();
-        let fields = Fields::load(&self.settings.sizing)?;
         let mut options = self.settings.mesh_options(&bbox);
         options.criteria = self
             .settings
             .criteria_with(&bbox, fields.size(), fields.distance());
         options.limits.cancel = self.cancel.clone();
-        if let Some(surface) = &input {
+        if let Some(surface) = input {
             options.validity.input_euler =
                 Some(component_euler_characteristics(&surface.triangles).1);
         }
@@ -361,7 +358,7 @@ impl<'p> Mesher<'p> {
                 .winding_boundary_euler_characteristics()
                 .map(<[_]>::to_vec);
         }
-        let boundary: Vec<_> = match &input {
+        let boundary: Vec<_> = match input {
             Some(surface) => surface.positions.clone(),
             None => oracle.initial_points().iter().map(|p| p.point).collect(),
         };
@@ -370,18 +367,18 @@ impl<'p> Mesher<'p> {
             grade(&mut options.criteria, oracle, gradation)?;
         }
         let no_distance = self.settings.facet_distance.is_none() && fields.distance().is_none();
-        if let Domain::Subdivision(o) = &domain {
+        if let Domain::Subdivision(o) = domain {
             // The limit surface has the control mesh's topology.
             options.validity.input_euler = Some(o.euler_characteristics().to_vec());
         }
-        if let (Domain::Image(image), true) = (&domain, no_distance) {
+        if let (Domain::Image(image), true) = (domain, no_distance) {
             // Finer than the voxels, the facet distance would chase their staircase.
             options.criteria.facet.distance = image.default_criteria().facet.distance;
         }
-        if let (Domain::Image(image), None) = (&domain, self.settings.edge_min_size) {
+        if let (Domain::Image(image), None) = (domain, self.settings.edge_min_size) {
             options.criteria.edge_min_size = image.default_criteria().edge_min_size;
         }
-        if let (Domain::Image(_), None) = (&domain, self.settings.edge_size) {
+        if let (Domain::Image(_), None) = (domain, self.settings.edge_size) {
             // The feature curves of an image are followed at the facet size (CGAL's examples),
             // not at the bounding-box default.
             if let (Some(facet), Some(edge)) = (
@@ -400,9 +397,31 @@ impl<'p> Mesher<'p> {
             .criteria
             .validate(&bbox, options.limits.max_vertices)
             .map_err(|problem| Error::Criteria {
-                name: name.clone(),
+                name: name.to_string(),
                 problem,
             })?;
+        Ok(options)
+    }
+
+    /// Refines `domain` and collects the complex; every input ends here.
+    fn mesh_domain(
+        &mut self,
+        name: String,
+        domain: Domain,
+        input: Option<SurfaceMesh>,
+        started: Instant,
+        mut times: Times,
+    ) -> Result<Meshed, Error> {
+        if self.settings.preserve_surface {
+            return Err(Error::Unmeshable {
+                name,
+                problem: "--preserve-surface keeps a triangle surface; this input is not one"
+                    .into(),
+            });
+        }
+        let oracle = domain.oracle();
+        let fields = Fields::load(&self.settings.sizing)?;
+        let options = self.refinement_options(&name, &domain, input.as_ref(), &fields)?;
         let mut silent = |_: &Progress| {};
         let progress: &mut dyn FnMut(&Progress) = match self.progress.as_mut() {
             Some(f) => f,
