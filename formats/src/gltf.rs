@@ -62,84 +62,15 @@ pub(crate) fn read(
     bytes: &[u8],
     dir: Option<&Path>,
 ) -> Result<(SurfaceMesh, Vec<String>), Problem> {
-    let not_gltf = |e: gltf::Error| Problem::bad(format!("not a readable glTF file: {e}"));
-    // JSON glTF is text (a Latin-1 byte in a name should not sink it); `.glb` starts with a magic.
-    let text = (!bytes.starts_with(b"glTF")).then(|| String::from_utf8_lossy(bytes));
-    if text.is_none() {
-        glb_within_bounds(bytes)?;
-    }
-    let json = text.as_deref().map_or(bytes, str::as_bytes);
-    let raw = gltf::Gltf::from_slice_without_validation(json).map_err(not_gltf)?;
-    // gltf-json's validation indexes the POSITION accessor without a bounds check: check it first.
-    let json = raw.document.into_json();
-    for (m, mesh) in json.meshes.iter().enumerate() {
-        for (p, prim) in mesh.primitives.iter().enumerate() {
-            for (semantic, accessor) in &prim.attributes {
-                if accessor.value() >= json.accessors.len() {
-                    return Err(Problem::bad(format!(
-                        "mesh {m} primitive {p}: attribute {semantic:?} refers to accessor {} of {}",
-                        accessor.value(),
-                        json.accessors.len()
-                    )));
-                }
-            }
-        }
-    }
-    let gltf = gltf::Gltf {
-        document: gltf::Document::from_json(json).map_err(not_gltf)?,
-        blob: raw.blob,
-    };
-    let mut buffers: Vec<Cow<[u8]>> = Vec::new();
-    for buffer in gltf.buffers() {
-        let data = match buffer.source() {
-            gltf::buffer::Source::Bin => Cow::Borrowed(gltf.blob.as_deref().ok_or_else(|| {
-                Problem::bad("buffer 0 refers to the GLB binary chunk, which is missing")
-            })?),
-            gltf::buffer::Source::Uri(uri) => Cow::Owned(load_uri(uri, dir, buffer.length())?),
-        };
-        if data.len() < buffer.length() {
-            return Err(Problem::bad(format!(
-                "buffer {} declares {} bytes but holds {}",
-                buffer.index(),
-                buffer.length(),
-                data.len()
-            )));
-        }
-        buffers.push(data);
-    }
-
-    // The default scene, else the first; a file without scenes shows every root node.
-    let scene = gltf.default_scene().or_else(|| gltf.scenes().next());
-    let roots: Vec<Node> = match &scene {
-        Some(s) => s.nodes().collect(),
-        None => {
-            let children: Vec<usize> = gltf
-                .nodes()
-                .flat_map(|n| n.children().map(|c| c.index()))
-                .collect();
-            gltf.nodes()
-                .filter(|n| !children.contains(&n.index()))
-                .collect()
-        }
-    };
+    let gltf = parse(bytes)?;
+    let buffers = load_buffers(&gltf, dir)?;
+    check_tree(&gltf)?;
+    let roots = scene_roots(&gltf);
     let mut out = Reader {
         buffers: &buffers,
         mesh: SurfaceMesh::default(),
         warnings: Vec::new(),
     };
-    // glTF node hierarchies are disjoint trees: a node reached twice would make the number of
-    // instances exponential in the number of nodes (60 nodes, each the child of the two before).
-    let mut parents = vec![0u8; gltf.nodes().len()];
-    for child in gltf.nodes().flat_map(|n| n.children()) {
-        let count = &mut parents[child.index()];
-        *count = count.saturating_add(1);
-        if *count > 1 {
-            return Err(Problem::bad(format!(
-                "node {} has more than one parent (glTF node hierarchies are trees)",
-                child.index()
-            )));
-        }
-    }
     let max_depth = gltf.nodes().len();
     let mut stack: Vec<(Node, DMat4, usize)> = roots
         .into_iter()
@@ -171,6 +102,99 @@ pub(crate) fn read(
         stack.extend(children.into_iter().rev().map(|c| (c, world, depth + 1)));
     }
     Ok((out.mesh, out.warnings))
+}
+
+/// The document (JSON or GLB), validated.
+fn parse(bytes: &[u8]) -> Result<gltf::Gltf, Problem> {
+    let not_gltf = |e: gltf::Error| Problem::bad(format!("not a readable glTF file: {e}"));
+    // JSON glTF is text (a Latin-1 byte in a name should not sink it); `.glb` starts with a magic.
+    let text = (!bytes.starts_with(b"glTF")).then(|| String::from_utf8_lossy(bytes));
+    if text.is_none() {
+        glb_within_bounds(bytes)?;
+    }
+    let json = text.as_deref().map_or(bytes, str::as_bytes);
+    let raw = gltf::Gltf::from_slice_without_validation(json).map_err(not_gltf)?;
+    // gltf-json's validation indexes the POSITION accessor without a bounds check: check it first.
+    let json = raw.document.into_json();
+    for (m, mesh) in json.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            for (semantic, accessor) in &prim.attributes {
+                if accessor.value() >= json.accessors.len() {
+                    return Err(Problem::bad(format!(
+                        "mesh {m} primitive {p}: attribute {semantic:?} refers to accessor {} of {}",
+                        accessor.value(),
+                        json.accessors.len()
+                    )));
+                }
+            }
+        }
+    }
+    Ok(gltf::Gltf {
+        document: gltf::Document::from_json(json).map_err(not_gltf)?,
+        blob: raw.blob,
+    })
+}
+
+/// The bytes of every buffer, each checked to hold the length it declares.
+fn load_buffers<'g>(
+    gltf: &'g gltf::Gltf,
+    dir: Option<&Path>,
+) -> Result<Vec<Cow<'g, [u8]>>, Problem> {
+    let mut buffers: Vec<Cow<[u8]>> = Vec::new();
+    for buffer in gltf.buffers() {
+        let data = match buffer.source() {
+            gltf::buffer::Source::Bin => Cow::Borrowed(gltf.blob.as_deref().ok_or_else(|| {
+                Problem::bad("buffer 0 refers to the GLB binary chunk, which is missing")
+            })?),
+            gltf::buffer::Source::Uri(uri) => Cow::Owned(load_uri(uri, dir, buffer.length())?),
+        };
+        if data.len() < buffer.length() {
+            return Err(Problem::bad(format!(
+                "buffer {} declares {} bytes but holds {}",
+                buffer.index(),
+                buffer.length(),
+                data.len()
+            )));
+        }
+        buffers.push(data);
+    }
+    Ok(buffers)
+}
+
+/// The root nodes to read.
+fn scene_roots(gltf: &gltf::Gltf) -> Vec<Node<'_>> {
+    // The default scene, else the first; a file without scenes shows every root node.
+    let scene = gltf.default_scene().or_else(|| gltf.scenes().next());
+    match &scene {
+        Some(s) => s.nodes().collect(),
+        None => {
+            let children: Vec<usize> = gltf
+                .nodes()
+                .flat_map(|n| n.children().map(|c| c.index()))
+                .collect();
+            gltf.nodes()
+                .filter(|n| !children.contains(&n.index()))
+                .collect()
+        }
+    }
+}
+
+/// Refuses a node with two parents.
+fn check_tree(gltf: &gltf::Gltf) -> Result<(), Problem> {
+    // glTF node hierarchies are disjoint trees: a node reached twice would make the number of
+    // instances exponential in the number of nodes (60 nodes, each the child of the two before).
+    let mut parents = vec![0u8; gltf.nodes().len()];
+    for child in gltf.nodes().flat_map(|n| n.children()) {
+        let count = &mut parents[child.index()];
+        *count = count.saturating_add(1);
+        if *count > 1 {
+            return Err(Problem::bad(format!(
+                "node {} has more than one parent (glTF node hierarchies are trees)",
+                child.index()
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// A buffer's bytes: a base64 data URI, or a file next to the glTF.

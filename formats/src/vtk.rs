@@ -35,6 +35,24 @@ pub(crate) fn read_cells_and_point_fields(
     bytes: &[u8],
     format: Format,
 ) -> Result<(TetMesh, Vec<CellField>, Vec<String>, bool), Problem> {
+    let vtk = parse(bytes, format)?;
+    let poly = matches!(vtk.data, DataSet::PolyData { .. });
+    let mut b = Builder::default();
+    add_pieces(&mut b, vtk.data)?;
+    let Builder {
+        mesh,
+        point_fields,
+        mut warnings,
+        skipped,
+    } = b;
+    for (ty, n) in skipped {
+        warnings.push(format!("skipped {n} cells of VTK type {ty}"));
+    }
+    Ok((mesh, point_fields, warnings, poly))
+}
+
+/// The file parsed by vtkio, after its magic is checked and what vtkio cannot read is re-encoded.
+fn parse(bytes: &[u8], format: Format) -> Result<vtkio::Vtk, Problem> {
     let start = bytes.trim_ascii_start();
     let magic_ok = match format {
         Format::Vtk => start.starts_with(b"# vtk DataFile"),
@@ -70,15 +88,17 @@ pub(crate) fn read_cells_and_point_fields(
             plain(&why)
         ))
     })?;
-    let vtk = parsed.map_err(|e| {
+    parsed.map_err(|e| {
         Problem::bad(format!(
             "not a readable VTK file: {}",
             plain(&e.to_string())
         ))
-    })?;
-    let mut b = Builder::default();
-    let poly = matches!(vtk.data, DataSet::PolyData { .. });
-    match vtk.data {
+    })
+}
+
+/// Adds every piece of an unstructured grid or poly data set to `b`.
+fn add_pieces(b: &mut Builder, data: DataSet) -> Result<(), Problem> {
+    match data {
         DataSet::UnstructuredGrid { pieces, .. } => {
             for piece in pieces {
                 let p = inline(piece)?;
@@ -128,16 +148,7 @@ pub(crate) fn read_cells_and_point_fields(
             ));
         }
     }
-    let Builder {
-        mesh,
-        point_fields,
-        mut warnings,
-        skipped,
-    } = b;
-    for (ty, n) in skipped {
-        warnings.push(format!("skipped {n} cells of VTK type {ty}"));
-    }
-    Ok((mesh, point_fields, warnings, poly))
+    Ok(())
 }
 
 /// vtkio's messages in plain words: its errors end in `Debug` dumps of nested library errors

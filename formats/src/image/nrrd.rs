@@ -29,114 +29,30 @@ pub(crate) fn read(bytes: &[u8], dir: Option<&Path>) -> Result<Image, Problem> {
     };
     let header =
         std::str::from_utf8(header).map_err(|_| Problem::bad("the NRRD header is not text"))?;
-
-    let mut ty = None;
-    let mut rank = None;
-    let mut sizes = None;
-    let mut big_endian = false;
-    let mut gzip = false;
-    let mut spacings = None;
-    let mut directions = None;
-    let mut origin = DVec3::ZERO;
-    let mut data_file = None;
-    let mut byte_skip = 0usize;
-    for (n, line) in header.lines().enumerate().skip(1) {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') || line.contains(":=") {
-            continue;
-        }
-        let at = |m: String| Problem::at_line(n + 1, m);
-        let Some((key, value)) = line.split_once(':') else {
-            return Err(at(format!(
-                "NRRD header line {line:?} is not \"field: value\""
-            )));
-        };
-        let value = value.trim();
-        match key.trim().to_ascii_lowercase().as_str() {
-            "type" => ty = Some(scalar_type(value).map_err(at)?),
-            "dimension" => rank = Some(dimension("dimension", value)?),
-            "sizes" => {
-                sizes = Some(
-                    value
-                        .split_whitespace()
-                        .map(|s| dimension("sizes", s))
-                        .collect::<Result<Vec<_>, _>>()?,
-                );
-            }
-            "endian" => big_endian = value.eq_ignore_ascii_case("big"),
-            "encoding" => {
-                gzip = match value.to_ascii_lowercase().as_str() {
-                    "raw" => false,
-                    "gzip" | "gz" => true,
-                    other => {
-                        return Err(at(format!(
-                            "NRRD encoding {other:?} is not supported (raw or gzip)"
-                        )));
-                    }
-                };
-            }
-            "spacings" => {
-                spacings = Some(
-                    value
-                        .split_whitespace()
-                        .map(|s| positive("spacings", s.parse().unwrap_or(f64::NAN)))
-                        .collect::<Result<Vec<_>, _>>()?,
-                );
-            }
-            "space directions" => directions = Some(vectors(value).map_err(at)?),
-            "space origin" => {
-                origin = vectors(value)
-                    .map_err(at)?
-                    .first()
-                    .copied()
-                    .flatten()
-                    .ok_or_else(|| at("space origin must be a vector (x,y,z)".into()))?;
-            }
-            "data file" | "datafile" => data_file = Some(value.to_string()),
-            "byte skip" | "byteskip" => {
-                byte_skip = value.parse().map_err(|_| {
-                    at(format!(
-                        "byte skip must be a non-negative integer, got {value:?}"
-                    ))
-                })?;
-            }
-            _ => {}
-        }
-    }
-    let ty = ty.ok_or_else(|| Problem::bad("the NRRD header has no type"))?;
-    if rank != Some(3) {
+    let header = Header::parse(header)?;
+    let ty = header
+        .ty
+        .ok_or_else(|| Problem::bad("the NRRD header has no type"))?;
+    if header.rank != Some(3) {
         return Err(Problem::Unsupported(format!(
             "only 3D NRRD images are supported (dimension: {})",
-            rank.map_or("missing".to_string(), |r| r.to_string())
+            header.rank.map_or("missing".to_string(), |r| r.to_string())
         )));
     }
-    let dims: [usize; 3] = sizes
+    let dims: [usize; 3] = header
+        .sizes
+        .as_deref()
         .and_then(|s| s.try_into().ok())
         .ok_or_else(|| Problem::bad("NRRD sizes must give three dimensions"))?;
-    let matrix = match (directions, spacings) {
-        (Some(d), _) => {
-            let cols: Vec<DVec3> = d.into_iter().flatten().collect();
-            let cols: [DVec3; 3] = cols
-                .try_into()
-                .map_err(|_| Problem::bad("NRRD space directions must give three vectors"))?;
-            DMat3::from_cols(cols[0], cols[1], cols[2])
-        }
-        (None, Some(s)) => {
-            let s: [f64; 3] = s
-                .try_into()
-                .map_err(|_| Problem::bad("NRRD spacings must give three numbers"))?;
-            DMat3::from_diagonal(DVec3::from_array(s))
-        }
-        (None, None) => DMat3::IDENTITY,
-    };
+    let matrix = header.voxel_steps()?;
 
     let detached;
-    let data = match data_file {
+    let data = match &header.data_file {
         Some(name) => {
             let dir = dir.ok_or_else(|| {
                 Problem::Unsupported("a detached NRRD data file cannot be read here".into())
             })?;
-            let path = dir.join(&name);
+            let path = dir.join(name);
             detached = std::fs::read(&path).map_err(|e| {
                 Problem::bad(format!("cannot read the data file {}: {e}", path.display()))
             })?;
@@ -145,19 +61,126 @@ pub(crate) fn read(bytes: &[u8], dir: Option<&Path>) -> Result<Image, Problem> {
         None => data,
     };
     let inflated;
-    let data = if gzip {
+    let data = if header.gzip {
         inflated = gunzip(data)?;
         &inflated[..]
     } else {
         data
     };
-    let data = data.get(byte_skip..).unwrap_or_default();
-    let voxels = decode_voxels(dims, ty, data, big_endian)?;
+    let data = data.get(header.byte_skip..).unwrap_or_default();
+    let voxels = decode_voxels(dims, ty, data, header.big_endian)?;
     Ok(Image {
         dims,
-        index_to_world: DAffine3::from_mat3_translation(matrix, origin),
+        index_to_world: DAffine3::from_mat3_translation(matrix, header.origin),
         voxels,
     })
+}
+
+/// The header fields the reader uses, as given (checked by [`read`]).
+#[derive(Default)]
+struct Header {
+    ty: Option<ScalarType>,
+    rank: Option<usize>,
+    sizes: Option<Vec<usize>>,
+    big_endian: bool,
+    gzip: bool,
+    spacings: Option<Vec<f64>>,
+    directions: Option<Vec<Option<DVec3>>>,
+    origin: DVec3,
+    data_file: Option<String>,
+    byte_skip: usize,
+}
+
+impl Header {
+    /// Reads the `field: value` lines after the magic line.
+    fn parse(text: &str) -> Result<Header, Problem> {
+        let mut h = Header::default();
+        for (n, line) in text.lines().enumerate().skip(1) {
+            let line = line.trim();
+            if line.is_empty() || line.starts_with('#') || line.contains(":=") {
+                continue;
+            }
+            let at = |m: String| Problem::at_line(n + 1, m);
+            let Some((key, value)) = line.split_once(':') else {
+                return Err(at(format!(
+                    "NRRD header line {line:?} is not \"field: value\""
+                )));
+            };
+            let value = value.trim();
+            match key.trim().to_ascii_lowercase().as_str() {
+                "type" => h.ty = Some(scalar_type(value).map_err(at)?),
+                "dimension" => h.rank = Some(dimension("dimension", value)?),
+                "sizes" => {
+                    h.sizes = Some(
+                        value
+                            .split_whitespace()
+                            .map(|s| dimension("sizes", s))
+                            .collect::<Result<Vec<_>, _>>()?,
+                    );
+                }
+                "endian" => h.big_endian = value.eq_ignore_ascii_case("big"),
+                "encoding" => {
+                    h.gzip = match value.to_ascii_lowercase().as_str() {
+                        "raw" => false,
+                        "gzip" | "gz" => true,
+                        other => {
+                            return Err(at(format!(
+                                "NRRD encoding {other:?} is not supported (raw or gzip)"
+                            )));
+                        }
+                    };
+                }
+                "spacings" => {
+                    h.spacings = Some(
+                        value
+                            .split_whitespace()
+                            .map(|s| positive("spacings", s.parse().unwrap_or(f64::NAN)))
+                            .collect::<Result<Vec<_>, _>>()?,
+                    );
+                }
+                "space directions" => h.directions = Some(vectors(value).map_err(at)?),
+                "space origin" => {
+                    h.origin = vectors(value)
+                        .map_err(at)?
+                        .first()
+                        .copied()
+                        .flatten()
+                        .ok_or_else(|| at("space origin must be a vector (x,y,z)".into()))?;
+                }
+                "data file" | "datafile" => h.data_file = Some(value.to_string()),
+                "byte skip" | "byteskip" => {
+                    h.byte_skip = value.parse().map_err(|_| {
+                        at(format!(
+                            "byte skip must be a non-negative integer, got {value:?}"
+                        ))
+                    })?;
+                }
+                _ => {}
+            }
+        }
+        Ok(h)
+    }
+
+    /// The voxel steps as matrix columns: the space directions, else the spacings along the axes.
+    fn voxel_steps(&self) -> Result<DMat3, Problem> {
+        Ok(match (&self.directions, &self.spacings) {
+            (Some(d), _) => {
+                let cols: Vec<DVec3> = d.iter().flatten().copied().collect();
+                let cols: [DVec3; 3] = cols
+                    .try_into()
+                    .map_err(|_| Problem::bad("NRRD space directions must give three vectors"))?;
+                DMat3::from_cols(cols[0], cols[1], cols[2])
+            }
+            (None, Some(s)) => {
+                let s: [f64; 3] = s
+                    .as_slice()
+                    .try_into()
+                    .map_err(|_| Problem::bad("NRRD spacings must give three numbers"))?;
+                DMat3::from_diagonal(DVec3::from_array(s))
+            }
+            (None, None) => DMat3::IDENTITY,
+        })
+    }
 }
 
 fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {

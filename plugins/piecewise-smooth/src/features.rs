@@ -1,7 +1,7 @@
 //! Sharp features of a triangle surface: feature edges, chained into curves between corners, and
 //! the patches they cut the surface into.
 
-use crate::chain::chain;
+use crate::chain::{Chain, chain};
 use crate::edges::EdgeIncidence;
 use crate::polylines::Polyline;
 use delamesh_core::mesh::{MeshError, SurfaceMesh, weld_exact};
@@ -222,49 +222,8 @@ impl Features {
             .collect();
         let chains = chain(&positions, &feature_edges, &forced, angle);
 
-        let curves: Vec<Curve> = chains
-            .curves
-            .into_iter()
-            .enumerate()
-            .map(|(i, c)| {
-                let n = c.vertices.len();
-                let segments = if c.closed { n } else { n - 1 };
-                let mut patches: Vec<PatchId> = (0..segments)
-                    .filter_map(|k| incidence.find(c.vertices[k], c.vertices[(k + 1) % n]))
-                    .flat_map(|e| incidence.uses(e))
-                    .map(|u| triangle_patches[u.triangle as usize])
-                    .collect();
-                patches.sort_unstable();
-                patches.dedup();
-                Curve {
-                    id: i as CurveId + 1,
-                    points: c.vertices.iter().map(|&v| positions[v as usize]).collect(),
-                    vertices: c.vertices,
-                    closed: c.closed,
-                    patches,
-                }
-            })
-            .collect();
-        let mut corners: Vec<Corner> = chains
-            .corners
-            .iter()
-            .map(|&v| Corner {
-                vertex: v,
-                point: positions[v as usize],
-                curves: Vec::new(),
-            })
-            .collect();
-        for c in &curves {
-            let ends = [c.vertices.first(), c.vertices.last()];
-            for v in ends.into_iter().flatten() {
-                if let Ok(k) = corners.binary_search_by_key(v, |k| k.vertex) {
-                    corners[k].curves.push(c.id);
-                }
-            }
-        }
-        for k in &mut corners {
-            k.curves.dedup();
-        }
+        let curves = curves_of(chains.curves, &positions, &incidence, &triangle_patches);
+        let corners = corners_of(&chains.corners, &positions, &curves);
         Ok(Features {
             positions,
             triangles,
@@ -292,6 +251,61 @@ impl Features {
     pub fn is_smooth(&self) -> bool {
         self.curves.is_empty()
     }
+}
+
+/// The curves of `chains`, numbered from 1, each with the patches along it.
+fn curves_of(
+    chains: Vec<Chain>,
+    positions: &[DVec3],
+    incidence: &EdgeIncidence,
+    triangle_patches: &[PatchId],
+) -> Vec<Curve> {
+    chains
+        .into_iter()
+        .enumerate()
+        .map(|(i, c)| {
+            let n = c.vertices.len();
+            let segments = if c.closed { n } else { n - 1 };
+            let mut patches: Vec<PatchId> = (0..segments)
+                .filter_map(|k| incidence.find(c.vertices[k], c.vertices[(k + 1) % n]))
+                .flat_map(|e| incidence.uses(e))
+                .map(|u| triangle_patches[u.triangle as usize])
+                .collect();
+            patches.sort_unstable();
+            patches.dedup();
+            Curve {
+                id: i as CurveId + 1,
+                points: c.vertices.iter().map(|&v| positions[v as usize]).collect(),
+                vertices: c.vertices,
+                closed: c.closed,
+                patches,
+            }
+        })
+        .collect()
+}
+
+/// The corners at `vertices` (sorted), each with the curves that end there.
+fn corners_of(vertices: &[u32], positions: &[DVec3], curves: &[Curve]) -> Vec<Corner> {
+    let mut corners: Vec<Corner> = vertices
+        .iter()
+        .map(|&v| Corner {
+            vertex: v,
+            point: positions[v as usize],
+            curves: Vec::new(),
+        })
+        .collect();
+    for c in curves {
+        let ends = [c.vertices.first(), c.vertices.last()];
+        for v in ends.into_iter().flatten() {
+            if let Ok(k) = corners.binary_search_by_key(v, |k| k.vertex) {
+                corners[k].curves.push(c.id);
+            }
+        }
+    }
+    for k in &mut corners {
+        k.curves.dedup();
+    }
+    corners
 }
 
 /// Pairs `[first, second]` of triangles with the same three vertices in opposite orientations,

@@ -307,6 +307,32 @@ impl Partition {
     }
 }
 
+/// Runs every part on its vertices, each in its own thread when `threaded`.
+fn run_parts<K: ConflictKernel>(
+    parts: &mut [Part<'_, K>],
+    partition: &Partition,
+    scratch: &mut [Scratch],
+    threaded: bool,
+) {
+    let jobs = parts.iter_mut().zip(&partition.parts).zip(scratch);
+    if threaded {
+        std::thread::scope(|scope| {
+            let handles: Vec<_> = jobs
+                .map(|((part, vertices), s)| scope.spawn(move || part.run(vertices, s)))
+                .collect();
+            for h in handles {
+                if let Err(panic) = h.join() {
+                    std::panic::resume_unwind(panic);
+                }
+            }
+        });
+    } else {
+        for ((part, vertices), s) in jobs {
+            part.run(vertices, s);
+        }
+    }
+}
+
 impl<K: ConflictKernel> Triangulation3<K> {
     /// Inserts the vertices of a BRIO round (already in `points`, in cells that exist) in
     /// [`PARTS`] parts, one thread each when `threaded`, in two passes, then the deferred rest
@@ -349,21 +375,10 @@ impl<K: ConflictKernel> Triangulation3<K> {
         let starts: Vec<Option<u32>> = (0..PARTS)
             .map(|j| self.start_cell(&partition.parts[j], partition.range(j, n)))
             .collect();
-        // Each part gets a region of fresh slots after the live ones, shrunk to the budget.
         let base = self.cells.len();
-        let room = budget.saturating_sub(base);
-        self.cells.reserve_exact(room);
-        let mut regions: Vec<usize> = partition
-            .parts
-            .iter()
-            .map(|p| (p.len() as f64 * SLOTS_PER_POINT) as usize + SPARE_SLOTS)
-            .collect();
+        self.cells.reserve_exact(budget.saturating_sub(base));
         let list_len = self.free_list_len();
-        regions[0] = regions[0].saturating_sub(list_len);
-        let wanted: usize = regions.iter().sum();
-        if wanted > room {
-            regions.iter_mut().for_each(|r| *r = *r * room / wanted);
-        }
+        let regions = self.region_sizes(partition, budget, list_len);
         let total = base + regions.iter().sum::<usize>();
         for s in scratch.iter_mut() {
             if s.mark.len() < total {
@@ -396,23 +411,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 }
             })
             .collect();
-        let jobs = parts.iter_mut().zip(&partition.parts).zip(scratch);
-        if threaded {
-            std::thread::scope(|scope| {
-                let handles: Vec<_> = jobs
-                    .map(|((part, vertices), s)| scope.spawn(move || part.run(vertices, s)))
-                    .collect();
-                for h in handles {
-                    if let Err(panic) = h.join() {
-                        std::panic::resume_unwind(panic);
-                    }
-                }
-            });
-        } else {
-            for ((part, vertices), s) in jobs {
-                part.run(vertices, s);
-            }
-        }
+        run_parts(&mut parts, partition, scratch, threaded);
         let states: Vec<PartState> = parts.into_iter().map(|p| p.state).collect();
         let unused = CellRecord {
             v: [FREE; 4],
@@ -426,6 +425,30 @@ impl<K: ConflictKernel> Triangulation3<K> {
         // pass, by a part's insertions (each slot a part takes gets a cell), or just above.
         unsafe { cells.set_len(states[PARTS - 1].next as usize) };
         self.cells = cells;
+        self.absorb(states)
+    }
+
+    /// Each part's region of fresh slots after the live ones: what its points are expected to
+    /// take (the first part takes the free list's `list_len` slots first), shrunk so that all
+    /// regions fit in `budget` cells.
+    fn region_sizes(&self, partition: &Partition, budget: usize, list_len: usize) -> Vec<usize> {
+        let room = budget.saturating_sub(self.cells.len());
+        let mut regions: Vec<usize> = partition
+            .parts
+            .iter()
+            .map(|p| (p.len() as f64 * SLOTS_PER_POINT) as usize + SPARE_SLOTS)
+            .collect();
+        regions[0] = regions[0].saturating_sub(list_len);
+        let wanted: usize = regions.iter().sum();
+        if wanted > room {
+            regions.iter_mut().for_each(|r| *r = *r * room / wanted);
+        }
+        regions
+    }
+
+    /// Takes back what the parts of a pass did (counts, free slots, last cell); returns their
+    /// deferred vertices.
+    fn absorb(&mut self, states: Vec<PartState>) -> Vec<u32> {
         self.free_head = states[0].list;
         let mut deferred = Vec::new();
         for (j, state) in states.into_iter().enumerate() {
