@@ -52,6 +52,17 @@ fn group_patch(names: &mut Vec<String>, model: &tobj::Model) -> u32 {
     }
 }
 
+/// Appends the vertices of `mesh`; returns the index of its first one and its vertex count.
+fn append_positions(positions: &mut Vec<DVec3>, mesh: &tobj::Mesh) -> (u32, usize) {
+    let base = positions.len() as u32;
+    positions.extend(
+        mesh.positions
+            .chunks_exact(3)
+            .map(|c| DVec3::new(c[0], c[1], c[2])),
+    );
+    (base, mesh.positions.len() / 3)
+}
+
 /// The polygons of an OBJ file as written (a subdivision control mesh), groups as patches,
 /// welded by exact position.
 pub(crate) fn read_polygons(bytes: &[u8]) -> Result<(PolygonMesh, Vec<String>), Problem> {
@@ -63,13 +74,7 @@ pub(crate) fn read_polygons(bytes: &[u8]) -> Result<(PolygonMesh, Vec<String>), 
             continue;
         }
         let patch = group_patch(&mut m.group_names, &model);
-        let base = m.positions.len() as u32;
-        let n = mesh.positions.len() / 3;
-        m.positions.extend(
-            mesh.positions
-                .chunks_exact(3)
-                .map(|c| DVec3::new(c[0], c[1], c[2])),
-        );
+        let (base, n) = append_positions(&mut m.positions, mesh);
         let mut rest = &mesh.indices[..];
         // tobj leaves `face_arities` empty when every face is a triangle.
         let arities: Vec<u32> = if mesh.face_arities.is_empty() {
@@ -102,13 +107,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<(SurfaceMesh, Vec<String>), Problem> 
             continue;
         }
         let patch = group_patch(&mut m.patch_names, &model);
-        let base = m.positions.len() as u32;
-        let n = mesh.positions.len() / 3;
-        m.positions.extend(
-            mesh.positions
-                .chunks_exact(3)
-                .map(|c| DVec3::new(c[0], c[1], c[2])),
-        );
+        let (base, n) = append_positions(&mut m.positions, mesh);
         for tri in mesh.indices.chunks_exact(3) {
             if let Some(&bad) = tri.iter().find(|&&v| v as usize >= n) {
                 return Err(Problem::bad(format!("face refers to vertex {bad} of {n}")));
