@@ -76,7 +76,7 @@ impl Domain {
             }
         }
         // The oracle numbers patches from 1 (0 marks facets of no patch in the output).
-        let patches: Vec<PatchId> = surface.patches.iter().map(|p| p.0 + 1).collect();
+        let patches: Vec<PatchId> = surface.patches.iter().map(|p| PatchId(p.0 + 1)).collect();
         PolyhedralOracle::with_options(
             &surface.positions,
             &surface.triangles,

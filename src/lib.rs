@@ -44,7 +44,10 @@
 //! segment cross the boundary, and a few points on the boundary to start from. The same trait,
 //! exported through `delamesh_core::plugin`, makes a plugin loadable by the command line.
 //! ```
-//! use delamesh::{Aabb, MeshSettings, Mesher, OUTSIDE, Oracle, Point3, SurfaceHit, SurfacePoint};
+//! use delamesh::{
+//!     Aabb, MeshSettings, Mesher, OUTSIDE, Oracle, PatchId, Point3, SubdomainId, SurfaceHit,
+//!     SurfacePoint,
+//! };
 //!
 //! /// The unit ball.
 //! struct Ball;
@@ -53,8 +56,8 @@
 //!     fn bounding_box(&self) -> Aabb {
 //!         Aabb { min: Point3::splat(-1.0), max: Point3::splat(1.0) }
 //!     }
-//!     fn subdomain(&self, p: Point3) -> u32 {
-//!         if p.length() < 1.0 { 1 } else { OUTSIDE }
+//!     fn subdomain(&self, p: Point3) -> SubdomainId {
+//!         if p.length() < 1.0 { SubdomainId(1) } else { OUTSIDE }
 //!     }
 //!     fn segment_hits(&self, a: Point3, b: Point3, out: &mut Vec<SurfaceHit>) {
 //!         // |a + t (b - a)| = 1: a quadratic in t, roots kept in [0, 1].
@@ -66,7 +69,7 @@
 //!         }
 //!         for t in [(-qb - disc.sqrt()) / (2.0 * qa), (-qb + disc.sqrt()) / (2.0 * qa)] {
 //!             if (0.0..=1.0).contains(&t) {
-//!                 out.push(SurfaceHit { point: a + t * d, t, patch: 1 });
+//!                 out.push(SurfaceHit { point: a + t * d, t, patch: PatchId(1) });
 //!             }
 //!         }
 //!     }
@@ -79,7 +82,7 @@
 //!     }
 //!     fn initial_points(&self) -> Vec<SurfacePoint> {
 //!         let axes = [Point3::X, Point3::Y, Point3::Z];
-//!         axes.iter().flat_map(|&a| [a, -a]).map(|point| SurfacePoint { point, patch: 1 }).collect()
+//!         axes.iter().flat_map(|&a| [a, -a]).map(|point| SurfacePoint { point, patch: PatchId(1) }).collect()
 //!     }
 //! }
 //!
@@ -114,8 +117,8 @@ pub use delamesh_polyhedral as polyhedral;
 pub use delamesh_subdivision as subdivision;
 
 pub use delamesh_core::{
-    Aabb, Cancel, MeshComplex, OUTSIDE, Oracle, Point3, Progress, RefineError, SurfaceHit,
-    SurfaceMesh, SurfacePoint, TetMesh,
+    Aabb, Cancel, CurveId, MeshComplex, OUTSIDE, Oracle, PatchId, Point3, Progress, RefineError,
+    SubdomainId, SurfaceHit, SurfaceMesh, SurfacePoint, TetMesh,
 };
 pub use delamesh_formats::WriteOptions;
 pub use delaunay::{Tetrahedralization, delaunay};

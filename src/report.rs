@@ -172,7 +172,7 @@ impl FeaturesReport {
                 .curves
                 .iter()
                 .map(|c| CurveReport {
-                    curve: c.curve,
+                    curve: c.curve.0,
                     feature_edges: c.edges,
                     hausdorff: c.hausdorff,
                 })
@@ -428,7 +428,7 @@ impl Report {
                 components: topology.components,
                 input_euler_characteristic: input_topology.euler_characteristic,
                 input_components: input_topology.components,
-                unrestricted_facets: c.facet_patch.iter().filter(|&&p| p == 0).count(),
+                unrestricted_facets: c.facet_patch.iter().filter(|&&p| p.0 == 0).count(),
             },
             repairs: oracle.repairs().describe(),
             features: FeaturesReport::new(r.domain, criteria, c),

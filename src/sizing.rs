@@ -372,7 +372,7 @@ pub(crate) fn grade(
         if labelled {
             match oracle.subdomain(p) {
                 OUTSIDE => f64::INFINITY,
-                sub => cell.at(p, sub),
+                sub => cell.at(p, sub.0),
             }
         } else {
             cell.at(p, 1)

@@ -38,7 +38,7 @@ fn assert_restricted_tets(oracle: &PolyhedralOracle, c: &MeshComplex, ratio: f64
 fn assert_restricted_facets(c: &MeshComplex) {
     for (f, tri) in c.facets.iter().enumerate() {
         assert_ne!(
-            c.facet_patch[f], 0,
+            c.facet_patch[f].0, 0,
             "boundary facet {f} is not a restricted facet"
         );
         for &v in tri {

@@ -150,7 +150,7 @@ fn c_plugin_is_a_ball_with_its_configured_radius_and_center() {
             assert_eq!(hits.len(), 1, "one end inside: exactly one crossing");
         }
         for hit in &hits {
-            assert!((hit.point.distance(center) - 2.0).abs() < 1e-9 && hit.patch == 1);
+            assert!((hit.point.distance(center) - 2.0).abs() < 1e-9 && hit.patch.0 == 1);
             assert!((pair[0].lerp(pair[1], hit.t) - hit.point).length() < 1e-9);
         }
     }

@@ -167,7 +167,7 @@ fn check(name: &str, surface: &Surface, meshed: &delamesh::Meshed, subdomain_vol
     // Boundary facets: each in its input triangle (its patch names it), areas adding up.
     let mut facet_area: BTreeMap<u32, f64> = BTreeMap::new();
     for (f, facet) in c.facets.iter().enumerate() {
-        let patch = c.facet_patch[f];
+        let patch = c.facet_patch[f].0;
         assert!(patch >= 1, "{name}: facet {f} without a patch");
         let t = (patch - 1) as usize;
         let tri = surface.triangles[t].map(|v| surface.points[v as usize]);
@@ -192,7 +192,7 @@ fn check(name: &str, surface: &Surface, meshed: &delamesh::Meshed, subdomain_vol
     let mut volumes: BTreeMap<u32, f64> = BTreeMap::new();
     for (t, tet) in c.tets.iter().enumerate() {
         assert_ne!(c.tet_subdomain[t], OUTSIDE);
-        *volumes.entry(c.tet_subdomain[t]).or_default() +=
+        *volumes.entry(c.tet_subdomain[t].0).or_default() +=
             signed_volume6(tet.map(|v| c.points[v as usize])) / 6.0;
     }
     let mut got: Vec<f64> = volumes.values().copied().collect();

@@ -230,8 +230,8 @@ fn per_subdomain_and_per_patch_sizes_bound_their_cells_and_facets() {
         .build()
         .expect("valid");
     let m = mesh(settings);
-    assert!(m.complex.tet_subdomain.iter().all(|s| *s == 1));
-    assert!(m.complex.facet_patch.iter().all(|p| *p == 1));
+    assert!(m.complex.tet_subdomain.iter().all(|s| s.0 == 1));
+    assert!(m.complex.facet_patch.iter().all(|p| p.0 == 1));
     let c = &m.complex;
     for t in &c.tets {
         let [a, b, cc, d] = t.map(|v| c.points[v as usize]);

@@ -128,7 +128,7 @@ fn boundary_vertices_lie_on_the_exact_limit_surface() {
     // gave. A validity repair round may leave a few unrestricted boundary facets over a volume
     // vertex (seen once on this torus); those are checked by the topology test, not here.
     for (f, t) in c.facets.iter().enumerate() {
-        if c.facet_patch[f] != 0 {
+        if c.facet_patch[f].0 != 0 {
             for &v in t {
                 on_boundary[v as usize] = true;
             }

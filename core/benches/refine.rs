@@ -6,7 +6,9 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use delamesh_core::kernel::Point3;
-use delamesh_core::oracle::{Aabb, OUTSIDE, Oracle, SubdomainId, SurfaceHit, SurfacePoint};
+use delamesh_core::oracle::{
+    Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
+};
 use delamesh_core::refine::criteria::{CellCriteria, FacetCriteria, MeshCriteria, Sizing};
 use delamesh_core::refine::{Limits, MeshOptions, mesh_domain};
 use std::hint::black_box;
@@ -37,7 +39,11 @@ impl Oracle for Ball {
         }
     }
     fn subdomain(&self, p: Point3) -> SubdomainId {
-        if p.length_squared() < 1.0 { 1 } else { OUTSIDE }
+        if p.length_squared() < 1.0 {
+            SubdomainId(1)
+        } else {
+            OUTSIDE
+        }
     }
     fn segment_hits(&self, a: Point3, b: Point3, out: &mut Vec<SurfaceHit>) {
         let d = b - a;
@@ -47,7 +53,7 @@ impl Oracle for Ball {
                 .map(|t| SurfaceHit {
                     point: a + t * d,
                     t,
-                    patch: 1,
+                    patch: PatchId(1),
                 }),
         );
     }
@@ -58,7 +64,7 @@ impl Oracle for Ball {
                 .map(|t| SurfaceHit {
                     point: origin + t * dir,
                     t,
-                    patch: 1,
+                    patch: PatchId(1),
                 }),
         );
     }
@@ -71,7 +77,7 @@ impl Oracle for Ball {
                 let phi = golden * i as f64;
                 SurfacePoint {
                     point: Point3::new(r * phi.cos(), r * phi.sin(), z),
-                    patch: 1,
+                    patch: PatchId(1),
                 }
             })
             .collect()

@@ -2,7 +2,7 @@
 //! subdomains, the boundary facets with their surface patches, and each vertex's dimension.
 
 use crate::kernel::Point3;
-use crate::mesh::{self, CellField, TetMesh};
+use crate::mesh::{CellField, TetMesh};
 use crate::oracle::{CurveId, OUTSIDE, PatchId, SubdomainId};
 use crate::quality;
 use crate::refine::cells::CellLevel;
@@ -124,7 +124,7 @@ impl MeshComplex {
                 complex.facets.push(f.map(index_of));
                 complex
                     .facet_patch
-                    .push(surface.ball(c, i).map_or(0, |b| b.patch));
+                    .push(surface.ball(c, i).map_or(PatchId(0), |b| b.patch));
                 complex.facet_subdomains.push([sub, other]);
             }
         }
@@ -183,19 +183,11 @@ impl MeshComplex {
         TetMesh {
             positions: self.points.clone(),
             tets: self.tets.clone(),
-            subdomains: self
-                .tet_subdomain
-                .iter()
-                .map(|&s| mesh::SubdomainId(s))
-                .collect(),
+            subdomains: self.tet_subdomain.clone(),
             boundary: self.facets.clone(),
-            boundary_patches: self.facet_patch.iter().map(|&p| mesh::PatchId(p)).collect(),
+            boundary_patches: self.facet_patch.clone(),
             feature_edges: self.feature_edges.clone(),
-            feature_curves: self
-                .feature_edge_curve
-                .iter()
-                .map(|&c| mesh::CurveId(c))
-                .collect(),
+            feature_curves: self.feature_edge_curve.clone(),
             cell_fields: vec![
                 CellField {
                     name: "min_dihedral_deg".into(),

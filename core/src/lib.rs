@@ -17,7 +17,7 @@ pub mod union_find;
 
 pub use complex::MeshComplex;
 pub use kernel::Point3;
-pub use mesh::{SurfaceMesh, TetMesh};
+pub use mesh::{CurveId, PatchId, SubdomainId, SurfaceMesh, TetMesh};
 pub use oracle::{Aabb, FeatureCurve, OUTSIDE, Oracle, SurfaceHit, SurfacePoint};
 pub use refine::criteria::{MeshCriteria, Sizing};
 pub use refine::{

@@ -17,15 +17,37 @@ use std::fmt;
 
 /// Surface patch label of a boundary triangle (an index into `SurfaceMesh::patch_names` for surfaces).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[repr(transparent)]
 pub struct PatchId(pub u32);
 
 /// Subdomain label of a tetrahedron (0 is reserved for "outside" by the oracle, so real subdomains are ≥ 1).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[repr(transparent)]
 pub struct SubdomainId(pub u32);
 
 /// Feature-curve label of a constrained edge.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
+#[repr(transparent)]
 pub struct CurveId(pub u32);
+
+// The labels print as their numbers, as files and messages give them.
+impl fmt::Display for PatchId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
+impl fmt::Display for SubdomainId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
+impl fmt::Display for CurveId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        self.0.fmt(f)
+    }
+}
 
 /// A structural defect found by a `validate` method: the model forbids it, whatever the file said.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

@@ -10,17 +10,12 @@ use crate::kernel::Point3;
 
 pub use crate::mesh::Aabb;
 
-/// Label of a subdomain (a cell of the input complex). `OUTSIDE` (0) is the complement of the
-/// domain. A plain `u32` because it crosses the plugin C ABI as is; `mesh::SubdomainId` wraps it
-/// in the output.
-pub type SubdomainId = u32;
-/// Label of a boundary surface patch, numbered from 1 (see `SubdomainId` for why a plain `u32`).
-pub type PatchId = u32;
-/// Label of a 1D feature curve, numbered from 1.
-pub type CurveId = u32;
+// The label types of the whole workspace; the C ABI carries them as raw `u32` and converts at
+// the boundary (core/src/plugin).
+pub use crate::mesh::{CurveId, PatchId, SubdomainId};
 
 /// The subdomain label of every point outside the domain.
-pub const OUTSIDE: SubdomainId = 0;
+pub const OUTSIDE: SubdomainId = SubdomainId(0);
 
 impl Aabb {
     /// Length of the main diagonal: the scale default criteria are derived from.

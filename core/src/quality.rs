@@ -410,7 +410,7 @@ mod tests {
     fn feature_fidelity_measures_chords_and_lost_curves() {
         let curves = [
             FeatureCurve {
-                id: 1,
+                id: CurveId(1),
                 points: vec![
                     Point3::ZERO,
                     Point3::new(1.0, 1.0, 0.0),
@@ -419,7 +419,7 @@ mod tests {
                 closed: false,
             },
             FeatureCurve {
-                id: 2,
+                id: CurveId(2),
                 points: vec![Point3::ZERO, Point3::Z],
                 closed: false,
             },
@@ -429,7 +429,7 @@ mod tests {
             &curves,
             &points,
             &[[0, 1]],
-            &[1],
+            &[CurveId(1)],
             &[(Point3::ZERO, Some(0))],
             0.01,
         );

@@ -3,7 +3,9 @@
 
 use delamesh_core::complex::{MeshComplex, VertexDimension, signed_volume};
 use delamesh_core::kernel::Point3;
-use delamesh_core::oracle::{Aabb, FeatureCurve, Oracle, SubdomainId, SurfaceHit, SurfacePoint};
+use delamesh_core::oracle::{
+    Aabb, CurveId, FeatureCurve, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
+};
 use delamesh_core::quality;
 use delamesh_core::refine::criteria::{CellCriteria, FacetCriteria, MeshCriteria, Sizing};
 use delamesh_core::refine::curves::Polyline;
@@ -103,7 +105,7 @@ impl Polyhedron {
                 out.push(SurfaceHit {
                     point: p,
                     t,
-                    patch: i as u32 + 1,
+                    patch: PatchId(i as u32 + 1),
                 });
             }
         }
@@ -116,7 +118,7 @@ impl Oracle for Polyhedron {
         Aabb::of(&self.vertices).expect("vertices")
     }
     fn subdomain(&self, p: Point3) -> SubdomainId {
-        self.planes.iter().all(|&(n, d)| n.dot(p) < d) as SubdomainId
+        SubdomainId(self.planes.iter().all(|&(n, d)| n.dot(p) < d) as u32)
     }
     fn segment_hits(&self, a: Point3, b: Point3, out: &mut Vec<SurfaceHit>) {
         self.hits(a, b - a, 1.0, out);
@@ -131,7 +133,7 @@ impl Oracle for Polyhedron {
             for &v in f {
                 out.push(SurfacePoint {
                     point: c + 0.5 * (self.vertices[v] - c),
-                    patch: i as u32 + 1,
+                    patch: PatchId(i as u32 + 1),
                 });
             }
         }
@@ -142,7 +144,7 @@ impl Oracle for Polyhedron {
             .iter()
             .enumerate()
             .map(|(i, e)| FeatureCurve {
-                id: i as u32 + 1,
+                id: CurveId(i as u32 + 1),
                 points: vec![self.vertices[e[0]], self.vertices[e[1]]],
                 closed: false,
             })
@@ -184,12 +186,12 @@ impl Cylinder {
                     out.push(SurfaceHit {
                         point: p,
                         t,
-                        patch: 1,
+                        patch: PatchId(1),
                     });
                 }
             }
         }
-        for (z, patch) in [(0.0, 2), (1.0, 3)] {
+        for (z, patch) in [(0.0, PatchId(2)), (1.0, PatchId(3))] {
             if dir.z != 0.0 {
                 let t = (z - o.z) / dir.z;
                 let p = o + t * dir;
@@ -211,7 +213,7 @@ impl Oracle for Cylinder {
         Aabb::of(&[Point3::new(-1.0, -1.0, 0.0), Point3::new(1.0, 1.0, 1.0)]).expect("box")
     }
     fn subdomain(&self, p: Point3) -> SubdomainId {
-        (p.x * p.x + p.y * p.y < 1.0 && p.z > 0.0 && p.z < 1.0) as SubdomainId
+        SubdomainId((p.x * p.x + p.y * p.y < 1.0 && p.z > 0.0 && p.z < 1.0) as u32)
     }
     fn segment_hits(&self, a: Point3, b: Point3, out: &mut Vec<SurfaceHit>) {
         self.hits(a, b - a, 1.0, out);
@@ -226,15 +228,15 @@ impl Oracle for Cylinder {
             let (x, y) = (t.cos(), t.sin());
             out.push(SurfacePoint {
                 point: Point3::new(x, y, 0.5),
-                patch: 1,
+                patch: PatchId(1),
             });
             out.push(SurfacePoint {
                 point: Point3::new(0.5 * x, 0.5 * y, 0.0),
-                patch: 2,
+                patch: PatchId(2),
             });
             out.push(SurfacePoint {
                 point: Point3::new(0.5 * x, 0.5 * y, 1.0),
-                patch: 3,
+                patch: PatchId(3),
             });
         }
         out
@@ -244,7 +246,7 @@ impl Oracle for Cylinder {
             .iter()
             .enumerate()
             .map(|(i, &z)| FeatureCurve {
-                id: i as u32 + 1,
+                id: CurveId(i as u32 + 1),
                 points: Cylinder::rim(z),
                 closed: true,
             })
@@ -370,7 +372,7 @@ fn cube_keeps_its_corners_edges_and_faces() {
             .iter()
             .position(|&(n, d)| p.iter().all(|&x| (n.dot(x) - d).abs() < 1e-12))
             .unwrap_or_else(|| panic!("facet {f} {p:?} crosses a cube edge"));
-        assert_eq!(m.facet_patch[f], face as u32 + 1);
+        assert_eq!(m.facet_patch[f], PatchId(face as u32 + 1));
         by_face.entry(face).or_default().push(*t);
     }
     assert_eq!(by_face.len(), 6);
@@ -432,7 +434,7 @@ fn cylinder_rims_are_closed_chains_on_the_circles() {
             .feature_edges
             .iter()
             .zip(&m.feature_edge_curve)
-            .filter(|(_, c)| **c == id)
+            .filter(|(_, c)| c.0 == id)
         {
             let [p, q] = e.map(|v| m.points[v as usize]);
             for x in [p, q] {

@@ -178,7 +178,7 @@ fn collect(
             }
             complex
                 .facet_patch
-                .push(patch_of.get(&key(f)).copied().unwrap_or(0));
+                .push(patch_of.get(&key(f)).copied().unwrap_or(PatchId(0)));
             complex.facets.push(f.map(|v| index[v.0 as usize]));
             complex.facet_subdomains.push([sub, other]);
         }

@@ -13,7 +13,7 @@ impl Oracle for One {
         }
     }
     fn subdomain(&self, _p: Point3) -> SubdomainId {
-        1
+        SubdomainId(1)
     }
     fn segment_hits(&self, _a: Point3, _b: Point3, out: &mut Vec<SurfaceHit>) {
         out.clear();
@@ -31,7 +31,7 @@ fn run(
     triangles: &[[u32; 3]],
     options: &PreserveOptions,
 ) -> Result<Preserved, PreserveError> {
-    let patches = vec![1; triangles.len()];
+    let patches = vec![PatchId(1); triangles.len()];
     preserve_surface(points, triangles, &patches, &One, options)
 }
 

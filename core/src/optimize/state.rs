@@ -478,7 +478,7 @@ impl<'o> Workspace<'o> {
         let Some(center) = crate::quality::tet_circumcenter(p) else {
             return f64::INFINITY;
         };
-        let size = self.cell_size.at(center, sub);
+        let size = self.cell_size.at(center, sub.0);
         if size > 0.0 && size.is_finite() {
             center.distance(p[0]) / size
         } else {
@@ -670,7 +670,7 @@ impl<'o> Workspace<'o> {
             .fold(0.0, f64::max);
         let thickness = 3.0 * tet_volume(&p) / largest_face;
         let centroid = (p[0] + p[1] + p[2] + p[3]) / 4.0;
-        let allowed = self.facet_distance.at(centroid, old_i.patch);
+        let allowed = self.facet_distance.at(centroid, old_i.patch.0);
         // A thicker cell is still peeled when its new facets meet the facet-distance criterion
         // as refinement measures it (the surface then moves by no more than refinement allows).
         let near = || {
@@ -704,10 +704,10 @@ impl<'o> Workspace<'o> {
     /// (its circumradius is at most the size there).
     pub fn near_surface(&self, t: [Point3; 3], patch: PatchId) -> bool {
         let center = triangle_circumcenter(t[0], t[1], t[2]);
-        if center.distance(t[0]) > self.facet_size.at(center, patch) {
+        if center.distance(t[0]) > self.facet_size.at(center, patch.0) {
             return false;
         }
-        let d = self.facet_distance.at(center, patch);
+        let d = self.facet_distance.at(center, patch.0);
         if !(d > 0.0 && d.is_finite()) {
             return true;
         }
@@ -850,7 +850,7 @@ impl<'o> Workspace<'o> {
                 complex.facets.push(f.map(|v| mesh_index[v.0 as usize]));
                 complex
                     .facet_patch
-                    .push(self.patch(&facet_key(cell, i)).unwrap_or(0));
+                    .push(self.patch(&facet_key(cell, i)).unwrap_or(PatchId(0)));
                 complex.facet_subdomains.push([sub, other]);
             }
         }

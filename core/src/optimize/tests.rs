@@ -5,7 +5,7 @@ use super::state::{Workspace, min_dihedral};
 use super::{Deadline, OptimizeOptions, exude, optimize, perturb, smooth};
 use crate::complex::{MeshComplex, VertexDimension};
 use crate::kernel::Point3;
-use crate::oracle::{Aabb, OUTSIDE, Oracle, SubdomainId, SurfaceHit, SurfacePoint};
+use crate::oracle::{Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint};
 use crate::quality::surface_topology;
 use crate::refine::criteria::{CellCriteria, FacetCriteria, MeshCriteria, Sizing};
 use crate::refine::{Limits, MeshOptions, mesh_domain};
@@ -31,7 +31,7 @@ impl Ball {
             out.push(SurfaceHit {
                 point: o + d * t,
                 t,
-                patch: 1,
+                patch: PatchId(1),
             });
         }
     }
@@ -46,7 +46,11 @@ impl Oracle for Ball {
     }
 
     fn subdomain(&self, p: Point3) -> SubdomainId {
-        if p.length_squared() < 1.0 { 1 } else { OUTSIDE }
+        if p.length_squared() < 1.0 {
+            SubdomainId(1)
+        } else {
+            OUTSIDE
+        }
     }
 
     fn segment_hits(&self, a: Point3, b: Point3, out: &mut Vec<SurfaceHit>) {
@@ -66,7 +70,7 @@ impl Oracle for Ball {
                 let r = (1.0 - z * z).sqrt();
                 SurfacePoint {
                     point: Point3::new(r * phi.cos(), r * phi.sin(), z),
-                    patch: 1,
+                    patch: PatchId(1),
                 }
             })
             .collect()

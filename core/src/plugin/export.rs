@@ -247,7 +247,7 @@ unsafe extern "C" fn subdomains<T: PluginOracle>(
             )
         };
         for (p, label) in points.iter().zip(out) {
-            *label = oracle.subdomain((*p).into());
+            *label = oracle.subdomain((*p).into()).0;
         }
         Ok(DM_OK)
     })
@@ -271,7 +271,7 @@ fn hits_with<T: PluginOracle>(
             let items = buffer.iter().map(|h| DmSurfaceHit {
                 point: h.point.into(),
                 t: h.t,
-                patch: h.patch,
+                patch: h.patch.0,
             });
             // SAFETY: the host passes `cap` slots and one length.
             unsafe { fill(items, out, cap, len) }
@@ -314,7 +314,7 @@ unsafe extern "C" fn initial_points<T: PluginOracle>(
         let points = unsafe { oracle::<T>(handle) }?.initial_points();
         let items = points.iter().map(|p| DmSurfacePoint {
             point: p.point.into(),
-            patch: p.patch,
+            patch: p.patch.0,
         });
         // SAFETY: the host passes `cap` slots and one length.
         unsafe { fill(items, out, cap, len) }
@@ -352,7 +352,7 @@ unsafe extern "C" fn feature_curves<T: PluginOracle>(
             .iter()
             .map(|c| {
                 let entry = DmFeatureCurve {
-                    id: c.id,
+                    id: c.id.0,
                     closed: u32::from(c.closed),
                     first,
                     len: c.points.len(),

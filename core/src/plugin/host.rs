@@ -8,7 +8,9 @@
 
 use super::abi::*;
 use crate::kernel::Point3;
-use crate::oracle::{Aabb, FeatureCurve, OUTSIDE, Oracle, SubdomainId, SurfaceHit, SurfacePoint};
+use crate::oracle::{
+    Aabb, CurveId, FeatureCurve, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
+};
 use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char, c_void};
 use std::path::{Path, PathBuf};
@@ -386,14 +388,14 @@ impl DynOracle {
         Ok(p)
     }
 
-    fn check_patch(&self, query: &'static str, patch: u32) -> Result<u32, PluginError> {
+    fn check_patch(&self, query: &'static str, patch: u32) -> Result<PatchId, PluginError> {
         if patch == 0 {
             return Err(self.contract(
                 query,
                 "returned patch id 0 (patches are numbered from 1)".into(),
             ));
         }
-        Ok(patch)
+        Ok(PatchId(patch))
     }
 
     /// Calls a capacity-protocol query with `buffer` as its output, growing it once if the plugin
@@ -464,13 +466,14 @@ impl DynOracle {
         // `DmVec3` and `DVec3` are both three packed f64; converting costs one copy and keeps the
         // ABI independent of glam's layout.
         let points: Vec<DmVec3> = points.iter().map(|&p| p.into()).collect();
-        // SAFETY: `points` and `out` hold `len` elements each.
+        // SAFETY: `points` and `out` hold `len` elements each; `SubdomainId` is a transparent
+        // `u32`, the label type of the ABI.
         let status = unsafe {
             (self.functions.subdomains)(
                 self.handle,
                 points.as_ptr(),
                 points.len(),
-                out.as_mut_ptr(),
+                out.as_mut_ptr().cast::<u32>(),
             )
         };
         self.status("subdomains", status)
@@ -478,12 +481,12 @@ impl DynOracle {
 
     /// [`Oracle::subdomain`], with the plugin's failure as an error rather than recorded.
     pub fn try_subdomain(&self, p: Point3) -> Result<SubdomainId, PluginError> {
-        let mut label = OUTSIDE;
+        let mut label = OUTSIDE.0;
         let point = DmVec3::from(p);
         // SAFETY: one point in, one label out.
         let status = unsafe { (self.functions.subdomains)(self.handle, &point, 1, &mut label) };
         self.status("subdomains", status)?;
-        Ok(label)
+        Ok(SubdomainId(label))
     }
 
     fn try_hits(
@@ -651,7 +654,7 @@ impl DynOracle {
                         .map(|&p| self.check_point(QUERY, p.into()))
                         .collect::<Result<_, _>>()?;
                     Ok(FeatureCurve {
-                        id: c.id,
+                        id: CurveId(c.id),
                         points: curve_points,
                         closed: c.closed != 0,
                     })

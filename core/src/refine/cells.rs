@@ -210,7 +210,7 @@ impl<'o> CellLevel<'o> {
         if radius < self.min_radius {
             return None;
         }
-        let size_excess = radius / self.criteria.size.at(center, sub);
+        let size_excess = radius / self.criteria.size.at(center, sub.0);
         let shape_excess = if self.criteria.radius_edge_ratio > 0.0 {
             radius / shortest_edge(&p) / self.criteria.radius_edge_ratio
         } else {

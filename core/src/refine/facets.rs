@@ -131,7 +131,7 @@ impl<'o> SurfaceLevel<'o> {
             hits: Vec::new(),
             zone: ConflictZone::default(),
             proposed_radius2: 0.0,
-            proposed_patch: 0,
+            proposed_patch: PatchId(0),
         }
     }
 
@@ -164,7 +164,7 @@ impl<'o> SurfaceLevel<'o> {
         if let Some(patches) = &mut self.vertex_patch {
             let i = v.0 as usize;
             if patches.len() <= i {
-                patches.resize(i + 1, 0);
+                patches.resize(i + 1, PatchId(0));
             }
             patches[i] = patch;
         }
@@ -175,8 +175,8 @@ impl<'o> SurfaceLevel<'o> {
     fn off_patch(&self, fv: &[VertexId; 3], patch: PatchId) -> bool {
         self.vertex_patch.as_ref().is_some_and(|patches| {
             fv.iter().any(|v| {
-                let p = patches.get(v.0 as usize).copied().unwrap_or(0);
-                p != 0 && p != patch
+                let p = patches.get(v.0 as usize).copied().unwrap_or(PatchId(0));
+                p != PatchId(0) && p != patch
             })
         })
     }
@@ -315,7 +315,7 @@ impl<'o> SurfaceLevel<'o> {
             return None;
         }
         let r = ball.radius2.sqrt();
-        let size = self.criteria.size.at(ball.center, ball.patch);
+        let size = self.criteria.size.at(ball.center, ball.patch.0);
         let mut worst: Option<f64> = None;
         let mut note = |q: f64| worst = Some(worst.map_or(q, |w: f64| w.max(q)));
         if r > size && !exempt.size {
@@ -343,7 +343,7 @@ impl<'o> SurfaceLevel<'o> {
                 note(self.criteria.angle_deg / angle.max(1e-9));
             }
         }
-        let distance = self.criteria.distance.at(ball.center, ball.patch);
+        let distance = self.criteria.distance.at(ball.center, ball.patch.0);
         if distance.is_finite() && !exempt.distance {
             let d = center.distance(ball.center);
             if d > distance {

@@ -379,7 +379,7 @@ mod tests {
             }
         }
         fn subdomain(&self, _p: Point3) -> SubdomainId {
-            1
+            SubdomainId(1)
         }
         fn segment_hits(&self, _a: Point3, _b: Point3, out: &mut Vec<SurfaceHit>) {
             out.clear();
@@ -451,7 +451,8 @@ mod tests {
                     let change = euler_characteristic_change(&tr, &cells, r);
                     let flip = |cells: &mut CellLevel<'_>, to_inside: bool| {
                         for &c in &r.cells {
-                            cells.set_subdomain(c, if to_inside { 1 } else { OUTSIDE });
+                            cells
+                                .set_subdomain(c, if to_inside { SubdomainId(1) } else { OUTSIDE });
                         }
                     };
                     flip(&mut cells, !r.inside);

@@ -13,7 +13,7 @@ use super::repair::{Validity, ValidityOptions, find_defects};
 use crate::complex::MeshComplex;
 use crate::kernel::Point3;
 use crate::optimize::{OptimizeOptions, OptimizeReport, optimize};
-use crate::oracle::{FeatureCurve, Oracle};
+use crate::oracle::{FeatureCurve, Oracle, PatchId};
 use crate::triangulation::{
     Delaunay3, InsertOutcome, InsertReport, Regular3, Triangulation, TriangulationError, VertexId,
 };
@@ -180,7 +180,7 @@ pub fn mesh_with_features<T: Triangulation<Point = Point3>>(
         let v =
             insert_ball(&mut tr, b.center, b.radius * b.radius).map_err(MeshError::InitialPoint)?;
         if let Some(v) = v {
-            surface.mark_on_patch(v, 0);
+            surface.mark_on_patch(v, PatchId(0));
         }
         vertices.push(v);
     }

@@ -479,7 +479,7 @@ fn piece_radius(
 ) -> f64 {
     let piece = &features.pieces[i];
     let p = piece.line.point_at(s);
-    let mut r = edge_size.at(p, piece.curve);
+    let mut r = edge_size.at(p, piece.curve.0);
     if let Some([a, b]) = piece.ends {
         r = r.min(corner_radius[a] + GROWTH * s);
         r = r.min(corner_radius[b] + GROWTH * (piece.line.length() - s));
@@ -847,9 +847,9 @@ fn covers(a: &ProtectingBall, b: &ProtectingBall, arc: &[Point3]) -> bool {
 mod tests {
     use super::*;
 
-    fn curve(id: CurveId, points: &[[f64; 3]], closed: bool) -> FeatureCurve {
+    fn curve(id: u32, points: &[[f64; 3]], closed: bool) -> FeatureCurve {
         FeatureCurve {
-            id,
+            id: CurveId(id),
             points: points.iter().map(|&p| Point3::from_array(p)).collect(),
             closed,
         }
@@ -862,7 +862,7 @@ mod tests {
         for a in 0..8 {
             for bit in [1, 2, 4] {
                 if a & bit == 0 {
-                    let id = curves.len() as CurveId + 1;
+                    let id = curves.len() as u32 + 1;
                     curves.push(curve(
                         id,
                         &[corner(a).to_array(), corner(a | bit).to_array()],
@@ -1130,7 +1130,7 @@ mod tests {
         let bad = [curve(3, &[[0.0, 0.0, 0.0]], false)];
         assert_eq!(
             protect(&bad, &[], &Sizing::Constant(0.1), &limits(1e-4)),
-            Err(ProtectError::BadCurve { curve: 3 })
+            Err(ProtectError::BadCurve { curve: CurveId(3) })
         );
     }
 

@@ -3,7 +3,7 @@
 
 use crate::ImageLabelError;
 use crate::grid::{ClassGrid, Interpolation};
-use delamesh_core::oracle::SubdomainId;
+use delamesh_core::oracle::{OUTSIDE, SubdomainId};
 use delamesh_formats::image::{Image, Voxels};
 
 /// Most labels an image may have: class pairs number the interface patches, which must fit a
@@ -105,9 +105,9 @@ pub(crate) fn classify_labels(
     let subdomains = labels
         .iter()
         .map(|&l| match l {
-            l if l == background => 0,
-            0 => background,
-            l => l,
+            l if l == background => OUTSIDE,
+            0 => SubdomainId(background),
+            l => SubdomainId(l),
         })
         .collect();
     let class_of = |l: u32| -> usize {
@@ -173,7 +173,7 @@ pub(crate) fn classify_isovalue(
     let (offset, dims, classes) = crop(image.dims, classes, 0);
     Classified {
         field: Field::U8(ClassGrid::new(dims, classes, 2, interpolation)),
-        subdomains: vec![0, 1],
+        subdomains: vec![OUTSIDE, SubdomainId(1)],
         offset,
     }
 }

@@ -106,7 +106,7 @@ impl ImageLabelOracle {
                 continue;
             }
             self.curves.push(FeatureCurve {
-                id: self.curves.len() as CurveId + 1,
+                id: CurveId(self.curves.len() as u32 + 1),
                 points,
                 closed,
             });
@@ -164,12 +164,12 @@ impl ImageLabelOracle {
 pub(crate) fn patch(c0: u32, c1: u32) -> PatchId {
     let (i, j) = (u64::from(c0.min(c1)), u64::from(c0.max(c1)));
     // At most MAX_LABELS + 1 classes, so the pair number fits a u32.
-    (j * (j - 1) / 2 + i + 1) as PatchId
+    PatchId((j * (j - 1) / 2 + i + 1) as u32)
 }
 
 /// The classes `[i, j]` (i < j) of a patch.
 fn classes_of_patch(patch: PatchId) -> Option<[u32; 2]> {
-    let p = u64::from(patch.checked_sub(1)?);
+    let p = u64::from(patch.0.checked_sub(1)?);
     // The largest j with j (j - 1) / 2 ≤ p.
     let mut j = ((1.0 + (1.0 + 8.0 * p as f64).sqrt()) / 2.0) as u64;
     while j * (j.saturating_sub(1)) / 2 > p {
@@ -262,11 +262,11 @@ mod tests {
             for i in 0..j {
                 let p = patch(i, j);
                 assert_eq!(patch(j, i), p);
-                assert!(p >= 1 && seen.insert(p));
+                assert!(p.0 >= 1 && seen.insert(p));
                 assert_eq!(classes_of_patch(p), Some([i, j]));
             }
         }
-        assert_eq!(classes_of_patch(0), None);
+        assert_eq!(classes_of_patch(PatchId(0)), None);
         let big = crate::MAX_LABELS as u32;
         assert_eq!(classes_of_patch(patch(big - 1, big)), Some([big - 1, big]));
     }

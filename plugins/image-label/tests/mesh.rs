@@ -4,7 +4,7 @@
 //! NIfTI and VTI gives the same bytes.
 
 use delamesh_core::complex::MeshComplex;
-use delamesh_core::oracle::Oracle;
+use delamesh_core::oracle::{OUTSIDE, Oracle, PatchId, SubdomainId};
 use delamesh_core::quality;
 use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
 use delamesh_core::refine::{Limits, MeshOptions, mesh_domain};
@@ -61,7 +61,7 @@ fn volumes(c: &MeshComplex) -> BTreeMap<u32, f64> {
     let mut v = BTreeMap::new();
     for (t, &s) in c.tet_subdomain.iter().enumerate() {
         let p = c.tet_points(t);
-        *v.entry(s).or_insert(0.0) += (p[1] - p[0]).cross(p[2] - p[0]).dot(p[3] - p[0]) / 6.0;
+        *v.entry(s.0).or_insert(0.0) += (p[1] - p[0]).cross(p[2] - p[0]).dot(p[3] - p[0]) / 6.0;
     }
     v
 }
@@ -84,7 +84,7 @@ fn assert_tets_in_their_voxels(
         }
         away += 1;
         let voxel_centre = (centroid / spacing).round() * spacing;
-        if u32::from(label(voxel_centre)) != s {
+        if u32::from(label(voxel_centre)) != s.0 {
             wrong += 1;
         }
     }
@@ -102,12 +102,16 @@ fn assert_closed_interfaces(c: &MeshComplex, oracle: &ImageLabelOracle, euler: &
     let mut by_pair: BTreeMap<[u32; 2], Vec<[u32; 3]>> = BTreeMap::new();
     let mut unrestricted = 0;
     for (f, &p) in c.facet_patch.iter().enumerate() {
-        let mut pair = c.facet_subdomains[f];
+        let mut pair = c.facet_subdomains[f].map(|s| s.0);
         pair.sort_unstable();
         by_pair.entry(pair).or_default().push(c.facets[f]);
         match p {
-            0 => unrestricted += 1,
-            p => assert_eq!(oracle.patch_subdomains(p), Some(pair), "facet {f}"),
+            PatchId(0) => unrestricted += 1,
+            p => assert_eq!(
+                oracle.patch_subdomains(p).map(|s| s.map(|s| s.0)),
+                Some(pair),
+                "facet {f}"
+            ),
         }
     }
     assert!(
@@ -148,10 +152,10 @@ fn a_ball_is_meshed_inside_its_voxels_with_its_volume() {
     let label = |p: DVec3| u8::from((p - c0).length() <= r);
     let img = image([25, 25, 25], DVec3::ONE, label);
     let oracle = ImageLabelOracle::new(&img, &ImageOptions::default()).expect("valid image");
-    assert_eq!(oracle.subdomains(), vec![1]);
+    assert_eq!(oracle.subdomains(), vec![SubdomainId(1)]);
     let (size, distance) = (3.0, 0.5);
     let c = mesh(&oracle, criteria(size, distance));
-    assert!(c.tet_subdomain.iter().all(|&s| s == 1));
+    assert!(c.tet_subdomain.iter().all(|&s| s == SubdomainId(1)));
     assert_tets_in_their_voxels(
         &c,
         DVec3::ONE,
@@ -181,7 +185,7 @@ fn nested_balls_give_two_labels_and_two_closed_interfaces() {
     };
     let img = image([25, 25, 25], DVec3::ONE, label);
     let oracle = ImageLabelOracle::new(&img, &ImageOptions::default()).expect("valid image");
-    assert_eq!(oracle.subdomains(), vec![3, 7]);
+    assert_eq!(oracle.subdomains(), vec![SubdomainId(3), SubdomainId(7)]);
     let distance = 0.4;
     let c = mesh(&oracle, criteria(2.5, distance));
     let dist = |p: DVec3| {
@@ -391,7 +395,7 @@ fn bad_images_are_errors_not_panics() {
 fn assert_closed_regions(c: &MeshComplex, labels: &[u32], euler: i64) {
     for &l in labels {
         let facets: Vec<[u32; 3]> = (0..c.facets.len())
-            .filter(|&f| c.facet_subdomains[f].contains(&l))
+            .filter(|&f| c.facet_subdomains[f].contains(&SubdomainId(l)))
             .map(|f| c.facets[f])
             .collect();
         let t = quality::surface_topology(&facets);
@@ -641,7 +645,7 @@ fn random_blobs_of_labels_are_meshed_along_their_junctions() {
     // The boundary of the labelled region is a closed 2-manifold (the validity repairs' target;
     // the interfaces between labels inside it are not repaired to manifolds yet).
     let outer: Vec<[u32; 3]> = (0..c.facets.len())
-        .filter(|&f| c.facet_subdomains[f].contains(&0))
+        .filter(|&f| c.facet_subdomains[f].contains(&OUTSIDE))
         .map(|f| c.facets[f])
         .collect();
     let t = quality::surface_topology(&outer);
@@ -675,7 +679,7 @@ fn a_single_cube_of_four_labels_keeps_its_junction_and_volumes() {
         for j in 0..n {
             for i in 0..n {
                 let p = (DVec3::new(i as f64, j as f64, k as f64) + 0.5) / n as f64;
-                *exact.entry(oracle.subdomain(p)).or_insert(0.0) += 1.0 / (n * n * n) as f64;
+                *exact.entry(oracle.subdomain(p).0).or_insert(0.0) += 1.0 / (n * n * n) as f64;
             }
         }
     }
@@ -683,7 +687,7 @@ fn a_single_cube_of_four_labels_keeps_its_junction_and_volumes() {
     for l in [1, 2, 3] {
         // Each facet within the facet distance of the interfaces (the surface level's bound).
         let area: f64 = (0..c.facets.len())
-            .filter(|&f| c.facet_subdomains[f].contains(&l))
+            .filter(|&f| c.facet_subdomains[f].contains(&SubdomainId(l)))
             .map(|f| {
                 let [a, b, d] = c.facets[f].map(|v| c.points[v as usize]);
                 0.5 * (b - a).cross(d - a).length()

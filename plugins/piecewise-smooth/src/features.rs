@@ -274,7 +274,7 @@ fn curves_of(
             patches.sort_unstable();
             patches.dedup();
             Curve {
-                id: i as CurveId + 1,
+                id: CurveId(i as u32 + 1),
                 points: c.vertices.iter().map(|&v| positions[v as usize]).collect(),
                 vertices: c.vertices,
                 closed: c.closed,
@@ -472,16 +472,16 @@ fn patches(
             sets.union(u.triangle, w.triangle);
         }
     }
-    let mut label = vec![0 as PatchId; triangles.len()];
+    let mut label = vec![PatchId(0); triangles.len()];
     let mut next = 0;
     for t in 0..triangles.len() {
         if copy_of[t].is_some() {
             continue;
         }
         let root = sets.find(t as u32) as usize;
-        if label[root] == 0 {
+        if label[root] == PatchId(0) {
             next += 1;
-            label[root] = next;
+            label[root] = PatchId(next);
         }
         label[t] = label[root];
     }

@@ -15,11 +15,11 @@ fn extract(s: &SurfaceMesh) -> Features {
 fn check_consistency(f: &Features) {
     // Ids from 1, in order.
     for (i, c) in f.curves.iter().enumerate() {
-        assert_eq!(c.id as usize, i + 1);
+        assert_eq!(c.id.0 as usize, i + 1);
         assert!(c.points.len() >= if c.closed { 3 } else { 2 });
         assert_eq!(c.points.len(), c.vertices.len());
         assert!(!c.patches.is_empty());
-        assert!(c.patches.iter().all(|&p| p >= 1 && p <= f.num_patches));
+        assert!(c.patches.iter().all(|&p| p.0 >= 1 && p.0 <= f.num_patches));
         // Open curves run between corners, and only their ends are corners.
         let is_corner = |v: &u32| f.corners.binary_search_by_key(v, |k| k.vertex).is_ok();
         if !c.closed {
@@ -34,7 +34,7 @@ fn check_consistency(f: &Features) {
     // Each corner lists exactly the curves ending there.
     for k in &f.corners {
         assert_eq!(k.point, f.positions[k.vertex as usize]);
-        let ending: Vec<u32> = f
+        let ending: Vec<_> = f
             .curves
             .iter()
             .filter(|c| c.vertices[0] == k.vertex || *c.vertices.last().unwrap() == k.vertex)
@@ -43,7 +43,7 @@ fn check_consistency(f: &Features) {
         assert_eq!(k.curves, ending);
     }
     // Every patch id is used, and no other.
-    let mut used: Vec<u32> = f.triangle_patches.clone();
+    let mut used: Vec<u32> = f.triangle_patches.iter().map(|p| p.0).collect();
     used.sort_unstable();
     used.dedup();
     assert_eq!(used, (1..=f.num_patches).collect::<Vec<_>>());

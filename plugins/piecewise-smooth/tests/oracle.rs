@@ -30,7 +30,7 @@ fn each_face_of_a_cube_is_hit_with_its_own_patch() {
         assert!(hits.is_empty(), "short segment stays inside");
         o.segment_hits(c, c + d + DVec3::new(0.013, 0.021, 0.017), &mut hits);
         assert_eq!(hits.len(), 1);
-        patches.push(hits[0].patch);
+        patches.push(hits[0].patch.0);
     }
     patches.sort_unstable();
     assert_eq!(patches, vec![1, 2, 3, 4, 5, 6]);
@@ -38,12 +38,12 @@ fn each_face_of_a_cube_is_hit_with_its_own_patch() {
     assert!(
         o.initial_points()
             .iter()
-            .all(|p| (1..=6).contains(&p.patch))
+            .all(|p| (1..=6).contains(&p.patch.0))
     );
     // Features through the trait: ids 1..=12, corners exactly the cube's vertices.
     let curves = o.feature_curves();
     assert_eq!(
-        curves.iter().map(|c| c.id).collect::<Vec<_>>(),
+        curves.iter().map(|c| c.id.0).collect::<Vec<_>>(),
         (1..=12).collect::<Vec<_>>()
     );
     let mut corners: Vec<[u64; 3]> = o

@@ -225,7 +225,7 @@ impl PolyhedralOracle {
         repairs.crossing_triangles = crossed.iter().filter(|&&c| c).count();
         // Caps get a patch of their own, after the input's.
         let patches: Option<Vec<PatchId>> = patches.map(|p| {
-            let cap = p.iter().max().map_or(1, |&m| m + 1);
+            let cap = PatchId(p.iter().max().map_or(1, |&m| m.0 + 1));
             let of = |s: &Option<usize>| s.map_or(cap, |i| p[i]);
             repaired.source.iter().map(of).collect()
         });
@@ -260,7 +260,7 @@ impl PolyhedralOracle {
         let num_components = component.iter().max().map_or(0, |&c| c as usize + 1);
         let patch = match patches {
             Some(p) => p.to_vec(),
-            None => component.iter().map(|&c| c + 1).collect(),
+            None => component.iter().map(|&c| PatchId(c + 1)).collect(),
         };
         let bbox = Aabb::of(&geometry.iter().flatten().copied().collect::<Vec<_>>())
             .ok_or(PolyhedralError::Empty)?;
@@ -284,7 +284,7 @@ impl PolyhedralOracle {
             winding,
         };
         if oracle.winding.is_some() {
-            oracle.inner_label = vec![1; num_components];
+            oracle.inner_label = vec![SubdomainId(1); num_components];
             // A surface in an axis plane encloses nothing (and every line of the volume
             // integral would lie in its plane).
             if (bbox.max - bbox.min).min_element() <= 0.0 {
@@ -377,7 +377,7 @@ impl PolyhedralOracle {
         for k in 0..n {
             let own = if volume[k] > 0.0 { 1 } else { -1 };
             if own + around[k].iter().sum::<i32>() != 0 {
-                self.inner_label[k] = next_label;
+                self.inner_label[k] = SubdomainId(next_label);
                 next_label += 1;
                 inside_volume[k] += volume[k].abs();
             }
@@ -715,7 +715,7 @@ impl PolyhedralOracle {
         let (w, _) = self.windings(p, |_| false, self.depth.len());
         if self.winding.is_some() {
             return if w.iter().sum::<i32>() >= 1 {
-                1
+                SubdomainId(1)
             } else {
                 OUTSIDE
             };

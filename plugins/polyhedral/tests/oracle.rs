@@ -91,7 +91,7 @@ fn segment_hits_are_sorted_with_patches() {
     assert_eq!(hits.len(), 2);
     assert!((hits[0].point.x - 0.0).abs() < 1e-12 && (hits[1].point.x - 1.0).abs() < 1e-12);
     assert!(hits[0].t < hits[1].t);
-    assert!(hits.iter().all(|h| h.patch == 1));
+    assert!(hits.iter().all(|h| h.patch.0 == 1));
     // Through an edge shared by two triangles (the face diagonal): reported once.
     hits.clear();
     o.segment_hits(
@@ -141,7 +141,7 @@ fn initial_points_lie_on_every_component() {
     );
     let o = PolyhedralOracle::new(&p, &t, None).expect("nested cubes");
     let pts = o.initial_points();
-    assert!(pts.iter().any(|s| s.patch == 1) && pts.iter().any(|s| s.patch == 2));
+    assert!(pts.iter().any(|s| s.patch.0 == 1) && pts.iter().any(|s| s.patch.0 == 2));
     for s in &pts {
         assert!(o.distance_to_surface(s.point) < 1e-9);
     }

@@ -8,7 +8,7 @@ use crate::patch::{Patch, Surface};
 use crate::{Scheme, SubdivisionError, SubdivisionOptions};
 use delamesh_core::mesh::component_euler_characteristics;
 use delamesh_core::oracle::{
-    Aabb, FeatureCurve, OUTSIDE, Oracle, SubdomainId, SurfaceHit, SurfacePoint,
+    Aabb, CurveId, FeatureCurve, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
 };
 use delamesh_formats::PolygonMesh;
 use delamesh_piecewise_smooth::{Polyline, chain};
@@ -179,7 +179,7 @@ impl SubdivisionOracle {
             .step_by(stride)
             .map(|p| SurfacePoint {
                 point: p.surface.eval(self.scheme, centre).point,
-                patch: p.group,
+                patch: PatchId(p.group),
             })
             .collect()
     }
@@ -233,7 +233,7 @@ impl SubdivisionOracle {
             }
             if points.len() >= 2 {
                 self.curves.push(FeatureCurve {
-                    id: i as u32 + 1,
+                    id: CurveId(i as u32 + 1),
                     points,
                     closed: c.closed,
                 });
@@ -335,7 +335,7 @@ impl SubdivisionOracle {
             out.push(SurfaceHit {
                 point: c.point.clamp(self.bbox.min, self.bbox.max),
                 t: c.t,
-                patch: group,
+                patch: PatchId(group),
             });
         }
     }
@@ -405,7 +405,7 @@ impl Oracle for SubdivisionOracle {
         } else {
             self.parity(p, DIRECTIONS[2])
         };
-        if inside { 1 } else { OUTSIDE }
+        if inside { SubdomainId(1) } else { OUTSIDE }
     }
 
     fn segment_hits(&self, a: DVec3, b: DVec3, out: &mut Vec<SurfaceHit>) {

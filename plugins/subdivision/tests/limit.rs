@@ -178,7 +178,7 @@ fn hits_lie_on_their_segment_and_the_inside_is_inside() {
                 assert!(on.distance(h.point) < 1e-9 * b.diagonal());
             }
             // Parity along this segment agrees with the inside test at its start.
-            let inside = o.subdomain(a) != 0;
+            let inside = o.subdomain(a).0 != 0;
             assert_eq!(hits.len() % 2 == 1, inside, "segment {k}");
             assert!(hits.windows(2).all(|w| w[0].t <= w[1].t));
         }

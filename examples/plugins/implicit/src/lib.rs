@@ -12,7 +12,9 @@
 //! `delamesh mesh --plugin target/release/libdelamesh_implicit.so --plugin-config 'shape=torus'`.
 
 use delamesh_core::kernel::Point3;
-use delamesh_core::oracle::{Aabb, OUTSIDE, Oracle, SubdomainId, SurfaceHit, SurfacePoint};
+use delamesh_core::oracle::{
+    Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
+};
 use delamesh_core::plugin::PluginOracle;
 
 /// The shapes this example knows, in their own local frame (centred at the origin).
@@ -138,7 +140,7 @@ impl ImplicitOracle {
         out.push(SurfaceHit {
             point: a.lerp(b, t),
             t: t * scale,
-            patch: 1,
+            patch: PatchId(1),
         });
     }
 }
@@ -149,7 +151,11 @@ impl Oracle for ImplicitOracle {
     }
 
     fn subdomain(&self, p: Point3) -> SubdomainId {
-        if self.inside(p) { 1 } else { OUTSIDE }
+        if self.inside(p) {
+            SubdomainId(1)
+        } else {
+            OUTSIDE
+        }
     }
 
     fn segment_hits(&self, a: Point3, b: Point3, out: &mut Vec<SurfaceHit>) {
@@ -199,7 +205,7 @@ impl Oracle for ImplicitOracle {
                     if self.inside(a) != self.inside(b) {
                         points.push(SurfacePoint {
                             point: a.lerp(b, self.bisect(a, b, 0.0, 1.0)),
-                            patch: 1,
+                            patch: PatchId(1),
                         });
                     }
                 }

@@ -5,7 +5,9 @@
 //! point on: a fault that passes the host's self-check and strikes in the middle of meshing).
 
 use delamesh_core::kernel::Point3;
-use delamesh_core::oracle::{Aabb, OUTSIDE, Oracle, SubdomainId, SurfaceHit, SurfacePoint};
+use delamesh_core::oracle::{
+    Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
+};
 use delamesh_core::plugin::PluginOracle;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -42,7 +44,11 @@ impl Oracle for FaultySphere {
             }
             _ => {}
         }
-        if p.length() < 1.0 { 1 } else { OUTSIDE }
+        if p.length() < 1.0 {
+            SubdomainId(1)
+        } else {
+            OUTSIDE
+        }
     }
 
     fn segment_hits(&self, a: Point3, b: Point3, out: &mut Vec<SurfaceHit>) {
@@ -64,7 +70,11 @@ impl Oracle for FaultySphere {
                     Fault::OutsideHits => a + t * d + Point3::splat(10.0),
                     _ => a + t * d,
                 };
-                out.push(SurfaceHit { point, t, patch: 1 });
+                out.push(SurfaceHit {
+                    point,
+                    t,
+                    patch: PatchId(1),
+                });
             }
         }
     }
@@ -89,7 +99,7 @@ impl Oracle for FaultySphere {
             .iter()
             .map(|&p| SurfacePoint {
                 point: p * offset,
-                patch: 1,
+                patch: PatchId(1),
             })
             .collect()
     }
