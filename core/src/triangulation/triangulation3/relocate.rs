@@ -409,4 +409,43 @@ mod tests {
         }
         assert_eq!(cell_sets(&rt), cell_sets(&fresh));
     }
+
+    #[test]
+    fn a_vertex_moves_onto_a_plane_of_facets_but_not_onto_the_hull() {
+        // A grid: its interior vertices have coplanar neighbours, so a move within a grid plane
+        // ends on the boundary of the cell it lands in.
+        let mut pts = Vec::new();
+        for x in 0..5 {
+            for y in 0..5 {
+                for z in 0..5 {
+                    pts.push(Point3::new(x as f64, y as f64, z as f64));
+                }
+            }
+        }
+        let mut dt = Delaunay3::new();
+        for &p in &pts {
+            dt.insert(p).unwrap();
+        }
+        let mut report = MoveReport::default();
+        let inner = VertexId(2 * 25 + 2 * 5 + 2);
+        let p = Point3::new(2.25, 2.0, 2.0);
+        assert!(dt.move_vertex(inner, p, 0.0, &mut report).unwrap());
+        pts[inner.0 as usize] = p;
+        assert_eq!(check_delaunay3(&dt), Ok(()));
+        let mut fresh = Delaunay3::new();
+        for &q in &pts {
+            fresh.insert(q).unwrap();
+        }
+        assert_eq!(cell_sets(&dt), cell_sets(&fresh));
+        // Onto a hull facet, or onto another vertex: refused, nothing changed.
+        let before = cell_sets(&dt);
+        let near_hull = VertexId(25 + 5 + 1);
+        let on_hull = Point3::new(1.0, 1.5, 0.0);
+        assert!(
+            !dt.move_vertex(near_hull, on_hull, 0.0, &mut report)
+                .unwrap()
+        );
+        assert!(!dt.move_vertex(near_hull, pts[0], 0.0, &mut report).unwrap());
+        assert_eq!(cell_sets(&dt), before);
+    }
 }
