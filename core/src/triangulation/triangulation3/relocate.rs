@@ -83,7 +83,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
         p: Point3,
         w: f64,
         report: &mut MoveReport,
-        strictly_inside: bool,
+        check_place: bool,
     ) -> Result<bool, TriangulationError> {
         report.clear();
         let index = v.0 as usize;
@@ -95,7 +95,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
             return Ok(false);
         }
         let (old_p, old_w) = (self.pt(v.0), self.kernel.weight(v.0));
-        if strictly_inside && p != old_p && !self.inside_a_cell(p, v) {
+        if check_place && p != old_p && !self.inside_a_cell(p, v) {
             return Ok(false);
         }
         if !self.remove_interior(v.0, report) {
@@ -108,7 +108,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 let removed = self.remove_interior(v.0, report);
                 debug_assert!(
                     removed,
-                    "a vertex strictly inside a cell is not on the hull"
+                    "a vertex inside a cell and off the hull is not on the hull"
                 );
                 for x in hidden {
                     self.reinsert(x.0, self.pt(x.0), self.kernel.weight(x.0), report);
