@@ -438,6 +438,16 @@ impl<'p> Mesher<'p> {
                 times.refinement = o.times.refinement;
                 times.complex = o.times.complex;
                 warnings = validity_warnings(&o.validity, options.validity.manifold);
+                // A few such facets are a CSG seam's micro-sheets; one in a hundred is a part.
+                if o.validity.unresolved_sheets * 100 >= o.complex.facets.len().max(1) {
+                    let floor = options.criteria.refinement_floor(&oracle.bounding_box());
+                    warnings.push(format!(
+                        "{} boundary facets lie where two sheets of the surface are closer than \
+                         {floor:.3e} (--edge-min-size): a plate or a slot thinner than that may be \
+                         lost or closed; a smaller --edge-min-size resolves it",
+                        o.validity.unresolved_sheets
+                    ));
+                }
                 times.optimization = o.times.optimization;
                 (o.complex, o.stats, None, o.optimization)
             }

@@ -7,7 +7,9 @@
 //! `tests/data/csg/` holds parts written by `benches/csg_parts.py --seed 900` that once meshed
 //! without end (0907), with thousands of flat tets (0913) or with a pinched boundary (0900), and
 //! parts of `--seed 4711` whose pinched seams, relabelled into a 2-manifold, came out with
-//! handles the input does not have (4739, 4765).
+//! handles the input does not have (4739, 4765). Parts of `--seed 5151` with a fin or a plate
+//! thinner than the smallest protecting ball (5165, 5175) refined both of its sheets down to the
+//! refinement floor: 64,000 vertices, or the vertex limit.
 
 use delamesh::core::mesh::{SurfaceMesh, TetMesh};
 use delamesh::{MeshSettings, Mesher};
@@ -154,5 +156,40 @@ fn csg_parts_with_unresolved_seams_give_valid_solids() {
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         let (chi, volume) = (input.euler_characteristic, input.signed_volume);
         assert_valid_solid(&meshed.tet_mesh(), chi, volume, 0.01, name);
+    }
+}
+
+/// Sheets closer than the refinement floor are not separated: meshing ends at the criteria's
+/// scale instead of refining both sheets down to the floor, the solid stays valid, and a warning
+/// names the option that would resolve them.
+#[test]
+fn sheets_closer_than_the_floor_are_not_refined_down_to_it() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/csg");
+    for name in ["csg_5165.off", "csg_5175.off"] {
+        let path = dir.join(name);
+        let input = delamesh::formats::read_surface(&path, None)
+            .expect("readable fixture")
+            .mesh
+            .topology();
+        let meshed = Mesher::new(MeshSettings::default())
+            .mesh_file(&path)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let mesh = meshed.tet_mesh();
+        let (chi, volume) = (input.euler_characteristic, input.signed_volume);
+        assert_valid_solid(&mesh, chi, volume, 0.01, name);
+        // The criteria alone ask for about 2,000 vertices; the sheets at the floor, 30 times that.
+        assert!(
+            mesh.positions.len() < 6_000,
+            "{name}: {} vertices",
+            mesh.positions.len()
+        );
+        assert!(
+            meshed
+                .warnings
+                .iter()
+                .any(|w| w.contains("--edge-min-size")),
+            "{name}: no warning about the unresolved sheets in {:?}",
+            meshed.warnings
+        );
     }
 }

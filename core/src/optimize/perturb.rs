@@ -25,13 +25,25 @@ const RANDOM_TRIES: usize = 2;
 /// Sweeps over the slivers at most.
 const MAX_SWEEPS: usize = 6;
 
-/// Perturbs the vertices of the cells below `bound` degrees, worst first, until a sweep improves
-/// nothing or the deadline passes. Returns the number of moves kept.
+/// The bounds (degrees) the perturbation works up to before `bound`, as CGAL's perturber raises
+/// its own: the worst cells first get every move (a cell at 15° no longer takes the move that a
+/// 3° neighbour needed), then the bound rises and the cells a step refused are tried again.
+const SCHEDULE_DEG: [f64; 2] = [10.0, 14.0];
+
+/// Perturbs the vertices of the cells below each bound of [`SCHEDULE_DEG`] under `bound` and then
+/// `bound` degrees, worst first, until a sweep improves nothing or the deadline passes. Returns
+/// the number of moves kept.
 pub(super) fn perturb(ws: &mut Workspace<'_>, bound: f64, deadline: &Deadline) -> usize {
     let mut rng = 0x9E37_79B9_7F4A_7C15u64;
-    ws.sweep_slivers(bound, deadline, MAX_SWEEPS, |ws, c| {
-        ws.peel(c) || perturb_cell(ws, c, &mut rng)
-    })
+    let bounds = SCHEDULE_DEG.into_iter().filter(|&b| b < bound);
+    bounds
+        .chain(std::iter::once(bound))
+        .map(|b| {
+            ws.sweep_slivers(b, deadline, MAX_SWEEPS, |ws, c| {
+                ws.peel(c) || perturb_cell(ws, c, &mut rng)
+            })
+        })
+        .sum()
 }
 
 /// Where a vertex of a sliver may go: anywhere (inside a subdomain), along its patch (a
@@ -123,9 +135,11 @@ fn perturb_cell(ws: &mut Workspace<'_>, c: CellId, rng: &mut u64) -> bool {
         for q in tries {
             let w = ws.rt.weight(v);
             if let Some(change) = ws.try_move(v, q, w) {
-                let on_surface =
-                    !fixed_boundary || (ws.none_folded(v, &normals) && ws.surface_near_around(v));
-                if change.after > change.before && on_surface {
+                // The surface checks query the oracle: only for a move that helps.
+                let on_surface = || {
+                    !fixed_boundary || (ws.none_folded(v, &normals) && ws.surface_near_around(v))
+                };
+                if change.after > change.before && on_surface() {
                     return true;
                 }
                 ws.undo(change);

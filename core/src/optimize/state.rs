@@ -12,7 +12,7 @@
 use crate::complex::{MeshComplex, VertexDimension};
 use crate::kernel::Point3;
 use crate::oracle::{OUTSIDE, PatchId, SubdomainId};
-use crate::quality::{dihedral_angles_deg, tet_volume};
+use crate::quality::tet_volume;
 use crate::refine::criteria::Sizing;
 use crate::refine::curves::Polyline;
 use crate::refine::{facet_vertices, triangle_circumcenter};
@@ -141,6 +141,32 @@ fn curve_vertices(
     (curves, curve_of)
 }
 
+/// How far the [`frame`] lies outside the mesh, in diagonals of its bounding box.
+const FRAME_DISTANCE: f64 = 100.0;
+
+/// The corners of a cube far around `points`: fixed vertices outside the domain, so that no mesh
+/// vertex is on the convex hull of the triangulation, where a vertex cannot move.
+fn frame(points: &[Point3]) -> Vec<(Point3, f64)> {
+    let (lo, hi) = points.iter().fold(
+        (
+            Point3::splat(f64::INFINITY),
+            Point3::splat(f64::NEG_INFINITY),
+        ),
+        |(lo, hi), &p| (lo.min(p), hi.max(p)),
+    );
+    if !(lo.x <= hi.x && lo.y <= hi.y && lo.z <= hi.z) {
+        return Vec::new();
+    }
+    let center = (lo + hi) * 0.5;
+    let reach = FRAME_DISTANCE * hi.distance(lo).max(f64::MIN_POSITIVE.sqrt());
+    (0..8)
+        .map(|k| {
+            let sign = |bit: usize| if k >> bit & 1 == 1 { reach } else { -reach };
+            (center + Point3::new(sign(0), sign(1), sign(2)), 0.0)
+        })
+        .collect()
+}
+
 /// Sorted vertices of a cell.
 fn quad_key(q: [VertexId; 4]) -> [u32; 4] {
     let mut k = q.map(|v| v.0);
@@ -169,15 +195,29 @@ pub(super) fn positive(mut q: [VertexId; 4]) -> [VertexId; 4] {
     q
 }
 
-/// Smallest dihedral angle (degrees) of the tetrahedron; 0 when flat or inverted.
+/// Smallest dihedral angle (degrees) of the tetrahedron; 0 when flat or inverted. The angle at
+/// the edge shared by the faces opposite `k` and `l` is π minus the angle between their outward
+/// normals, so the smallest is the arccosine of the largest `-n_k·n_l`: one arccosine and no
+/// allocation (the optimisers evaluate it for every cell of every move they try).
 pub(super) fn min_dihedral(p: &[Point3; 4]) -> f64 {
     if tet_volume(p) <= 0.0 {
         return 0.0;
     }
-    dihedral_angles_deg(p)
-        .into_iter()
-        .fold(f64::INFINITY, f64::min)
-        .max(0.0)
+    const OTHERS: [[usize; 3]; 4] = [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]];
+    let normal = |k: usize| {
+        let [a, b, c] = OTHERS[k].map(|m| p[m]);
+        let n = (b - a).cross(c - a);
+        let n = if n.dot(p[k] - a) > 0.0 { -n } else { n };
+        n.normalize_or_zero()
+    };
+    let n = [normal(0), normal(1), normal(2), normal(3)];
+    let mut largest = -1.0f64;
+    for k in 0..4 {
+        for l in k + 1..4 {
+            largest = largest.max(-n[k].dot(n[l]));
+        }
+    }
+    largest.clamp(-1.0, 1.0).acos().to_degrees().max(0.0)
 }
 
 impl<'o> Workspace<'o> {
@@ -191,14 +231,32 @@ impl<'o> Workspace<'o> {
         facet_size: Sizing,
         cell_size: Sizing,
     ) -> Result<Self, WorkspaceError> {
-        let points: Vec<(Point3, f64)> = complex
+        let sizes = (facet_distance, facet_size, cell_size);
+        Self::build(complex, weights, oracle, sizes.clone(), true)
+            .or_else(|_| Self::build(complex, weights, oracle, sizes, false))
+    }
+
+    /// The workspace, its triangulation with the [`frame`] around the mesh vertices or without
+    /// (a mesh cell whose orthosphere reaches the frame is no longer regular with it).
+    fn build(
+        complex: &MeshComplex,
+        weights: &[f64],
+        oracle: &'o dyn crate::oracle::Oracle,
+        (facet_distance, facet_size, cell_size): (Sizing, Sizing, Sizing),
+        framed: bool,
+    ) -> Result<Self, WorkspaceError> {
+        let mut points: Vec<(Point3, f64)> = complex
             .points
             .iter()
             .zip(weights.iter().chain(std::iter::repeat(&0.0)))
             .map(|(&p, &w)| (p, w))
             .collect();
-        let (rt, vertex_of) =
+        if framed {
+            points.extend(frame(&complex.points));
+        }
+        let (rt, mut vertex_of) =
             Regular3::from_weighted_points(&points).map_err(|_| WorkspaceError::Vertices)?;
+        let frame_vertices = vertex_of.split_off(complex.points.len());
         let mut seen = vec![false; rt.num_vertices()];
         for &v in &vertex_of {
             if rt.is_hidden(v) || std::mem::replace(&mut seen[v.0 as usize], true) {
@@ -227,6 +285,9 @@ impl<'o> Workspace<'o> {
         let mut dimension = vec![VertexDimension::Volume; rt.num_vertices()];
         for (i, &v) in vertex_of.iter().enumerate() {
             dimension[v.0 as usize] = complex.vertex_dimension[i];
+        }
+        for v in frame_vertices {
+            dimension[v.0 as usize] = VertexDimension::Corner;
         }
         let feature_edges = complex
             .feature_edges

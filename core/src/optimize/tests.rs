@@ -9,6 +9,7 @@ use crate::oracle::{Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, Sur
 use crate::quality::surface_topology;
 use crate::refine::criteria::{CellCriteria, FacetCriteria, MeshCriteria, Sizing};
 use crate::refine::{Limits, MeshOptions, mesh_domain};
+use crate::triangulation::Triangulation;
 use crate::triangulation::validity::check_regular3;
 
 /// The unit ball.
@@ -222,4 +223,37 @@ fn no_optimiser_leaves_the_mesh_as_it_is() {
     );
     assert_eq!(same, mesh);
     assert!(report.steps.is_empty());
+}
+
+#[test]
+fn surface_vertices_on_the_hull_of_the_mesh_can_move() {
+    // Every vertex on the sphere is on the convex hull of the mesh vertices; the workspace's
+    // frame puts them inside its triangulation, so a small move inwards is a valid move.
+    let mesh = refined();
+    let c = criteria();
+    let mut ws = Workspace::new(
+        &mesh,
+        &[],
+        &Ball,
+        c.facet.distance,
+        c.facet.size,
+        c.cell.size,
+    )
+    .expect("taken over");
+    let surface: Vec<_> = (0..ws.rt.num_vertices())
+        .map(|i| crate::triangulation::VertexId(i as u32))
+        .filter(|&v| ws.dimension[v.0 as usize] == VertexDimension::Surface)
+        .take(20)
+        .collect();
+    assert!(!surface.is_empty());
+    for v in surface {
+        let p = ws.rt.point(v);
+        let change = ws
+            .try_move(v, p * (1.0 - 0.1 * DISTANCE), 0.0)
+            .expect("a small move inwards keeps the boundary");
+        ws.undo(change);
+        assert_eq!(ws.rt.point(v), p);
+    }
+    assert_eq!(check_regular3(&ws.rt), Ok(()));
+    assert_valid_ball(&ws.into_complex(mesh.clone()), volume(&mesh));
 }

@@ -136,10 +136,6 @@ pub const MIN_VERTEX_BUDGET: usize = 100_000;
 /// Largest automatic vertex limit (the limit before it was automatic).
 pub const MAX_VERTEX_BUDGET: usize = 2_000_000;
 
-/// Refinement floor as a fraction of the smallest protecting ball (see
-/// [`MeshCriteria::refinement_floor`]).
-pub const REFINEMENT_FLOOR_FRACTION: f64 = 0.25;
-
 impl MeshCriteria {
     /// The smallest protecting ball radius for a domain with bounding box `bbox`.
     pub fn edge_min_size_for(&self, bbox: &Aabb) -> f64 {
@@ -192,16 +188,17 @@ impl MeshCriteria {
         }
     }
 
-    /// Radius under which no facet or cell is refined: [`REFINEMENT_FLOOR_FRACTION`] of the
-    /// finest scale asked for (the smallest protecting ball, or a smaller constant size or
-    /// distance), for every domain, with features or not, so that refinement near a seam finer
-    /// than that ends.
+    /// Radius under which no facet or cell is refined: the finest scale asked for (the smallest
+    /// protecting ball, or a smaller constant size or distance), for every domain, with features
+    /// or not, so that refinement near a seam finer than that ends. Sheets of the surface closer
+    /// than this are not separated (a plate thinner than the smallest ball may be lost): resolving
+    /// them would take points in proportion to the area over the square of their gap, and a
+    /// smaller `edge_min_size` asks for that.
     pub fn refinement_floor(&self, bbox: &Aabb) -> f64 {
-        let finest = [&self.facet.size, &self.facet.distance, &self.cell.size]
+        [&self.facet.size, &self.facet.distance, &self.cell.size]
             .into_iter()
             .filter_map(Sizing::smallest)
-            .fold(self.edge_min_size_for(bbox), f64::min);
-        REFINEMENT_FLOOR_FRACTION * finest
+            .fold(self.edge_min_size_for(bbox), f64::min)
     }
 
     /// Criteria that give a medium-resolution mesh of any domain, scaled by its bounding box, so

@@ -31,6 +31,10 @@ pub struct SurfaceBall {
     pub radius2: f64,
     /// The patch the centre lies on.
     pub patch: PatchId,
+    /// Patch of another crossing of the facet's dual edge closer to the centre than the
+    /// refinement floor (0: none): the two sheets are not resolved there, so vertices on either
+    /// belong to the facet (see [`SurfaceLevel::off_patch`]).
+    pub twin_patch: PatchId,
 }
 
 /// The facets whose dual edge the surface level found crossing no boundary, as a bit per facet of
@@ -170,13 +174,15 @@ impl<'o> SurfaceLevel<'o> {
         }
     }
 
-    /// Does a vertex of the facet lie on another patch than `patch`? Only when patches are
-    /// checked; vertices on curves and corners are on every patch they bound.
-    fn off_patch(&self, fv: &[VertexId; 3], patch: PatchId) -> bool {
+    /// Does a vertex of the facet lie on another patch than its ball's? Only when patches are
+    /// checked; vertices on curves and corners are on every patch they bound, and vertices on
+    /// the ball's unresolved twin sheet on the facet's: rule R3 would refine two sheets closer
+    /// than the floor down to it, with points the complex then mostly leaves out.
+    fn off_patch(&self, fv: &[VertexId; 3], ball: &SurfaceBall) -> bool {
         self.vertex_patch.as_ref().is_some_and(|patches| {
             fv.iter().any(|v| {
                 let p = patches.get(v.0 as usize).copied().unwrap_or(PatchId(0));
-                p != PatchId(0) && p != patch
+                p != PatchId(0) && p != ball.patch && p != ball.twin_patch
             })
         })
     }
@@ -231,8 +237,20 @@ impl<'o> SurfaceLevel<'o> {
                 center: h.point,
                 radius2: h.point.distance_squared(a) - w,
                 patch: h.patch,
+                twin_patch: PatchId(0),
             })
-            .max_by(|x, y| x.radius2.total_cmp(&y.radius2));
+            .max_by(|x, y| x.radius2.total_cmp(&y.radius2))
+            .map(|mut ball| {
+                ball.twin_patch = self
+                    .hits
+                    .iter()
+                    .find(|h| {
+                        h.patch != ball.patch
+                            && h.point.distance_squared(ball.center) < self.min_radius2
+                    })
+                    .map_or(PatchId(0), |h| h.patch);
+                ball
+            });
         (ball, self.hits.is_empty())
     }
 
@@ -297,7 +315,7 @@ impl<'o> SurfaceLevel<'o> {
             return None;
         }
         let fv = facet_vertices(cell, i);
-        if fv.iter().any(|&v| !self.is_on_surface(v)) || self.off_patch(&fv, ball.patch) {
+        if fv.iter().any(|&v| !self.is_on_surface(v)) || self.off_patch(&fv, ball) {
             return Some(URGENT);
         }
         let [a, b, c] = fv.map(|v| tr.point(v));

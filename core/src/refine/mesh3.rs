@@ -303,6 +303,10 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
             validity.relabelling = relabelling;
         }
     }
+    validity.unresolved_sheets = surface
+        .restricted_facets(&tr)
+        .filter(|(_, _, ball)| ball.twin_patch != PatchId(0))
+        .count();
     times.refinement = start.elapsed();
 
     let start = Instant::now();

@@ -61,6 +61,10 @@ pub struct Validity {
     pub relabelling: super::manifold::Relabelling,
     /// Boundary components beyond those matching the input's components.
     pub extra_components: usize,
+    /// Restricted facets where two sheets of the surface are closer than the refinement floor
+    /// ([`MeshCriteria::refinement_floor`](super::criteria::MeshCriteria::refinement_floor)), which
+    /// refinement does not separate: a plate or a slot thinner than that may be lost or closed.
+    pub unresolved_sheets: usize,
 }
 
 /// A boundary facet of the complex: the inside cell and the index of the vertex opposite it.
@@ -116,6 +120,7 @@ impl Defects {
             topology_warnings: self.topology_warnings.clone(),
             relabelling: Default::default(),
             extra_components: self.extra_components,
+            unresolved_sheets: 0,
         }
     }
 }

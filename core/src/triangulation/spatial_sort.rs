@@ -123,8 +123,9 @@ pub fn hilbert_order(points: &[Point3]) -> Vec<u32> {
         keyed
     };
     let n = points.len();
-    let threads = std::thread::available_parallelism().map_or(1, |t| t.get());
-    if n < PARALLEL_SORT || threads < 2 {
+    // Small sets (the optimisers' star re-triangulations) skip the thread count: it reads the
+    // cgroup files on every call.
+    if n < PARALLEL_SORT || !two_threads() {
         return sorted(0..n).into_iter().map(|(_, i)| i).collect();
     }
     let (a, b) = std::thread::scope(|scope| {
@@ -150,6 +151,11 @@ pub fn hilbert_order(points: &[Point3]) -> Vec<u32> {
     order
 }
 
+/// Whether a second thread may help.
+fn two_threads() -> bool {
+    std::thread::available_parallelism().is_ok_and(|t| t.get() > 1)
+}
+
 /// `points` in the given order, gathered on two threads for large sets (the reads are scattered,
 /// so each costs a cache miss).
 pub fn gather(points: &[Point3], order: &[u32]) -> Vec<Point3> {
@@ -159,8 +165,7 @@ pub fn gather(points: &[Point3], order: &[u32]) -> Vec<Point3> {
         }
     };
     let mut out = vec![Point3::ZERO; order.len()];
-    let threads = std::thread::available_parallelism().map_or(1, |t| t.get());
-    if order.len() < PARALLEL_SORT || threads < 2 {
+    if order.len() < PARALLEL_SORT || !two_threads() {
         copy(&mut out, order);
     } else {
         let half = order.len() / 2;

@@ -50,9 +50,9 @@ impl<K: ConflictKernel> Triangulation3<K> {
     /// Moves finite vertex `v` to `p` with weight `w` (the weight is ignored by a Delaunay
     /// triangulation). Returns `Ok(true)` when done; `Ok(false)`, with the triangulation as it
     /// was (cells possibly in other slots), when `v` is a vertex of the convex hull, when `p` is
-    /// not strictly inside a finite cell (a move may not change the hull or hit a vertex), or
-    /// when the moved vertex would be hidden or would hide another one. `report` gets the net
-    /// change either way.
+    /// not inside a finite cell, or lies on a vertex or on the hull (a move may not change the
+    /// hull or hit a vertex), or when the moved vertex would be hidden or would hide another one.
+    /// `report` gets the net change either way.
     pub fn move_vertex(
         &mut self,
         v: VertexId,
@@ -65,9 +65,8 @@ impl<K: ConflictKernel> Triangulation3<K> {
 
     /// Moves finite vertex `v` back to `p` with weight `w`, where it was a vertex of this
     /// triangulation before a move and every other vertex is where it was then (an undo). Such a
-    /// place is neither on the hull nor on another vertex, so, unlike [`Self::move_vertex`], it
-    /// may lie on a facet: on a planar patch the old place of a surface vertex lies in the plane
-    /// of the facets around it, and refusing it would keep a move the caller wanted undone.
+    /// place is neither on the hull nor on another vertex, so, unlike [`Self::move_vertex`], it is
+    /// not checked (a check that refused it would keep a move the caller wanted undone).
     pub fn move_vertex_back(
         &mut self,
         v: VertexId,
@@ -84,7 +83,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
         p: Point3,
         w: f64,
         report: &mut MoveReport,
-        strictly_inside: bool,
+        check_place: bool,
     ) -> Result<bool, TriangulationError> {
         report.clear();
         let index = v.0 as usize;
@@ -96,7 +95,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
             return Ok(false);
         }
         let (old_p, old_w) = (self.pt(v.0), self.kernel.weight(v.0));
-        if strictly_inside && p != old_p && !self.strictly_inside_a_cell(p, v) {
+        if check_place && p != old_p && !self.inside_a_cell(p, v) {
             return Ok(false);
         }
         if !self.remove_interior(v.0, report) {
@@ -109,7 +108,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 let removed = self.remove_interior(v.0, report);
                 debug_assert!(
                     removed,
-                    "a vertex strictly inside a cell is not on the hull"
+                    "a vertex inside a cell and off the hull is not on the hull"
                 );
                 for x in hidden {
                     self.reinsert(x.0, self.pt(x.0), self.kernel.weight(x.0), report);
@@ -121,18 +120,39 @@ impl<K: ConflictKernel> Triangulation3<K> {
         Ok(false)
     }
 
-    /// Whether `p` lies strictly inside a finite cell, found by walking from a cell of `v`.
-    fn strictly_inside_a_cell(&self, p: Point3, v: VertexId) -> bool {
+    /// Whether `p` lies in a finite cell (found by walking from a cell of `v`) and can take a
+    /// vertex there without touching the hull: strictly inside it, or on its boundary (a
+    /// surface vertex moving in the plane of a planar patch lies in the plane of its facets)
+    /// but on none of its vertices, none of which is on the hull.
+    fn inside_a_cell(&self, p: Point3, v: VertexId) -> bool {
         let c = self.locate_cell(p, self.vertex_cell(v).map(|c| c.0));
         let r = self.cells[c as usize];
         if Self::is_infinite_record(&r) {
             return false;
         }
-        (0..4).all(|i| {
+        let signs = (0..4).map(|i| {
             let mut t = r.v.map(|x| self.pt(x));
             t[i] = p;
-            orient3d(t[0], t[1], t[2], t[3]) == Sign::Positive
-        })
+            orient3d(t[0], t[1], t[2], t[3])
+        });
+        let mut on_boundary = false;
+        for sign in signs {
+            match sign {
+                Sign::Positive => {}
+                Sign::Zero => on_boundary = true,
+                Sign::Negative => return false,
+            }
+        }
+        !on_boundary || r.v.iter().all(|&x| self.pt(x) != p && !self.on_hull(x))
+    }
+
+    /// Whether vertex `x` is a vertex of an infinite cell.
+    fn on_hull(&self, x: u32) -> bool {
+        let mut cells = Vec::new();
+        self.incident_cells(VertexId(x), &mut cells);
+        cells
+            .iter()
+            .any(|c| Self::is_infinite_record(&self.cells[c.0 as usize]))
     }
 
     /// Removes interior vertex `v` (no-op returning false for a hull vertex or when the fill
@@ -388,5 +408,44 @@ mod tests {
             fresh.insert_weighted(p, w, None, &mut report).unwrap();
         }
         assert_eq!(cell_sets(&rt), cell_sets(&fresh));
+    }
+
+    #[test]
+    fn a_vertex_moves_onto_a_plane_of_facets_but_not_onto_the_hull() {
+        // A grid: its interior vertices have coplanar neighbours, so a move within a grid plane
+        // ends on the boundary of the cell it lands in.
+        let mut pts = Vec::new();
+        for x in 0..5 {
+            for y in 0..5 {
+                for z in 0..5 {
+                    pts.push(Point3::new(x as f64, y as f64, z as f64));
+                }
+            }
+        }
+        let mut dt = Delaunay3::new();
+        for &p in &pts {
+            dt.insert(p).unwrap();
+        }
+        let mut report = MoveReport::default();
+        let inner = VertexId(2 * 25 + 2 * 5 + 2);
+        let p = Point3::new(2.25, 2.0, 2.0);
+        assert!(dt.move_vertex(inner, p, 0.0, &mut report).unwrap());
+        pts[inner.0 as usize] = p;
+        assert_eq!(check_delaunay3(&dt), Ok(()));
+        let mut fresh = Delaunay3::new();
+        for &q in &pts {
+            fresh.insert(q).unwrap();
+        }
+        assert_eq!(cell_sets(&dt), cell_sets(&fresh));
+        // Onto a hull facet, or onto another vertex: refused, nothing changed.
+        let before = cell_sets(&dt);
+        let near_hull = VertexId(25 + 5 + 1);
+        let on_hull = Point3::new(1.0, 1.5, 0.0);
+        assert!(
+            !dt.move_vertex(near_hull, on_hull, 0.0, &mut report)
+                .unwrap()
+        );
+        assert!(!dt.move_vertex(near_hull, pts[0], 0.0, &mut report).unwrap());
+        assert_eq!(cell_sets(&dt), before);
     }
 }
