@@ -10,7 +10,7 @@
 
 use super::cavity::HashMarks;
 use super::regular::validate_weight;
-use super::{ConflictKernel, NO_CELL, Triangulation3, pack, validate_point};
+use super::{ConflictKernel, INFINITE, NO_CELL, Triangulation3, pack, validate_point};
 use crate::kernel::{Point3, Sign, WeightedPoint3, orient3d};
 use crate::triangulation::{CellId, InsertReport, Triangulation, TriangulationError, VertexId};
 use std::collections::HashMap;
@@ -63,10 +63,14 @@ impl<K: ConflictKernel> Triangulation3<K> {
         self.relocate(v, p, w, report, true)
     }
 
-    /// Moves finite vertex `v` back to `p` with weight `w`, where it was a vertex of this
-    /// triangulation before a move and every other vertex is where it was then (an undo). Such a
-    /// place is neither on the hull nor on another vertex, so, unlike [`Self::move_vertex`], it is
-    /// not checked (a check that refused it would keep a move the caller wanted undone).
+    /// Undoes the move of finite vertex `v` that `report` describes (from [`Self::move_vertex`],
+    /// with no change to the triangulation since): `v` goes back to `p` with weight `w`, where it
+    /// was, and the cells the move removed come back (in other slots) without a predicate, since
+    /// they tiled the same region as the cells it created. Falls back to moving the vertex when
+    /// the report does not fit the triangulation. `report` then gets the net change of the undo.
+    /// Such a place is neither on the hull nor on another vertex, so, unlike
+    /// [`Self::move_vertex`], it is not checked (a check that refused it would keep a move the
+    /// caller wanted undone).
     pub fn move_vertex_back(
         &mut self,
         v: VertexId,
@@ -74,7 +78,96 @@ impl<K: ConflictKernel> Triangulation3<K> {
         w: f64,
         report: &mut MoveReport,
     ) -> Result<bool, TriangulationError> {
+        if self.restore_removed(v.0, p, w, report) {
+            return Ok(true);
+        }
         self.relocate(v, p, w, report, false)
+    }
+
+    /// Replaces the cells `report` created by those it removed, with `v` back at `(p, w)`;
+    /// false, with nothing changed, when they do not bound the same region.
+    fn restore_removed(&mut self, v: u32, p: Point3, w: f64, report: &mut MoveReport) -> bool {
+        let index = v as usize;
+        if report.removed.is_empty()
+            || index >= self.points.len()
+            || report.created.iter().any(|c| !self.live(c.0))
+        {
+            return false;
+        }
+        let facet = |q: [u32; 4], i: usize| {
+            let mut f = [0u32; 3];
+            let mut n = 0;
+            for (j, &x) in q.iter().enumerate() {
+                if j != i {
+                    f[n] = x;
+                    n += 1;
+                }
+            }
+            f.sort_unstable();
+            f
+        };
+        // The outside neighbours of the created cells, by facet.
+        let created: std::collections::HashSet<u32> = report.created.iter().map(|c| c.0).collect();
+        let mut outside: HashMap<[u32; 3], u32> = HashMap::new();
+        for &c in &report.created {
+            let r = self.cells[c.0 as usize];
+            for i in 0..4 {
+                if !created.contains(&(r.n[i] >> 2)) {
+                    outside.insert(facet(r.v, i), r.n[i]);
+                }
+            }
+        }
+        // Each facet of a removed cell: another removed cell, or an outside neighbour.
+        let mut inner: HashMap<[u32; 3], (usize, usize)> = HashMap::new();
+        let mut links = Vec::with_capacity(report.removed.len());
+        for (k, &(_, q)) in report.removed.iter().enumerate() {
+            let q = q.map(|x| x.0);
+            let mut l = [Link::Outside(0); 4];
+            for (i, li) in l.iter_mut().enumerate() {
+                let f = facet(q, i);
+                if let Some(out) = outside.remove(&f) {
+                    *li = Link::Outside(out);
+                } else if let Some((other, j)) = inner.remove(&f) {
+                    *li = Link::Fill(other, j);
+                    let partner: &mut [Link; 4] = &mut links[other];
+                    partner[j] = Link::Fill(k, i);
+                } else {
+                    inner.insert(f, (k, i));
+                }
+            }
+            links.push(l);
+        }
+        if !inner.is_empty() || !outside.is_empty() {
+            return false;
+        }
+        let old: Vec<[u32; 4]> = report.removed.iter().map(|(_, q)| q.map(|x| x.0)).collect();
+        report.removed.clear();
+        for c in std::mem::take(&mut report.created) {
+            let r = self.cells[c.0 as usize];
+            self.num_finite -= usize::from(!Self::is_infinite_record(&r));
+            report.removed.push((c, r.v.map(VertexId)));
+            self.free_cell(c.0);
+        }
+        self.points[index] = p;
+        self.kernel.set_weight(v, w);
+        self.kernel.unhide(v);
+        let ids: Vec<u32> = old.iter().map(|&q| self.alloc_cell(q)).collect();
+        for (k, l) in links.iter().enumerate() {
+            for (i, link) in l.iter().enumerate() {
+                self.cells[ids[k] as usize].n[i] = match *link {
+                    Link::Fill(other, j) => pack(ids[other], j),
+                    Link::Outside(out) => {
+                        self.cells[(out >> 2) as usize].n[(out & 3) as usize] = pack(ids[k], i);
+                        out
+                    }
+                };
+            }
+            self.touch_vertices(ids[k]);
+            self.num_finite += usize::from(!Self::is_infinite_record(&self.cells[ids[k] as usize]));
+        }
+        self.last = ids[0];
+        report.created.extend(ids.into_iter().map(CellId));
+        true
     }
 
     fn relocate(
@@ -95,6 +188,9 @@ impl<K: ConflictKernel> Triangulation3<K> {
             return Ok(false);
         }
         let (old_p, old_w) = (self.pt(v.0), self.kernel.weight(v.0));
+        if self.move_in_place(v.0, p, w, report) {
+            return Ok(true);
+        }
         if check_place && p != old_p && !self.inside_a_cell(p, v) {
             return Ok(false);
         }
@@ -118,6 +214,49 @@ impl<K: ConflictKernel> Triangulation3<K> {
         }
         self.reinsert(v.0, old_p, old_w, report);
         Ok(false)
+    }
+
+    /// Moves interior vertex `v` to `(p, w)` keeping every cell, when the cells around it stay
+    /// positively oriented and every facet of them stays locally regular (then the triangulation
+    /// is still the perturbed regular one, so rebuilding the star would give the same cells):
+    /// most optimiser moves are small, and this saves removing and reinserting the vertex.
+    /// Returns false, with nothing changed, otherwise; on success `report` lists the cells of the
+    /// star as both removed and created (their vertices are the same, their shape is not).
+    fn move_in_place(&mut self, v: u32, p: Point3, w: f64, report: &mut MoveReport) -> bool {
+        let mut star = Vec::new();
+        self.incident_cells(VertexId(v), &mut star);
+        let positive = |c: &CellId| {
+            let r = &self.cells[c.0 as usize];
+            !Self::is_infinite_record(r) && {
+                let t = r.v.map(|x| if x == v { p } else { self.pt(x) });
+                orient3d(t[0], t[1], t[2], t[3]) == Sign::Positive
+            }
+        };
+        if star.is_empty() || !star.iter().all(positive) {
+            return false;
+        }
+        let (old_p, old_w) = (self.pt(v), self.kernel.weight(v));
+        self.points[v as usize] = p;
+        self.filter.include(p);
+        self.kernel.set_weight(v, w);
+        let regular = star.iter().all(|&c| {
+            let r = self.cells[c.0 as usize];
+            r.n.iter().all(|&nb| {
+                let x = self.cells[(nb >> 2) as usize].v[(nb & 3) as usize];
+                x == INFINITE || !self.in_conflict(c.0, self.pt(x), self.kernel.weight(x))
+            })
+        });
+        if !regular {
+            self.points[v as usize] = old_p;
+            self.kernel.set_weight(v, old_w);
+            return false;
+        }
+        report.removed.extend(
+            star.iter()
+                .map(|&c| (c, self.cells[c.0 as usize].v.map(VertexId))),
+        );
+        report.created.extend_from_slice(&star);
+        true
     }
 
     /// Whether `p` lies in a finite cell (found by walking from a cell of `v`) and can take a
