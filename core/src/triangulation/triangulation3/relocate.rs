@@ -550,6 +550,39 @@ mod tests {
     }
 
     #[test]
+    fn moving_back_restores_the_cells_of_small_and_large_moves() {
+        let mut seed = 0x2468_ace0_1357_9bdf;
+        let pts = cube_points(300, &mut seed);
+        let mut rt = Regular3::new();
+        let mut inserted = InsertReport::default();
+        for &p in &pts {
+            rt.insert_weighted(p, 0.001 * rng(&mut seed), None, &mut inserted)
+                .unwrap();
+        }
+        let mut report = MoveReport::default();
+        let mut undone = 0;
+        for k in 0..200 {
+            let v = VertexId((k * 11 % 300) as u32);
+            let (p, w) = (rt.point(v), rt.weight(v));
+            // Small moves keep the star's cells, large ones change them.
+            let reach = if k % 2 == 0 { 0.002 } else { 0.1 };
+            let delta = Point3::new(rng(&mut seed), rng(&mut seed), rng(&mut seed)) - 0.5;
+            let before = cell_sets(&rt);
+            if rt
+                .move_vertex(v, p + reach * delta, w, &mut report)
+                .unwrap()
+            {
+                assert_eq!(check_regular3(&rt), Ok(()));
+                assert!(rt.move_vertex_back(v, p, w, &mut report).unwrap());
+                assert_eq!(cell_sets(&rt), before);
+                assert_eq!(check_regular3(&rt), Ok(()));
+                undone += 1;
+            }
+        }
+        assert!(undone > 100, "{undone} moves undone");
+    }
+
+    #[test]
     fn a_vertex_moves_onto_a_plane_of_facets_but_not_onto_the_hull() {
         // A grid: its interior vertices have coplanar neighbours, so a move within a grid plane
         // ends on the boundary of the cell it lands in.
