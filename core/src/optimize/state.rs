@@ -49,8 +49,6 @@ pub(super) struct Change {
     vertex: VertexId,
     old_point: Point3,
     old_weight: f64,
-    /// What the move did to the triangulation (the undo restores the cells it removed).
-    moved: MoveReport,
     /// Subdomains of the destroyed cells, by sorted vertices (to restore them on undo).
     saved: HashMap<[u32; 4], SubdomainId>,
     /// Smallest dihedral angle of the destroyed cells inside the domain.
@@ -445,18 +443,15 @@ impl<'o> Workspace<'o> {
                 vertex: v,
                 old_point,
                 old_weight,
-                moved: std::mem::take(&mut self.report),
                 saved,
                 before,
                 after,
             }),
             None => {
-                let moved = std::mem::take(&mut self.report);
                 self.undo(Change {
                     vertex: v,
                     old_point,
                     old_weight,
-                    moved,
                     saved,
                     before,
                     after: 0.0,
@@ -468,7 +463,6 @@ impl<'o> Workspace<'o> {
 
     /// Puts the moved vertex back where it was, with the labels it had.
     pub fn undo(&mut self, change: Change) {
-        self.report = change.moved;
         let back = self
             .rt
             .move_vertex_back(

@@ -63,14 +63,10 @@ impl<K: ConflictKernel> Triangulation3<K> {
         self.relocate(v, p, w, report, true)
     }
 
-    /// Undoes the move of finite vertex `v` that `report` describes (from [`Self::move_vertex`],
-    /// with no change to the triangulation since): `v` goes back to `p` with weight `w`, where it
-    /// was, and the cells the move removed come back (in other slots) without a predicate, since
-    /// they tiled the same region as the cells it created. Falls back to moving the vertex when
-    /// the report does not fit the triangulation. `report` then gets the net change of the undo.
-    /// Such a place is neither on the hull nor on another vertex, so, unlike
-    /// [`Self::move_vertex`], it is not checked (a check that refused it would keep a move the
-    /// caller wanted undone).
+    /// Moves finite vertex `v` back to `p` with weight `w`, where it was a vertex of this
+    /// triangulation before a move and every other vertex is where it was then (an undo). Such a
+    /// place is neither on the hull nor on another vertex, so, unlike [`Self::move_vertex`], it is
+    /// not checked (a check that refused it would keep a move the caller wanted undone).
     pub fn move_vertex_back(
         &mut self,
         v: VertexId,
@@ -78,96 +74,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
         w: f64,
         report: &mut MoveReport,
     ) -> Result<bool, TriangulationError> {
-        if self.restore_removed(v.0, p, w, report) {
-            return Ok(true);
-        }
         self.relocate(v, p, w, report, false)
-    }
-
-    /// Replaces the cells `report` created by those it removed, with `v` back at `(p, w)`;
-    /// false, with nothing changed, when they do not bound the same region.
-    fn restore_removed(&mut self, v: u32, p: Point3, w: f64, report: &mut MoveReport) -> bool {
-        let index = v as usize;
-        if report.removed.is_empty()
-            || index >= self.points.len()
-            || report.created.iter().any(|c| !self.live(c.0))
-        {
-            return false;
-        }
-        let facet = |q: [u32; 4], i: usize| {
-            let mut f = [0u32; 3];
-            let mut n = 0;
-            for (j, &x) in q.iter().enumerate() {
-                if j != i {
-                    f[n] = x;
-                    n += 1;
-                }
-            }
-            f.sort_unstable();
-            f
-        };
-        // The outside neighbours of the created cells, by facet.
-        let created: std::collections::HashSet<u32> = report.created.iter().map(|c| c.0).collect();
-        let mut outside: HashMap<[u32; 3], u32> = HashMap::new();
-        for &c in &report.created {
-            let r = self.cells[c.0 as usize];
-            for i in 0..4 {
-                if !created.contains(&(r.n[i] >> 2)) {
-                    outside.insert(facet(r.v, i), r.n[i]);
-                }
-            }
-        }
-        // Each facet of a removed cell: another removed cell, or an outside neighbour.
-        let mut inner: HashMap<[u32; 3], (usize, usize)> = HashMap::new();
-        let mut links = Vec::with_capacity(report.removed.len());
-        for (k, &(_, q)) in report.removed.iter().enumerate() {
-            let q = q.map(|x| x.0);
-            let mut l = [Link::Outside(0); 4];
-            for (i, li) in l.iter_mut().enumerate() {
-                let f = facet(q, i);
-                if let Some(out) = outside.remove(&f) {
-                    *li = Link::Outside(out);
-                } else if let Some((other, j)) = inner.remove(&f) {
-                    *li = Link::Fill(other, j);
-                    let partner: &mut [Link; 4] = &mut links[other];
-                    partner[j] = Link::Fill(k, i);
-                } else {
-                    inner.insert(f, (k, i));
-                }
-            }
-            links.push(l);
-        }
-        if !inner.is_empty() || !outside.is_empty() {
-            return false;
-        }
-        let old: Vec<[u32; 4]> = report.removed.iter().map(|(_, q)| q.map(|x| x.0)).collect();
-        report.removed.clear();
-        for c in std::mem::take(&mut report.created) {
-            let r = self.cells[c.0 as usize];
-            self.num_finite -= usize::from(!Self::is_infinite_record(&r));
-            report.removed.push((c, r.v.map(VertexId)));
-            self.free_cell(c.0);
-        }
-        self.points[index] = p;
-        self.kernel.set_weight(v, w);
-        self.kernel.unhide(v);
-        let ids: Vec<u32> = old.iter().map(|&q| self.alloc_cell(q)).collect();
-        for (k, l) in links.iter().enumerate() {
-            for (i, link) in l.iter().enumerate() {
-                self.cells[ids[k] as usize].n[i] = match *link {
-                    Link::Fill(other, j) => pack(ids[other], j),
-                    Link::Outside(out) => {
-                        self.cells[(out >> 2) as usize].n[(out & 3) as usize] = pack(ids[k], i);
-                        out
-                    }
-                };
-            }
-            self.touch_vertices(ids[k]);
-            self.num_finite += usize::from(!Self::is_infinite_record(&self.cells[ids[k] as usize]));
-        }
-        self.last = ids[0];
-        report.created.extend(ids.into_iter().map(CellId));
-        true
     }
 
     fn relocate(
