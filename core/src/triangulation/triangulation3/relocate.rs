@@ -10,7 +10,7 @@
 
 use super::cavity::HashMarks;
 use super::regular::validate_weight;
-use super::{ConflictKernel, NO_CELL, Triangulation3, pack, validate_point};
+use super::{ConflictKernel, INFINITE, NO_CELL, Triangulation3, pack, validate_point};
 use crate::kernel::{Point3, Sign, WeightedPoint3, orient3d};
 use crate::triangulation::{CellId, InsertReport, Triangulation, TriangulationError, VertexId};
 use std::collections::HashMap;
@@ -95,6 +95,9 @@ impl<K: ConflictKernel> Triangulation3<K> {
             return Ok(false);
         }
         let (old_p, old_w) = (self.pt(v.0), self.kernel.weight(v.0));
+        if self.move_in_place(v.0, p, w, report) {
+            return Ok(true);
+        }
         if check_place && p != old_p && !self.inside_a_cell(p, v) {
             return Ok(false);
         }
@@ -118,6 +121,49 @@ impl<K: ConflictKernel> Triangulation3<K> {
         }
         self.reinsert(v.0, old_p, old_w, report);
         Ok(false)
+    }
+
+    /// Moves interior vertex `v` to `(p, w)` keeping every cell, when the cells around it stay
+    /// positively oriented and every facet of them stays locally regular (then the triangulation
+    /// is still the perturbed regular one, so rebuilding the star would give the same cells):
+    /// most optimiser moves are small, and this saves removing and reinserting the vertex.
+    /// Returns false, with nothing changed, otherwise; on success `report` lists the cells of the
+    /// star as both removed and created (their vertices are the same, their shape is not).
+    fn move_in_place(&mut self, v: u32, p: Point3, w: f64, report: &mut MoveReport) -> bool {
+        let mut star = Vec::new();
+        self.incident_cells(VertexId(v), &mut star);
+        let positive = |c: &CellId| {
+            let r = &self.cells[c.0 as usize];
+            !Self::is_infinite_record(r) && {
+                let t = r.v.map(|x| if x == v { p } else { self.pt(x) });
+                orient3d(t[0], t[1], t[2], t[3]) == Sign::Positive
+            }
+        };
+        if star.is_empty() || !star.iter().all(positive) {
+            return false;
+        }
+        let (old_p, old_w) = (self.pt(v), self.kernel.weight(v));
+        self.points[v as usize] = p;
+        self.filter.include(p);
+        self.kernel.set_weight(v, w);
+        let regular = star.iter().all(|&c| {
+            let r = self.cells[c.0 as usize];
+            r.n.iter().all(|&nb| {
+                let x = self.cells[(nb >> 2) as usize].v[(nb & 3) as usize];
+                x == INFINITE || !self.in_conflict(c.0, self.pt(x), self.kernel.weight(x))
+            })
+        });
+        if !regular {
+            self.points[v as usize] = old_p;
+            self.kernel.set_weight(v, old_w);
+            return false;
+        }
+        report.removed.extend(
+            star.iter()
+                .map(|&c| (c, self.cells[c.0 as usize].v.map(VertexId))),
+        );
+        report.created.extend_from_slice(&star);
+        true
     }
 
     /// Whether `p` lies in a finite cell (found by walking from a cell of `v`) and can take a
@@ -408,6 +454,39 @@ mod tests {
             fresh.insert_weighted(p, w, None, &mut report).unwrap();
         }
         assert_eq!(cell_sets(&rt), cell_sets(&fresh));
+    }
+
+    #[test]
+    fn moving_back_restores_the_cells_of_small_and_large_moves() {
+        let mut seed = 0x2468_ace0_1357_9bdf;
+        let pts = cube_points(300, &mut seed);
+        let mut rt = Regular3::new();
+        let mut inserted = InsertReport::default();
+        for &p in &pts {
+            rt.insert_weighted(p, 0.001 * rng(&mut seed), None, &mut inserted)
+                .unwrap();
+        }
+        let mut report = MoveReport::default();
+        let mut undone = 0;
+        for k in 0..200 {
+            let v = VertexId((k * 11 % 300) as u32);
+            let (p, w) = (rt.point(v), rt.weight(v));
+            // Small moves keep the star's cells, large ones change them.
+            let reach = if k % 2 == 0 { 0.002 } else { 0.1 };
+            let delta = Point3::new(rng(&mut seed), rng(&mut seed), rng(&mut seed)) - 0.5;
+            let before = cell_sets(&rt);
+            if rt
+                .move_vertex(v, p + reach * delta, w, &mut report)
+                .unwrap()
+            {
+                assert_eq!(check_regular3(&rt), Ok(()));
+                assert!(rt.move_vertex_back(v, p, w, &mut report).unwrap());
+                assert_eq!(cell_sets(&rt), before);
+                assert_eq!(check_regular3(&rt), Ok(()));
+                undone += 1;
+            }
+        }
+        assert!(undone > 100, "{undone} moves undone");
     }
 
     #[test]
