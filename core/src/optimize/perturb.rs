@@ -114,15 +114,20 @@ fn perturb_cell(ws: &mut Workspace<'_>, c: CellId, rng: &mut u64) -> bool {
             Freedom::Curve(curve) => {
                 // Along the curve, the way the angle grows first, then the other way.
                 let s0 = curve.project(p).s;
+                // A vertex on a bend of the curve stays; others stay within their segment.
+                let Some((lo, hi)) = curve.segment_around(s0, 1e-9 * curve.length()) else {
+                    continue;
+                };
                 let h = 1e-4 * reach;
                 let at = |s: f64| curve.point_at(s);
                 let up = angle_at(at(s0 + h)) >= angle_at(at(s0 - h));
                 let sign = if up { 1.0 } else { -1.0 };
+                let within = |d: f64| curve.advance(s0, d).filter(|s| lo < *s && *s < hi);
                 let mut tries: Vec<Point3> = STEPS
                     .iter()
-                    .filter_map(|&s| curve.advance(s0, sign * s * reach).map(at))
+                    .filter_map(|&s| within(sign * s * reach).map(at))
                     .collect();
-                tries.extend(curve.advance(s0, -sign * STEPS[1] * reach).map(at));
+                tries.extend(within(-sign * STEPS[1] * reach).map(at));
                 tries
             }
         };

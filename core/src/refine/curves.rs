@@ -157,6 +157,16 @@ impl Polyline {
         if t == 1.0 { b } else { a + t * (b - a) }
     }
 
+    /// The parameters bounding the segment that holds `s` strictly inside, or `None` when `s` is
+    /// within `tol` of a vertex: a point sliding within that segment never cuts a corner of the
+    /// polyline, so the mesh edges keep following it.
+    pub fn segment_around(&self, s: f64, tol: f64) -> Option<(f64, f64)> {
+        let s = self.normalize(s);
+        let i = self.arc.partition_point(|&a| a <= s).checked_sub(1)?;
+        let (lo, hi) = (self.arc[i], *self.arc.get(i + 1)?);
+        (s - lo > tol && hi - s > tol).then_some((lo, hi))
+    }
+
     /// The parameter at signed geodesic distance `d` from parameter `s`, or `None` when an open
     /// curve ends before.
     pub fn advance(&self, s: f64, d: f64) -> Option<f64> {
