@@ -53,14 +53,19 @@ typedef size_t (*DmLastErrorFn)(const void *oracle,
 
 // A point or a vector, in the units of the domain (the same units as the input geometry).
 typedef struct DmVec3 {
+  // The x coordinate.
   double x;
+  // The y coordinate.
   double y;
+  // The z coordinate.
   double z;
 } DmVec3;
 
 // An axis-aligned box containing the whole domain.
 typedef struct DmAabb {
+  // The corner with the smallest coordinates.
   struct DmVec3 min;
+  // The corner with the largest coordinates.
   struct DmVec3 max;
 } DmAabb;
 
@@ -77,6 +82,7 @@ typedef int32_t (*DmSubdomainsFn)(const void *oracle,
 
 // One crossing of a segment or a ray with a boundary surface patch.
 typedef struct DmSurfaceHit {
+  // Where the query crosses the surface.
   struct DmVec3 point;
   // Parameter along the query: `a + t (b - a)` for a segment (0 ≤ t ≤ 1), `origin + t dir` for
   // a ray (t ≥ 0).
@@ -96,6 +102,7 @@ typedef int32_t (*DmHitsFn)(const void *oracle,
 
 // A point on a boundary surface and the patch it lies on.
 typedef struct DmSurfacePoint {
+  // The point on the surface.
   struct DmVec3 point;
   // Surface patch id, numbered from 1.
   uint32_t patch;
@@ -115,7 +122,9 @@ typedef struct DmFeatureCurve {
   uint32_t id;
   // Non-zero when the last point joins the first.
   uint32_t closed;
+  // Index of the curve's first point in the points buffer.
   size_t first;
+  // Number of points of the curve.
   size_t len;
 } DmFeatureCurve;
 
@@ -150,15 +159,25 @@ typedef struct DmPluginV1 {
   const char *kind;
   // The plugin's own version, e.g. "1.2.0".
   const char *version;
+  // Creates an oracle from a configuration string: see [`DmCreateFn`].
   DmCreateFn create;
+  // Frees an oracle made by `create`.
   DmDestroyFn destroy;
+  // The message of the last failed call on this thread.
   DmLastErrorFn last_error;
+  // A box around the whole domain.
   DmBoundingBoxFn bounding_box;
+  // The subdomain of each point of a batch (0 outside).
   DmSubdomainsFn subdomains;
+  // The crossings of a segment with the boundary, sorted by `t`.
   DmHitsFn segment_hits;
+  // The crossings of a ray with the boundary, sorted by `t`.
   DmHitsFn ray_hits;
+  // Points on the boundary, at least one per component, to start refinement.
   DmInitialPointsFn initial_points;
+  // The 1D features as polylines; NULL when there are none.
   DmFeatureCurvesFn feature_curves;
+  // The 0D features; NULL when there are none.
   DmCornersFn corners;
 } DmPluginV1;
 
