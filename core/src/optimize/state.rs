@@ -533,13 +533,15 @@ impl<'o> Workspace<'o> {
         (min, excess)
     }
 
-    /// Circumradius of tetrahedron `p` of subdomain `sub` over the cell size at its
-    /// circumcentre (0 without a bound).
+    /// Circumradius of tetrahedron `p` of subdomain `sub` over the cell size at its centroid
+    /// (0 without a bound): a sliver's circumcentre may lie far outside the domain, where a
+    /// sizing field is not defined.
     fn size_excess(&self, p: &[Point3; 4], sub: SubdomainId) -> f64 {
         let Some(center) = crate::quality::tet_circumcenter(p) else {
             return f64::INFINITY;
         };
-        let size = self.cell_size.at(center, sub.0);
+        let centroid = (p[0] + p[1] + p[2] + p[3]) * 0.25;
+        let size = self.cell_size.at(centroid, sub.0);
         if size > 0.0 && size.is_finite() {
             center.distance(p[0]) / size
         } else {
