@@ -136,6 +136,10 @@ pub const MIN_VERTEX_BUDGET: usize = 100_000;
 /// Largest automatic vertex limit (the limit before it was automatic).
 pub const MAX_VERTEX_BUDGET: usize = 2_000_000;
 
+/// The refinement floor of a domain without features as a fraction of the finest scale (see
+/// [`MeshCriteria::smooth_refinement_floor`]).
+pub const SMOOTH_FLOOR_FRACTION: f64 = 0.25;
+
 impl MeshCriteria {
     /// The smallest protecting ball radius for a domain with bounding box `bbox`.
     pub fn edge_min_size_for(&self, bbox: &Aabb) -> f64 {
@@ -188,9 +192,10 @@ impl MeshCriteria {
         }
     }
 
-    /// Radius under which no facet or cell is refined: the finest scale asked for (the smallest
-    /// protecting ball, or a smaller constant size or distance), for every domain, with features
-    /// or not, so that refinement near a seam finer than that ends. Sheets of the surface closer
+    /// Radius under which no facet or cell of a domain with features is refined: the finest
+    /// scale asked for (the smallest protecting ball, or a smaller constant size or distance),
+    /// so that refinement near a seam finer than that ends (without features, see
+    /// [`MeshCriteria::smooth_refinement_floor`]). Sheets of the surface closer
     /// than this are not separated (a plate thinner than the smallest ball may be lost): resolving
     /// them would take points in proportion to the area over the square of their gap, and a
     /// smaller `edge_min_size` asks for that.
@@ -199,6 +204,14 @@ impl MeshCriteria {
             .into_iter()
             .filter_map(Sizing::smallest)
             .fold(self.edge_min_size_for(bbox), f64::min)
+    }
+
+    /// The refinement floor of a domain without features (chapter 3), which has no protecting
+    /// ball to be the finest scale: [`SMOOTH_FLOOR_FRACTION`] of the smallest constant size,
+    /// distance or `edge_min_size`. A facet distance met where the surface bends sharply (a
+    /// voxel staircase) takes facets smaller than itself.
+    pub fn smooth_refinement_floor(&self, bbox: &Aabb) -> f64 {
+        SMOOTH_FLOOR_FRACTION * self.refinement_floor(bbox)
     }
 
     /// Criteria that give a medium-resolution mesh of any domain, scaled by its bounding box, so

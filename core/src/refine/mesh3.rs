@@ -117,7 +117,9 @@ fn mesh_smooth(
 ) -> Result<MeshOutcome, MeshError> {
     let start = Instant::now();
     let mut tr = Delaunay3::new();
-    let floor = options.criteria.refinement_floor(&oracle.bounding_box());
+    let floor = options
+        .criteria
+        .smooth_refinement_floor(&oracle.bounding_box());
     let mut surface = SurfaceLevel::new(oracle, options.criteria.facet.clone()).min_radius(floor);
     let cells = CellLevel::new(oracle, options.criteria.cell.clone()).min_radius(floor);
     let initial = oracle.initial_points();
