@@ -5,7 +5,7 @@
 use crate::error::Error;
 use crate::settings::FeatureSettings;
 use delamesh_core::mesh::SurfaceMesh;
-use delamesh_core::oracle::{Oracle, PatchId};
+use delamesh_core::oracle::Oracle;
 use delamesh_core::plugin::DynOracle;
 use delamesh_formats::image::Image;
 use delamesh_image_label::{ImageLabelOracle, ImageOptions};
@@ -75,8 +75,7 @@ impl Domain {
                 }
             }
         }
-        // The oracle numbers patches from 1 (0 marks facets of no patch in the output).
-        let patches: Vec<PatchId> = surface.patches.iter().map(|p| PatchId(p.0 + 1)).collect();
+        let patches = surface.oracle_patches();
         PolyhedralOracle::with_options(
             &surface.positions,
             &surface.triangles,

@@ -11,7 +11,7 @@ use delamesh_core::complex::MeshComplex;
 use delamesh_core::conform3::{PreserveOptions, preserve_surface};
 use delamesh_core::mesh::component_euler_characteristics;
 use delamesh_core::mesh::weld_exact;
-use delamesh_core::mesh::{PatchId, SurfaceMesh, TetMesh};
+use delamesh_core::mesh::{SurfaceMesh, TetMesh};
 use delamesh_core::optimize::{OptimizeOptions, OptimizeReport, optimize};
 use delamesh_core::oracle::Oracle;
 use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
@@ -280,8 +280,7 @@ impl<'p> Mesher<'p> {
             ..Times::default()
         };
         let t = Instant::now();
-        // Patches numbered from 1, as the polyhedral oracle numbers them.
-        let patches: Vec<PatchId> = surface.patches.iter().map(|p| PatchId(p.0 + 1)).collect();
+        let patches = surface.oracle_patches();
         let options = PreserveOptions {
             max_vertices: self
                 .settings

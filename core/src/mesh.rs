@@ -446,6 +446,12 @@ impl SurfaceMesh {
     pub fn topology(&self) -> Topology {
         surface_topology(&self.positions, &self.triangles)
     }
+
+    /// The triangles' patches numbered from 1, as the oracles number them: the readers number
+    /// them from 0, and 0 marks facets of no patch in a mesh.
+    pub fn oracle_patches(&self) -> Vec<PatchId> {
+        self.patches.iter().map(|p| PatchId(p.0 + 1)).collect()
+    }
 }
 
 impl TetMesh {

@@ -63,7 +63,7 @@ pub fn cube_tets() -> TetMesh {
         subdomains: (0..6).map(|t| SubdomainId(1 + t / 3)).collect(),
         tets,
         boundary: s.triangles,
-        boundary_patches: s.patches.iter().map(|p| PatchId(p.0 + 1)).collect(),
+        boundary_patches: s.oracle_patches(),
         feature_edges: vec![
             [0, 1],
             [2, 3],

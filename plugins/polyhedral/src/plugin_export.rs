@@ -8,7 +8,6 @@
 //! be linked into one binary.
 
 use crate::PolyhedralOracle;
-use delamesh_core::oracle::PatchId;
 use delamesh_core::plugin::PluginOracle;
 use std::path::Path;
 
@@ -21,8 +20,7 @@ impl PluginOracle for PolyhedralOracle {
         let surface = delamesh_formats::read_surface(path, None)
             .map_err(|e| e.to_string())?
             .mesh;
-        // Patch ids start at 1 in the oracle, at 0 in the file readers (as in `delamesh mesh`).
-        let patches: Vec<PatchId> = surface.patches.iter().map(|p| PatchId(p.0 + 1)).collect();
+        let patches = surface.oracle_patches();
         PolyhedralOracle::new(&surface.positions, &surface.triangles, Some(&patches))
             .map_err(|e| format!("{}: {e}", path.display()))
     }
