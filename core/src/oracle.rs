@@ -8,7 +8,10 @@
 
 use crate::kernel::Point3;
 
+mod ball;
+
 pub use crate::mesh::Aabb;
+pub use ball::UnitBall;
 
 // The label types of the whole workspace; the C ABI carries them as raw `u32` and converts at
 // the boundary (core/src/plugin).

@@ -7,7 +7,7 @@ use delamesh_core::oracle::{
     Aabb, CurveId, FeatureCurve, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
 };
 use delamesh_core::quality;
-use delamesh_core::refine::criteria::{CellCriteria, FacetCriteria, MeshCriteria, Sizing};
+use delamesh_core::refine::criteria::MeshCriteria;
 use delamesh_core::refine::curves::Polyline;
 use delamesh_core::refine::{Limits, MeshOptions, mesh_domain};
 use std::collections::{BTreeMap, BTreeSet};
@@ -256,26 +256,11 @@ impl Oracle for Cylinder {
 
 fn options(size: f64) -> MeshOptions {
     MeshOptions {
-        criteria: MeshCriteria {
-            edge_size: Sizing::Constant(size),
-            edge_min_size: 0.0,
-            facet: FacetCriteria {
-                angle_deg: 25.0,
-                size: Sizing::Constant(size),
-                distance: Sizing::Constant(size / 10.0),
-            },
-            cell: CellCriteria {
-                radius_edge_ratio: 3.0,
-                size: Sizing::Constant(size),
-            },
-        },
         limits: Limits {
             max_vertices: 30_000,
             ..Limits::default()
         },
-        keep_partial: false,
-        validity: Default::default(),
-        optimize: delamesh_core::optimize::OptimizeOptions::default(),
+        ..MeshOptions::new(MeshCriteria::uniform(size, size / 10.0))
     }
 }
 

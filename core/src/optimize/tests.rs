@@ -4,110 +4,42 @@
 use super::state::{Workspace, min_dihedral};
 use super::{Deadline, OptimizeOptions, exude, optimize, perturb, smooth};
 use crate::complex::{MeshComplex, VertexDimension};
-use crate::kernel::Point3;
-use crate::oracle::{Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint};
+use crate::oracle::UnitBall;
 use crate::quality::surface_topology;
-use crate::refine::criteria::{CellCriteria, FacetCriteria, MeshCriteria, Sizing};
-use crate::refine::{Limits, MeshOptions, mesh_domain};
+use crate::refine::criteria::MeshCriteria;
+use crate::refine::{MeshOptions, mesh_domain};
 use crate::triangulation::Triangulation;
 use crate::triangulation::validity::check_regular3;
-
-/// The unit ball.
-struct Ball;
-
-impl Ball {
-    /// Parameters where `o + t d` crosses the unit sphere.
-    fn crossings(o: Point3, d: Point3) -> Vec<f64> {
-        let (a, b, c) = (d.dot(d), 2.0 * o.dot(d), o.dot(o) - 1.0);
-        let disc = b * b - 4.0 * a * c;
-        if a == 0.0 || disc < 0.0 {
-            return Vec::new();
-        }
-        let s = disc.sqrt();
-        vec![(-b - s) / (2.0 * a), (-b + s) / (2.0 * a)]
-    }
-
-    fn hits(o: Point3, d: Point3, range: impl Fn(f64) -> bool, out: &mut Vec<SurfaceHit>) {
-        for t in Self::crossings(o, d).into_iter().filter(|&t| range(t)) {
-            out.push(SurfaceHit {
-                point: o + d * t,
-                t,
-                patch: PatchId(1),
-            });
-        }
-    }
-}
-
-impl Oracle for Ball {
-    fn bounding_box(&self) -> Aabb {
-        Aabb {
-            min: Point3::splat(-1.0),
-            max: Point3::splat(1.0),
-        }
-    }
-
-    fn subdomain(&self, p: Point3) -> SubdomainId {
-        if p.length_squared() < 1.0 {
-            SubdomainId(1)
-        } else {
-            OUTSIDE
-        }
-    }
-
-    fn segment_hits(&self, a: Point3, b: Point3, out: &mut Vec<SurfaceHit>) {
-        Self::hits(a, b - a, |t| (0.0..=1.0).contains(&t), out);
-    }
-
-    fn ray_hits(&self, origin: Point3, dir: Point3, out: &mut Vec<SurfaceHit>) {
-        Self::hits(origin, dir, |t| t >= 0.0, out);
-    }
-
-    fn initial_points(&self) -> Vec<SurfacePoint> {
-        (0..20)
-            .map(|i| {
-                // A Fibonacci spiral.
-                let z = 1.0 - (2.0 * i as f64 + 1.0) / 20.0;
-                let phi = i as f64 * 2.399_963_229_728_653;
-                let r = (1.0 - z * z).sqrt();
-                SurfacePoint {
-                    point: Point3::new(r * phi.cos(), r * phi.sin(), z),
-                    patch: PatchId(1),
-                }
-            })
-            .collect()
-    }
-}
 
 const DISTANCE: f64 = 0.02;
 
 fn criteria() -> MeshCriteria {
-    MeshCriteria {
-        edge_size: Sizing::Constant(0.3),
-        edge_min_size: 0.0,
-        facet: FacetCriteria {
-            angle_deg: 25.0,
-            size: Sizing::Constant(0.3),
-            distance: Sizing::Constant(DISTANCE),
-        },
-        cell: CellCriteria {
-            radius_edge_ratio: 3.0,
-            size: Sizing::Constant(0.3),
-        },
-    }
+    MeshCriteria::uniform(0.3, DISTANCE)
 }
 
 /// The refined mesh of the ball, not optimised.
 fn refined() -> MeshComplex {
     let options = MeshOptions {
-        criteria: criteria(),
-        limits: Limits::default(),
-        keep_partial: false,
         optimize: OptimizeOptions::none(),
-        validity: Default::default(),
+        ..MeshOptions::new(criteria())
     };
-    mesh_domain(&Ball, &options, &mut |_| {})
+    mesh_domain(&UnitBall, &options, &mut |_| {})
         .expect("the ball is meshed")
         .complex
+}
+
+/// The optimisers' workspace over `mesh`, with the sizes of [`criteria`].
+fn workspace(mesh: &MeshComplex) -> Workspace<'static> {
+    let c = criteria();
+    Workspace::new(
+        mesh,
+        &[],
+        &UnitBall,
+        c.facet.distance,
+        c.facet.size,
+        c.cell.size,
+    )
+    .expect("taken over")
 }
 
 fn smallest(c: &MeshComplex) -> f64 {
@@ -134,9 +66,7 @@ fn assert_valid_ball(c: &MeshComplex, refined_volume: f64) {
             assert!((r - 1.0).abs() <= DISTANCE, "boundary vertex at radius {r}");
         }
     }
-    let volume: f64 = (0..c.tets.len())
-        .map(|t| crate::quality::tet_volume(&c.tet_points(t)))
-        .sum();
+    let volume = volume(c);
     let area = 4.0 * std::f64::consts::PI;
     assert!(
         (volume - refined_volume).abs() <= area * DISTANCE,
@@ -155,16 +85,7 @@ fn every_step_keeps_the_triangulation_regular_and_the_mesh_valid() {
     let mesh = refined();
     let refined_volume = volume(&mesh);
     let before = smallest(&mesh);
-    let c = criteria();
-    let mut ws = Workspace::new(
-        &mesh,
-        &[],
-        &Ball,
-        c.facet.distance,
-        c.facet.size,
-        c.cell.size,
-    )
-    .expect("taken over");
+    let mut ws = workspace(&mesh);
     let deadline = Deadline(None);
     smooth::smooth(&mut ws, smooth::Smoother::Odt, 3, &deadline);
     assert_eq!(check_regular3(&ws.rt), Ok(()));
@@ -191,7 +112,7 @@ fn every_step_keeps_the_triangulation_regular_and_the_mesh_valid() {
 fn the_default_optimisers_lift_the_smallest_angle_and_repeat_exactly() {
     let mesh = refined();
     let options = OptimizeOptions::default();
-    let (a, report) = optimize(mesh.clone(), &[], &Ball, &criteria(), &options);
+    let (a, report) = optimize(mesh.clone(), &[], &UnitBall, &criteria(), &options);
     assert!(report.skipped.is_none());
     assert_valid_ball(&a, volume(&mesh));
     assert!(report.after().min_dihedral_deg > report.before.min_dihedral_deg);
@@ -201,7 +122,7 @@ fn the_default_optimisers_lift_the_smallest_angle_and_repeat_exactly() {
         "smallest dihedral angle {}",
         smallest(&a)
     );
-    let (b, _) = optimize(mesh.clone(), &[], &Ball, &criteria(), &options);
+    let (b, _) = optimize(mesh.clone(), &[], &UnitBall, &criteria(), &options);
     assert_eq!(a, b);
     // Surface vertices stay surface vertices, on the sphere.
     for (p, d) in a.points.iter().zip(&a.vertex_dimension) {
@@ -217,7 +138,7 @@ fn no_optimiser_leaves_the_mesh_as_it_is() {
     let (same, report) = optimize(
         mesh.clone(),
         &[],
-        &Ball,
+        &UnitBall,
         &criteria(),
         &OptimizeOptions::none(),
     );
@@ -230,16 +151,7 @@ fn surface_vertices_on_the_hull_of_the_mesh_can_move() {
     // Every vertex on the sphere is on the convex hull of the mesh vertices; the workspace's
     // frame puts them inside its triangulation, so a small move inwards is a valid move.
     let mesh = refined();
-    let c = criteria();
-    let mut ws = Workspace::new(
-        &mesh,
-        &[],
-        &Ball,
-        c.facet.distance,
-        c.facet.size,
-        c.cell.size,
-    )
-    .expect("taken over");
+    let mut ws = workspace(&mesh);
     let surface: Vec<_> = (0..ws.rt.num_vertices())
         .map(|i| crate::triangulation::VertexId(i as u32))
         .filter(|&v| ws.dimension[v.0 as usize] == VertexDimension::Surface)

@@ -218,17 +218,23 @@ impl MeshCriteria {
     /// that meshing needs no option.
     pub fn default_for(bbox: &Aabb) -> Self {
         let d = bbox.diagonal();
+        MeshCriteria::uniform(d / 20.0, d / 400.0)
+    }
+
+    /// One constant `size` for feature edges, facets and cells, a constant facet `distance`,
+    /// and the angle (25°) and radius-edge ratio (3) that guarantee termination.
+    pub fn uniform(size: f64, distance: f64) -> Self {
         MeshCriteria {
-            edge_size: Sizing::Constant(d / 20.0),
+            edge_size: Sizing::Constant(size),
             edge_min_size: 0.0,
             facet: FacetCriteria {
                 angle_deg: 25.0,
-                size: Sizing::Constant(d / 20.0),
-                distance: Sizing::Constant(d / 400.0),
+                size: Sizing::Constant(size),
+                distance: Sizing::Constant(distance),
             },
             cell: CellCriteria {
                 radius_edge_ratio: 3.0,
-                size: Sizing::Constant(d / 20.0),
+                size: Sizing::Constant(size),
             },
         }
     }

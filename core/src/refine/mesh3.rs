@@ -35,6 +35,19 @@ pub struct MeshOptions {
     pub optimize: OptimizeOptions,
 }
 
+impl MeshOptions {
+    /// `criteria` with the default guards, repairs and optimisers, nothing kept on failure.
+    pub fn new(criteria: MeshCriteria) -> Self {
+        MeshOptions {
+            criteria,
+            limits: Limits::default(),
+            keep_partial: false,
+            validity: ValidityOptions::default(),
+            optimize: OptimizeOptions::default(),
+        }
+    }
+}
+
 /// Wall time of each phase.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PhaseTimes {

@@ -6,8 +6,8 @@
 use delamesh_core::complex::MeshComplex;
 use delamesh_core::oracle::{OUTSIDE, Oracle, PatchId, SubdomainId};
 use delamesh_core::quality;
-use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
-use delamesh_core::refine::{Limits, MeshOptions, mesh_domain};
+use delamesh_core::refine::criteria::MeshCriteria;
+use delamesh_core::refine::{MeshOptions, mesh_domain};
 use delamesh_formats::image::{Image, ImageFormat, Voxels, read_image, read_image_bytes};
 use delamesh_image_label::{ImageLabelOracle, ImageOptions};
 use glam::DVec3;
@@ -29,28 +29,18 @@ fn image(dims: [usize; 3], spacing: DVec3, label: impl Fn(DVec3) -> u8) -> Image
 }
 
 fn criteria(size: f64, distance: f64) -> MeshCriteria {
-    let mut c = MeshCriteria::default_for(&delamesh_core::oracle::Aabb {
-        min: DVec3::ZERO,
-        max: DVec3::ONE,
-    });
-    c.facet.angle_deg = 25.0;
-    c.facet.size = Sizing::Constant(size);
-    c.facet.distance = Sizing::Constant(distance);
-    c.cell.size = Sizing::Constant(size);
     // Feature curves followed at the facet size, as the command line does for images, with the
     // image's smallest protecting ball.
-    c.edge_size = Sizing::Constant(size);
-    c.edge_min_size = 2.0;
-    c
+    MeshCriteria {
+        edge_min_size: 2.0,
+        ..MeshCriteria::uniform(size, distance)
+    }
 }
 
 fn mesh(oracle: &ImageLabelOracle, criteria: MeshCriteria) -> MeshComplex {
     let options = MeshOptions {
-        criteria,
-        limits: Limits::default(),
-        keep_partial: false,
-        validity: Default::default(),
         optimize: delamesh_core::optimize::OptimizeOptions::none(),
+        ..MeshOptions::new(criteria)
     };
     mesh_domain(oracle, &options, &mut |_| {})
         .expect("meshing succeeds")

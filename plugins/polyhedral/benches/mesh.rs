@@ -9,8 +9,9 @@
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use delamesh_core::mesh::SurfaceMesh;
-use delamesh_core::refine::criteria::{CellCriteria, FacetCriteria, MeshCriteria, Sizing};
-use delamesh_core::refine::{Limits, MeshOptions, mesh_domain};
+use delamesh_core::optimize::OptimizeOptions;
+use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
+use delamesh_core::refine::{MeshOptions, mesh_domain};
 use delamesh_polyhedral::PolyhedralOracle;
 use glam::DVec3;
 use std::hint::black_box;
@@ -23,25 +24,14 @@ fn sphere_off(c: &mut Criterion) {
     } = SurfaceMesh::icosphere(DVec3::ZERO, 0.5, 2);
     assert_eq!((points.len(), triangles.len()), (162, 320));
     let oracle = PolyhedralOracle::new(&points, &triangles, None).expect("a closed icosphere");
+    let criteria = MeshCriteria {
+        // No sharp features on a sphere: nothing to protect.
+        edge_size: Sizing::Unbounded,
+        ..MeshCriteria::uniform(0.05, 0.002)
+    };
     let options = MeshOptions {
-        criteria: MeshCriteria {
-            facet: FacetCriteria {
-                angle_deg: 25.0,
-                size: Sizing::Constant(0.05),
-                distance: Sizing::Constant(0.002),
-            },
-            cell: CellCriteria {
-                radius_edge_ratio: 3.0,
-                size: Sizing::Constant(0.05),
-            },
-            // No sharp features on a sphere: nothing to protect.
-            edge_size: Sizing::Unbounded,
-            edge_min_size: 0.0,
-        },
-        limits: Limits::default(),
-        keep_partial: false,
-        validity: Default::default(),
-        optimize: delamesh_core::optimize::OptimizeOptions::none(),
+        optimize: OptimizeOptions::none(),
+        ..MeshOptions::new(criteria)
     };
     let mut group = c.benchmark_group("mesh");
     group.sample_size(10);
