@@ -7,17 +7,13 @@ use plugins_support as common;
 use delamesh::core::kernel::Point3;
 use delamesh::core::oracle::{OUTSIDE, Oracle, SurfaceHit};
 use delamesh::core::plugin::{DynOracle, PluginLibrary, PluginOracle, PluginProblem};
+use delamesh::core::random::XorShift;
 use delamesh_implicit::ImplicitOracle;
 
 /// Deterministic pseudo-random points in a box (xorshift; no seeded RNG dependency needed).
 fn points_in(min: Point3, max: Point3, count: usize) -> Vec<Point3> {
-    let mut state = 0x9E37_79B9_7F4A_7C15_u64;
-    let mut unit = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = XorShift::new(0x9E37_79B9_7F4A_7C15_);
+    let mut unit = move || rng.next_f64();
     (0..count)
         .map(|_| min + Point3::new(unit(), unit(), unit()) * (max - min))
         .collect()

@@ -11,6 +11,7 @@ pub mod optimize;
 pub mod oracle;
 pub mod plugin;
 pub mod quality;
+pub mod random;
 pub mod refine;
 pub mod triangulation;
 pub mod union_find;

@@ -181,19 +181,15 @@ pub mod exact_oracle {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::random::XorShift;
 
     /// Points mixing unit, subnormal and tiny coordinates, nudged by ulps: the filtered
     /// predicates must agree with the big-integer oracle everywhere.
     #[test]
     fn filtered_predicates_match_the_oracle_across_magnitudes() {
         use super::super::{Point2, Point3, incircle, insphere, orient2d, orient3d};
-        let mut state = 0x51a7_e5c0_ffee_1234u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut rng = XorShift::new(0x51a7_e5c0_ffee_1234);
+        let mut next = move || rng.next_u64();
         let scales = [1.0, 1e-320, 1e-200, 1e-30, 1e150, 0.0];
         for _ in 0..4000 {
             let mut coord = || {
@@ -231,13 +227,8 @@ mod tests {
     #[test]
     fn an_overflowing_term_does_not_decide_a_sign() {
         use super::super::{Point3, StaticFilter, insphere, orient3d};
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut unit = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut rng = XorShift::new(0x2545_f491_4f6c_dd1d);
+        let mut unit = move || rng.next_f64() * 2.0 - 1.0;
         for (scale, five) in [(1e61, true), (3e61, true), (1e62, true), (3e102, false)] {
             for _ in 0..500 {
                 let p: [Point3; 5] = std::array::from_fn(|_| {

@@ -166,6 +166,7 @@ fn power_test_exact(p: [WeightedPoint3; 5]) -> Sign {
 mod tests {
     use super::*;
     use crate::kernel::insphere;
+    use crate::random::XorShift;
 
     fn w(x: f64, y: f64, z: f64, weight: f64) -> WeightedPoint3 {
         WeightedPoint3::new(Point3::new(x, y, z), weight)
@@ -173,13 +174,8 @@ mod tests {
 
     #[test]
     fn unweighted_power_test_is_the_in_sphere_test() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = XorShift::new(0x9e37_79b9_7f4a_7c15);
+        let mut next = || rng.next_f64();
         for k in 0..2000 {
             let scale = if k % 2 == 0 { 1.0 } else { 3.0 };
             let p: [Point3; 5] = std::array::from_fn(|_| {
@@ -196,74 +192,52 @@ mod tests {
     #[test]
     fn weights_move_the_orthogonal_sphere() {
         // Unit tetrahedron corner: circumsphere centre (0.5,0.5,0.5), radius² 0.75.
-        let cell = [
+        let [a, b, c, d] = [
             w(1.0, 0.0, 0.0, 0.0),
             w(0.0, 1.0, 0.0, 0.0),
             w(0.0, 0.0, 1.0, 0.0),
             w(0.0, 0.0, 0.0, 0.0),
         ];
-        let on = w(1.0, 1.0, 1.0, 0.0);
-        assert_eq!(
-            power_test(cell[0], cell[1], cell[2], cell[3], on),
-            Sign::Zero
-        );
-        // A positive weight on the query makes it reach into the sphere: conflict.
-        let heavy = w(1.0, 1.0, 1.0, 0.25);
-        assert_eq!(
-            power_test(cell[0], cell[1], cell[2], cell[3], heavy),
-            Sign::Positive
-        );
-        assert_eq!(
-            power_test_exact([cell[0], cell[1], cell[2], cell[3], heavy]),
-            Sign::Positive
-        );
-        // Weight exactly cancelling the power distance: orthogonal, hence zero.
-        let far = w(2.0, 0.5, 0.5, 1.5);
-        // |far - centre|² - 0.75 = 2.25 - 0.75 = 1.5.
-        assert_eq!(
-            power_test(cell[0], cell[1], cell[2], cell[3], far),
-            Sign::Zero
-        );
-        assert_eq!(
-            power_test_exact([cell[0], cell[1], cell[2], cell[3], far]),
-            Sign::Zero
-        );
+        let queries = [
+            // On the sphere.
+            (w(1.0, 1.0, 1.0, 0.0), Sign::Zero),
+            // A positive weight on the query makes it reach into the sphere: conflict.
+            (w(1.0, 1.0, 1.0, 0.25), Sign::Positive),
+            // A weight cancelling the power distance |q - centre|² - 0.75 = 2.25 - 0.75 = 1.5:
+            // orthogonal, hence zero.
+            (w(2.0, 0.5, 0.5, 1.5), Sign::Zero),
+        ];
+        for (q, expected) in queries {
+            assert_eq!(power_test(a, b, c, d, q), expected, "{q:?}");
+            assert_eq!(power_test_exact([a, b, c, d, q]), expected, "{q:?}");
+        }
     }
 
     #[test]
     fn exact_fallback_handles_tiny_and_huge_magnitudes() {
         let t = 1e-200;
-        let cell = [
+        let [a, b, c, d] = [
             w(t, 0.0, 0.0, 0.0),
             w(0.0, t, 0.0, 0.0),
             w(0.0, 0.0, t, 0.0),
             w(0.0, 0.0, 0.0, 0.0),
         ];
-        assert_eq!(
-            power_test(cell[0], cell[1], cell[2], cell[3], w(t, t, t, 0.0)),
-            Sign::Zero
-        );
-        assert_eq!(
-            power_test(
-                cell[0],
-                cell[1],
-                cell[2],
-                cell[3],
-                w(t / 4.0, t / 4.0, t / 4.0, 0.0)
-            ),
-            Sign::Positive
-        );
+        let quarter = t / 4.0;
+        for (q, expected) in [
+            (w(t, t, t, 0.0), Sign::Zero),
+            (w(quarter, quarter, quarter, 0.0), Sign::Positive),
+        ] {
+            assert_eq!(power_test(a, b, c, d, q), expected, "{q:?}");
+        }
         let big = [
             w(1e40, 0.0, 0.0, 1e70),
             w(0.0, 1e40, 0.0, 0.0),
             w(0.0, 0.0, 1e40, 0.0),
             w(0.0, 0.0, 0.0, 0.0),
         ];
-        let s = power_test(big[0], big[1], big[2], big[3], w(1e40, 1e40, 1e40, 0.0));
-        assert_eq!(
-            s,
-            power_test_exact([big[0], big[1], big[2], big[3], w(1e40, 1e40, 1e40, 0.0)])
-        );
+        let q = w(1e40, 1e40, 1e40, 0.0);
+        let s = power_test(big[0], big[1], big[2], big[3], q);
+        assert_eq!(s, power_test_exact([big[0], big[1], big[2], big[3], q]));
     }
 
     #[test]
@@ -273,27 +247,17 @@ mod tests {
             w(2.0, 0.0, 2.0, 0.0),
             w(0.0, 2.0, 2.0, 0.0),
         );
-        // Circumcircle centre (1,1), radius² 2.
-        assert_eq!(
-            coplanar_power_test(a, b, c, w(1.0, 1.0, 2.0, 0.0)),
-            Sign::Positive
-        );
-        assert_eq!(
-            coplanar_power_test(b, a, c, w(1.0, 1.0, 2.0, 0.0)),
-            Sign::Positive
-        );
-        assert_eq!(
-            coplanar_power_test(a, b, c, w(2.0, 2.0, 2.0, 0.0)),
-            Sign::Zero
-        );
-        assert_eq!(
-            coplanar_power_test(a, b, c, w(3.0, 3.0, 2.0, 0.0)),
-            Sign::Negative
-        );
-        // Weight 6 on the far point: power distance 8 - 2 - 6 = 0.
-        assert_eq!(
-            coplanar_power_test(a, b, c, w(3.0, 3.0, 2.0, 6.0)),
-            Sign::Zero
-        );
+        // Circumcircle centre (1,1), radius² 2; weight 6 on the far point: power distance
+        // 8 - 2 - 6 = 0.
+        let cases = [
+            ([a, b, c], w(1.0, 1.0, 2.0, 0.0), Sign::Positive),
+            ([b, a, c], w(1.0, 1.0, 2.0, 0.0), Sign::Positive),
+            ([a, b, c], w(2.0, 2.0, 2.0, 0.0), Sign::Zero),
+            ([a, b, c], w(3.0, 3.0, 2.0, 0.0), Sign::Negative),
+            ([a, b, c], w(3.0, 3.0, 2.0, 6.0), Sign::Zero),
+        ];
+        for ([p, q, r], s, expected) in cases {
+            assert_eq!(coplanar_power_test(p, q, r, s), expected, "{s:?}");
+        }
     }
 }

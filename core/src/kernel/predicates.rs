@@ -411,18 +411,14 @@ fn insphere_double_double(d: [[(f64, f64); 3]; 4]) -> (f64, f64) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::random::XorShift;
 
     /// Points of the unit sphere rounded to doubles: nearly every in-sphere test of five of them
     /// reaches the double-double stage, and some the exact one.
     #[test]
     fn nearly_cospherical_signs_match_the_exact_predicate() {
-        let mut x = 0x9E37_79B9_7F4A_7C15u64;
-        let mut unit = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut rng = XorShift::new(0x9E37_79B9_7F4A_7C15);
+        let mut unit = move || rng.next_f64() * 2.0 - 1.0;
         let mut on_sphere = |scale: f64| {
             let p = Point3::new(unit(), unit(), unit());
             p / p.length() * scale
@@ -505,13 +501,8 @@ mod tests {
     #[test]
     fn filtered_predicates_agree_with_the_adaptive_ones() {
         // Small integer coordinates make many exact degeneracies; one-ulp nudges make near ones.
-        let mut state = 0x1234_5678_9abc_def0u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut rng = XorShift::new(0x1234_5678_9abc_def0);
+        let mut next = || rng.next_u64();
         for _ in 0..20000 {
             let mut p = [Point3::ZERO; 5];
             for q in &mut p {
@@ -532,13 +523,8 @@ mod tests {
     fn static_filter_agrees_with_the_adaptive_predicates() {
         // Near-degenerate configurations (one-ulp nudges of lattice points) inside a box whose
         // extent sets the static bounds, plus points far smaller than the box.
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut rng = XorShift::new(0x9e37_79b9_7f4a_7c15);
+        let mut next = || rng.next_u64();
         let mut filter = StaticFilter::default();
         filter.include(Point3::splat(-1.0));
         filter.include(Point3::splat(3.0));
@@ -567,11 +553,9 @@ mod tests {
         // Exact ties everywhere (cospherical cubes, coplanar faces) and differences at the edge
         // of the shortcut's range.
         let coords = [0.0, 1.0, 2.0, 511.0, 512.0, 513.0, -512.0, 65536.0, 65537.0];
-        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut rng = XorShift::new(0x2545_f491_4f6c_dd1d);
         let mut pick = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
+            let state = rng.next_u64();
             let i = (state % coords.len() as u64) as usize;
             coords[i] * if state >> 63 == 1 { 1.0 } else { 0.5 }
         };

@@ -105,35 +105,20 @@ fn incircle_exact(a: DVec2, b: DVec2, c: DVec2, d: DVec2, permanent: f64) -> Ord
         }
         // First-order correction: the derivative of the determinant along the rounding errors.
         let bound = INCIRCLE_ERROR_C * permanent + RESULT_ERROR * det.abs();
-        let row =
-            |x: f64, y: f64, xt: f64, yt: f64, u: (f64, f64, f64, f64), v: (f64, f64, f64, f64)| {
-                let (ux, uy, uxt, uyt) = u;
-                let (vx, vy, vxt, vyt) = v;
-                (x * x + y * y) * ((ux * vyt + vy * uxt) - (uy * vxt + vx * uyt))
-                    + 2.0 * (x * xt + y * yt) * (ux * vy - uy * vx)
-            };
-        det += row(
-            adx,
-            ady,
-            adxt,
-            adyt,
-            (bdx, bdy, bdxt, bdyt),
-            (cdx, cdy, cdxt, cdyt),
-        ) + row(
-            bdx,
-            bdy,
-            bdxt,
-            bdyt,
-            (cdx, cdy, cdxt, cdyt),
-            (adx, ady, adxt, adyt),
-        ) + row(
-            cdx,
-            cdy,
-            cdxt,
-            cdyt,
+        // Each point's difference and its rounding error, (x, y, x error, y error).
+        type Difference = (f64, f64, f64, f64);
+        let row = |(x, y, xt, yt): Difference, u: Difference, v: Difference| {
+            let (ux, uy, uxt, uyt) = u;
+            let (vx, vy, vxt, vyt) = v;
+            (x * x + y * y) * ((ux * vyt + vy * uxt) - (uy * vxt + vx * uyt))
+                + 2.0 * (x * xt + y * yt) * (ux * vy - uy * vx)
+        };
+        let (ad, bd, cd) = (
             (adx, ady, adxt, adyt),
             (bdx, bdy, bdxt, bdyt),
+            (cdx, cdy, cdxt, cdyt),
         );
+        det += row(ad, bd, cd) + row(bd, cd, ad) + row(cd, ad, bd);
         if det.abs() >= bound {
             return sign(det);
         }

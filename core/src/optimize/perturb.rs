@@ -13,6 +13,7 @@ use super::state::{Workspace, min_dihedral};
 use crate::complex::VertexDimension;
 use crate::kernel::Point3;
 use crate::oracle::{PatchId, SurfaceHit};
+use crate::random::XorShift;
 use crate::refine::curves::Polyline;
 use crate::triangulation::{CellId, Triangulation, VertexId};
 
@@ -34,7 +35,7 @@ const SCHEDULE_DEG: [f64; 2] = [10.0, 14.0];
 /// `bound` degrees, worst first, until a sweep improves nothing or the deadline passes. Returns
 /// the number of moves kept.
 pub(super) fn perturb(ws: &mut Workspace<'_>, bound: f64, deadline: &Deadline) -> usize {
-    let mut rng = 0x9E37_79B9_7F4A_7C15u64;
+    let mut rng = XorShift::new(0x9E37_79B9_7F4A_7C15);
     let bounds = SCHEDULE_DEG.into_iter().filter(|&b| b < bound);
     bounds
         .chain(std::iter::once(bound))
@@ -55,7 +56,7 @@ enum Freedom<'a> {
 }
 
 /// Tries to improve sliver `c` by moving one of its vertices.
-fn perturb_cell(ws: &mut Workspace<'_>, c: CellId, rng: &mut u64) -> bool {
+fn perturb_cell(ws: &mut Workspace<'_>, c: CellId, rng: &mut XorShift) -> bool {
     let cell = ws.rt.cell(c);
     for k in 0..4 {
         let v = cell[k];
@@ -162,13 +163,8 @@ fn gradient(f: impl Fn(Point3) -> f64, p: Point3, h: f64) -> Point3 {
 }
 
 /// A pseudo-random unit vector (xorshift; the sequence is fixed, so runs repeat).
-fn random_unit(state: &mut u64) -> Point3 {
-    let mut next = || {
-        *state ^= *state << 13;
-        *state ^= *state >> 7;
-        *state ^= *state << 17;
-        (*state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    };
+fn random_unit(rng: &mut XorShift) -> Point3 {
+    let mut next = || rng.next_f64() * 2.0 - 1.0;
     let d = Point3::new(next(), next(), next());
     if d.length() > 0.0 {
         d.normalize()

@@ -188,6 +188,25 @@ fn facet_key(q: [VertexId; 4], i: usize) -> FacetKey {
     k
 }
 
+/// Gives created cell `k` the label `l` and queues it, unless it has one already; `None` when
+/// that one differs (the labelling across facets is inconsistent).
+fn label_once(
+    labels: &mut [Option<SubdomainId>],
+    stack: &mut Vec<usize>,
+    k: usize,
+    l: SubdomainId,
+) -> Option<()> {
+    match labels[k] {
+        None => {
+            labels[k] = Some(l);
+            stack.push(k);
+        }
+        Some(m) if m != l => return None,
+        Some(_) => {}
+    }
+    Some(())
+}
+
 /// A cell's vertices in the order of positive volume: the triangulation orders them so that
 /// `orient3d` is positive, which is the opposite handedness of [`tet_volume`].
 pub(super) fn positive(mut q: [VertexId; 4]) -> [VertexId; 4] {
@@ -573,14 +592,7 @@ impl<'o> Workspace<'o> {
                     continue;
                 }
                 let l = self.across(facet_key(q, i), self.label(n))?;
-                match new_label[k] {
-                    None => {
-                        new_label[k] = Some(l);
-                        stack.push(k);
-                    }
-                    Some(m) if m != l => return None,
-                    Some(_) => {}
-                }
+                label_once(&mut new_label, &mut stack, k, l)?;
             }
         }
         while let Some(k) = stack.pop() {
@@ -593,14 +605,7 @@ impl<'o> Workspace<'o> {
                     continue;
                 };
                 let l = self.across(facet_key(q, i), from)?;
-                match new_label[kn] {
-                    None => {
-                        new_label[kn] = Some(l);
-                        stack.push(kn);
-                    }
-                    Some(m) if m != l => return None,
-                    Some(_) => {}
-                }
+                label_once(&mut new_label, &mut stack, kn, l)?;
             }
         }
         if self

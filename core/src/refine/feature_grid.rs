@@ -173,17 +173,13 @@ impl FeatureGrid {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::random::XorShift;
 
     /// Every curve and corner within the radius is a candidate, whatever the query.
     #[test]
     fn near_features_are_never_missed() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut unit = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = XorShift::new(0x9e37_79b9_7f4a_7c15);
+        let mut unit = move || rng.next_f64();
         let curves: Vec<Vec<Point3>> = (0..40)
             .map(|_| {
                 let start = Point3::new(unit(), unit(), unit()) * 10.0;

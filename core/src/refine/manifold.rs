@@ -364,6 +364,7 @@ fn facet_of<T: Triangulation<Point = Point3>>(tr: &T, c: CellId, i: usize) -> [V
 mod tests {
     use super::*;
     use crate::oracle::{Aabb, Oracle, SurfaceHit, SurfacePoint};
+    use crate::random::XorShift;
     use crate::refine::criteria::{CellCriteria, Sizing};
     use crate::refine::engine::MesherLevel;
     use crate::triangulation::Delaunay3;
@@ -416,13 +417,8 @@ mod tests {
     /// any movable region around any vertex is the change of the whole domain's characteristic.
     #[test]
     fn predicted_euler_change_is_the_domains() {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = XorShift::new(0x2545_f491_4f6c_dd1d);
+        let mut next = || rng.next_f64();
         let points: Vec<Point3> = (0..80)
             .map(|_| Point3::new(next(), next(), next()))
             .collect();

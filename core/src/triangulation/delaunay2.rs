@@ -18,6 +18,7 @@ pub use super::{
 pub use crate::kernel::predicates2d as predicates;
 pub use validity::ValidityError;
 
+use crate::random::XorShift;
 use glam::DVec2;
 use predicates::{incircle_perturbed, lex_cmp, orient2d};
 use std::cell::{Cell, RefCell};
@@ -91,7 +92,7 @@ pub struct Delaunay2 {
     chain: BTreeMap<LexKey, VertexId>,
     /// Last cell found by a walk: the next walk starts there.
     hint: Cell<CellId>,
-    walk_rng: Cell<u64>,
+    walk_rng: Cell<XorShift>,
     /// Visit stamps of the conflict search, one per cell.
     marks: RefCell<(Vec<u32>, u32)>,
     /// The last zone computed by `conflict_zone` and its point: a mesher usually asks for the zone
@@ -128,7 +129,7 @@ impl Delaunay2 {
             num_finite_cells: 0,
             chain: BTreeMap::new(),
             hint: Cell::new(NO_CELL),
-            walk_rng: Cell::new(0x2545_F491_4F6C_DD1D),
+            walk_rng: Cell::new(XorShift::new(0x2545_F491_4F6C_DD1D)),
             marks: RefCell::new((Vec::new(), 0)),
             last_zone: RefCell::new((None, ConflictZone::default())),
             scratch: Scratch::default(),
@@ -243,11 +244,9 @@ impl Delaunay2 {
     }
 
     fn next_random(&self) -> u64 {
-        let mut x = self.walk_rng.get();
-        x ^= x << 13;
-        x ^= x >> 7;
-        x ^= x << 17;
-        self.walk_rng.set(x);
+        let mut rng = self.walk_rng.get();
+        let x = rng.next_u64();
+        self.walk_rng.set(rng);
         x
     }
 

@@ -29,6 +29,7 @@ use super::{
     CellId, ConflictZone, InsertOutcome, InsertReport, Triangulation, TriangulationError, VertexId,
 };
 use crate::kernel::{Point2, Point3, Sign, StaticFilter, WeightedPoint3, orient2d, orient3d};
+use crate::random::XorShift;
 use cavity::{ByteMarks, CavityMarks, CellWriter, HashMarks, NewCell, Scratch, grow_cavity};
 pub use kernel::{ConflictKernel, Euclidean, Power};
 pub use regular::MAX_WEIGHT;
@@ -661,8 +662,9 @@ impl<K: ConflictKernel> Triangulation3<K> {
     ) -> Walk {
         let mut prev = NO_CELL;
         // Deterministic per-point pseudo-random facet order.
-        let mut rnd =
-            (p.x.to_bits() ^ p.y.to_bits().rotate_left(21) ^ p.z.to_bits().rotate_left(42)) | 1;
+        let mut rnd = XorShift::new(
+            (p.x.to_bits() ^ p.y.to_bits().rotate_left(21) ^ p.z.to_bits().rotate_left(42)) | 1,
+        );
         'walk: loop {
             let r = cell(c);
             let pts = &self.points;
@@ -672,10 +674,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 pts[r.v[2] as usize],
                 pts[r.v[3] as usize],
             );
-            rnd ^= rnd << 13;
-            rnd ^= rnd >> 7;
-            rnd ^= rnd << 17;
-            let first = (rnd >> 62) as usize;
+            let first = (rnd.next_u64() >> 62) as usize;
             for k in 0..4 {
                 let i = (first + k) & 3;
                 let next = r.n[i] >> 2;

@@ -6,6 +6,7 @@
 use delamesh_core::complex::MeshComplex;
 use delamesh_core::oracle::{OUTSIDE, Oracle, PatchId, SubdomainId};
 use delamesh_core::quality;
+use delamesh_core::random::XorShift;
 use delamesh_core::refine::criteria::MeshCriteria;
 use delamesh_core::refine::{MeshOptions, mesh_domain};
 use delamesh_formats::image::{Image, ImageFormat, Voxels, read_image, read_image_bytes};
@@ -553,13 +554,8 @@ fn labels_filling_the_image_keep_its_box_edges_and_border_curves() {
 fn random_blobs_of_labels_are_meshed_along_their_junctions() {
     // Overlapping balls of four labels at seeded random places: junctions nobody laid out.
     let n = 24;
-    let mut seed = 0x2545_f491_4f6c_dd1du64;
-    let mut next = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = XorShift::new(0x2545_f491_4f6c_dd1d);
+    let mut next = move || rng.next_f64();
     let balls: Vec<(DVec3, f64, u8)> = (0..7)
         .map(|k| {
             let c = DVec3::new(next(), next(), next()) * 14.0 + 4.5;

@@ -1,6 +1,7 @@
 use super::{Mesh, MeshError, MeshOptions, mesh};
 use crate::mesh2d::pslg::{Pslg, Region};
 use crate::mesh2d::quality::{min_angle_deg, signed_area};
+use crate::random::XorShift;
 use glam::DVec2;
 
 fn v(x: f64, y: f64) -> DVec2 {
@@ -248,13 +249,8 @@ fn vertex_limit_stops_refinement() {
 /// segment, with positive triangles covering its area.
 #[test]
 fn random_star_shaped_polygons_mesh_and_conform() {
-    let mut state = 0x2545_f491_4f6c_dd1du64;
-    let mut next = || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = XorShift::new(0x2545_f491_4f6c_dd1d);
+    let mut next = || rng.next_f64();
     for case in 0..60 {
         let n = 5 + (next() * 20.0) as usize;
         // Gaps between consecutive angles below half a turn: the polygon is simple.

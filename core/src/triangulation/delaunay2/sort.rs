@@ -2,30 +2,8 @@
 //! sorted along a Hilbert curve, so consecutive points are close (short walks, warm caches) while the
 //! rounds keep the randomized expected-case bounds.
 
+use crate::random::XorShift;
 use glam::DVec2;
-
-/// Deterministic xorshift generator: the same input always gives the same order.
-pub(crate) struct XorShift(u64);
-
-impl XorShift {
-    pub(crate) fn new(seed: u64) -> Self {
-        Self(seed.max(1))
-    }
-
-    pub(crate) fn next_u64(&mut self) -> u64 {
-        let mut x = self.0;
-        x ^= x << 13;
-        x ^= x >> 7;
-        x ^= x << 17;
-        self.0 = x;
-        x
-    }
-
-    /// Uniform in `0..n` (n > 0); the tiny modulo bias is irrelevant for shuffling.
-    pub(crate) fn below(&mut self, n: usize) -> usize {
-        (self.next_u64() % n as u64) as usize
-    }
-}
 
 /// Position of the grid cell `(x, y)` along the Hilbert curve of order 16.
 fn hilbert_index(mut x: u32, mut y: u32) -> u64 {

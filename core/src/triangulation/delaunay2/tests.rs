@@ -1,6 +1,6 @@
 use super::predicates::{circumcenter, incircle, incircle_perturbed, lex_cmp, orient2d};
-use super::sort::XorShift;
 use super::*;
+use crate::random::XorShift;
 use glam::DVec2;
 use std::cmp::Ordering;
 

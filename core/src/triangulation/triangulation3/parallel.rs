@@ -512,18 +512,14 @@ impl<K: ConflictKernel> Triangulation3<K> {
 mod tests {
     use super::*;
     use crate::kernel::Point3;
+    use crate::random::XorShift;
     use crate::triangulation::validity::check_delaunay3;
     use crate::triangulation::{Delaunay3, Triangulation, VertexId};
 
     /// `n` pseudo-random points in the unit cube.
     fn scattered(n: usize) -> Vec<Point3> {
-        let mut x = 0x2545_F491_4F6C_DD1Du64;
-        let mut coordinate = move || {
-            x ^= x << 13;
-            x ^= x >> 7;
-            x ^= x << 17;
-            (x >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = XorShift::new(0x2545_F491_4F6C_DD1D);
+        let mut coordinate = move || rng.next_f64();
         (0..n)
             .map(|_| Point3::new(coordinate(), coordinate(), coordinate()))
             .collect()

@@ -363,21 +363,33 @@ impl<K: ConflictKernel> Triangulation3<K> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::random::XorShift;
     use crate::triangulation::validity::{check_delaunay3, check_regular3};
     use crate::triangulation::{Delaunay3, Regular3};
 
-    /// Deterministic pseudo-random numbers in [0, 1).
-    fn rng(seed: &mut u64) -> f64 {
-        *seed ^= *seed << 13;
-        *seed ^= *seed >> 7;
-        *seed ^= *seed << 17;
-        (*seed >> 11) as f64 / (1u64 << 53) as f64
+    fn cube_points(n: usize, rng: &mut XorShift) -> Vec<Point3> {
+        (0..n)
+            .map(|_| Point3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()))
+            .collect()
     }
 
-    fn cube_points(n: usize, seed: &mut u64) -> Vec<Point3> {
-        (0..n)
-            .map(|_| Point3::new(rng(seed), rng(seed), rng(seed)))
-            .collect()
+    /// The Delaunay triangulation of `points`, inserted in order.
+    fn delaunay(points: &[Point3]) -> Delaunay3 {
+        let mut dt = Delaunay3::new();
+        for &p in points {
+            dt.insert(p).unwrap();
+        }
+        dt
+    }
+
+    /// The regular triangulation of `points` with `weights`, inserted in order.
+    fn regular(points: &[Point3], weights: impl IntoIterator<Item = f64>) -> Regular3 {
+        let mut rt = Regular3::new();
+        let mut report = InsertReport::default();
+        for (&p, w) in points.iter().zip(weights) {
+            rt.insert_weighted(p, w, None, &mut report).unwrap();
+        }
+        rt
     }
 
     /// The finite cells as sorted vertex quadruples, sorted.
@@ -396,17 +408,14 @@ mod tests {
 
     #[test]
     fn moved_delaunay_vertices_give_the_triangulation_of_the_moved_points() {
-        let mut seed = 0x1234_5678_9abc_def1;
-        let mut pts = cube_points(300, &mut seed);
-        let mut dt = Delaunay3::new();
-        for &p in &pts {
-            dt.insert(p).unwrap();
-        }
+        let mut rng = XorShift::new(0x1234_5678_9abc_def1);
+        let mut pts = cube_points(300, &mut rng);
+        let mut dt = delaunay(&pts);
         let mut report = MoveReport::default();
         let (mut moved, mut refused) = (0, 0);
         for k in 0..200 {
             let v = VertexId((k * 7 % 300) as u32);
-            let delta = Point3::new(rng(&mut seed), rng(&mut seed), rng(&mut seed)) - 0.5;
+            let delta = Point3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) - 0.5;
             let p = dt.point(v) + 0.1 * delta;
             if dt.move_vertex(v, p, 0.0, &mut report).unwrap() {
                 pts[v.0 as usize] = p;
@@ -418,29 +427,22 @@ mod tests {
         }
         assert!(moved > 0 && refused > 0, "{moved} moved, {refused} refused");
         assert_eq!(check_delaunay3(&dt), Ok(()));
-        let mut fresh = Delaunay3::new();
-        for &p in &pts {
-            fresh.insert(p).unwrap();
-        }
+        let fresh = delaunay(&pts);
         assert_eq!(cell_sets(&dt), cell_sets(&fresh));
     }
 
     #[test]
     fn reweighted_regular_vertices_keep_the_triangulation_regular() {
-        let mut seed = 0x0fed_cba9_8765_4321;
-        let pts = cube_points(300, &mut seed);
-        let mut rt = Regular3::new();
-        let mut report = InsertReport::default();
-        for &p in &pts {
-            rt.insert_weighted(p, 0.0, None, &mut report).unwrap();
-        }
+        let mut rng = XorShift::new(0x0fed_cba9_8765_4321);
+        let pts = cube_points(300, &mut rng);
+        let mut rt = regular(&pts, std::iter::repeat(0.0));
         let mut weights = vec![0.0; pts.len()];
         let mut moved = MoveReport::default();
         let mut changed = 0;
         for k in 0..300 {
             let v = VertexId(k as u32);
             // Large enough weights to hide neighbours now and then: those moves are refused.
-            let w = 0.01 * rng(&mut seed);
+            let w = 0.01 * rng.next_f64();
             if rt.move_vertex(v, pts[k], w, &mut moved).unwrap() {
                 weights[k] = w;
                 changed += 1;
@@ -449,23 +451,15 @@ mod tests {
         assert!(changed > 0);
         assert_eq!(check_regular3(&rt), Ok(()));
         assert_eq!(rt.hidden_vertices().count(), 0);
-        let mut fresh = Regular3::new();
-        for (&p, &w) in pts.iter().zip(&weights) {
-            fresh.insert_weighted(p, w, None, &mut report).unwrap();
-        }
+        let fresh = regular(&pts, weights);
         assert_eq!(cell_sets(&rt), cell_sets(&fresh));
     }
 
     #[test]
     fn moving_back_restores_the_cells_of_small_and_large_moves() {
-        let mut seed = 0x2468_ace0_1357_9bdf;
-        let pts = cube_points(300, &mut seed);
-        let mut rt = Regular3::new();
-        let mut inserted = InsertReport::default();
-        for &p in &pts {
-            rt.insert_weighted(p, 0.001 * rng(&mut seed), None, &mut inserted)
-                .unwrap();
-        }
+        let mut rng = XorShift::new(0x2468_ace0_1357_9bdf);
+        let pts = cube_points(300, &mut rng);
+        let mut rt = regular(&pts, std::iter::repeat_with(|| 0.001 * rng.next_f64()));
         let mut report = MoveReport::default();
         let mut undone = 0;
         for k in 0..200 {
@@ -473,7 +467,7 @@ mod tests {
             let (p, w) = (rt.point(v), rt.weight(v));
             // Small moves keep the star's cells, large ones change them.
             let reach = if k % 2 == 0 { 0.002 } else { 0.1 };
-            let delta = Point3::new(rng(&mut seed), rng(&mut seed), rng(&mut seed)) - 0.5;
+            let delta = Point3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) - 0.5;
             let before = cell_sets(&rt);
             if rt
                 .move_vertex(v, p + reach * delta, w, &mut report)
@@ -501,20 +495,14 @@ mod tests {
                 }
             }
         }
-        let mut dt = Delaunay3::new();
-        for &p in &pts {
-            dt.insert(p).unwrap();
-        }
+        let mut dt = delaunay(&pts);
         let mut report = MoveReport::default();
         let inner = VertexId(2 * 25 + 2 * 5 + 2);
         let p = Point3::new(2.25, 2.0, 2.0);
         assert!(dt.move_vertex(inner, p, 0.0, &mut report).unwrap());
         pts[inner.0 as usize] = p;
         assert_eq!(check_delaunay3(&dt), Ok(()));
-        let mut fresh = Delaunay3::new();
-        for &q in &pts {
-            fresh.insert(q).unwrap();
-        }
+        let fresh = delaunay(&pts);
         assert_eq!(cell_sets(&dt), cell_sets(&fresh));
         // Onto a hull facet, or onto another vertex: refused, nothing changed.
         let before = cell_sets(&dt);
