@@ -14,6 +14,7 @@ use delamesh_core::optimize::OptimizeOptions;
 use delamesh_core::oracle::Aabb;
 use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
 use delamesh_core::refine::{Limits, MeshOptions, ValidityOptions};
+use delamesh_subdivision::SubdivisionOptions;
 use std::collections::BTreeMap;
 use std::fmt;
 use std::path::PathBuf;
@@ -59,7 +60,7 @@ pub struct MeshSettings {
     pub strict: bool,
     /// Mesh the input file as the control mesh of a subdivision surface (its limit surface
     /// bounds the domain) instead of as a triangle surface; `None`: a surface.
-    pub subdivision: Option<delamesh_subdivision::SubdivisionOptions>,
+    pub subdivision: Option<SubdivisionOptions>,
     /// The optimisers run after refinement (default: CGAL's, perturbation and exudation;
     /// `OptimizeOptions::none()` for the refined mesh as it is).
     pub optimize: OptimizeOptions,
@@ -340,96 +341,71 @@ pub struct MeshSettingsBuilder {
     settings: MeshSettings,
 }
 
+/// Builder setters that assign one field of the settings each: `fn name(value: Type) =>
+/// field.path = expression;` with the doc comments above each.
+macro_rules! setters {
+    ($($(#[$attr:meta])* fn $name:ident($v:ident: $t:ty) => $($field:ident).+ = $value:expr;)*) => {
+        $(
+            $(#[$attr])*
+            pub fn $name(mut self, $v: $t) -> Self {
+                self.settings.$($field).+ = $value;
+                self
+            }
+        )*
+    };
+}
+
 impl MeshSettingsBuilder {
-    /// See [`MeshSettings::edge_size`].
-    pub fn edge_size(mut self, v: f64) -> Self {
-        self.settings.edge_size = Some(v);
-        self
-    }
-    /// See [`MeshSettings::edge_min_size`].
-    pub fn edge_min_size(mut self, v: f64) -> Self {
-        self.settings.edge_min_size = Some(v);
-        self
-    }
-    /// See [`MeshSettings::time_limit`].
-    pub fn time_limit(mut self, limit: std::time::Duration) -> Self {
-        self.settings.time_limit = Some(limit);
-        self
-    }
-    /// See [`MeshSettings::facet_angle`].
-    pub fn facet_angle(mut self, degrees: f64) -> Self {
-        self.settings.facet_angle = Some(degrees);
-        self
-    }
-    /// See [`MeshSettings::facet_size`].
-    pub fn facet_size(mut self, v: f64) -> Self {
-        self.settings.facet_size = Some(v);
-        self
-    }
-    /// See [`MeshSettings::facet_distance`].
-    pub fn facet_distance(mut self, v: f64) -> Self {
-        self.settings.facet_distance = Some(v);
-        self
-    }
-    /// See [`MeshSettings::cell_radius_edge_ratio`].
-    pub fn cell_radius_edge_ratio(mut self, v: f64) -> Self {
-        self.settings.cell_radius_edge_ratio = Some(v);
-        self
-    }
-    /// See [`MeshSettings::cell_size`].
-    pub fn cell_size(mut self, v: f64) -> Self {
-        self.settings.cell_size = Some(v);
-        self
-    }
-    /// See [`MeshSettings::max_vertices`].
-    pub fn max_vertices(mut self, n: usize) -> Self {
-        self.settings.max_vertices = Some(n);
-        self
-    }
-    /// See [`MeshSettings::optimize`].
-    pub fn optimize(mut self, optimize: OptimizeOptions) -> Self {
-        self.settings.optimize = optimize;
-        self
+    setters! {
+        /// See [`MeshSettings::edge_size`].
+        fn edge_size(v: f64) => edge_size = Some(v);
+        /// See [`MeshSettings::edge_min_size`].
+        fn edge_min_size(v: f64) => edge_min_size = Some(v);
+        /// See [`MeshSettings::time_limit`].
+        fn time_limit(limit: std::time::Duration) => time_limit = Some(limit);
+        /// See [`MeshSettings::facet_angle`].
+        fn facet_angle(degrees: f64) => facet_angle = Some(degrees);
+        /// See [`MeshSettings::facet_size`].
+        fn facet_size(v: f64) => facet_size = Some(v);
+        /// See [`MeshSettings::facet_distance`].
+        fn facet_distance(v: f64) => facet_distance = Some(v);
+        /// See [`MeshSettings::cell_radius_edge_ratio`].
+        fn cell_radius_edge_ratio(v: f64) => cell_radius_edge_ratio = Some(v);
+        /// See [`MeshSettings::cell_size`].
+        fn cell_size(v: f64) => cell_size = Some(v);
+        /// See [`MeshSettings::max_vertices`].
+        fn max_vertices(n: usize) => max_vertices = Some(n);
+        /// See [`MeshSettings::optimize`].
+        fn optimize(optimize: OptimizeOptions) => optimize = optimize;
+        /// See [`MeshSettings::keep_partial`].
+        fn keep_partial(keep: bool) => keep_partial = keep;
+        /// See [`FeatureSettings::enabled`].
+        fn features(enabled: bool) => features.enabled = enabled;
+        /// See [`FeatureSettings::angle_deg`].
+        fn feature_angle(degrees: f64) => features.angle_deg = degrees;
+        /// See [`FeatureSettings::polylines`].
+        fn feature_polylines(path: impl Into<PathBuf>) => features.polylines = Some(path.into());
+        /// See [`ImageSettings::options`]: the outside label of a segmented image.
+        fn background(label: u32) => image.options.background = label;
+        /// See [`ImageSettings::options`]: mesh a gray-level image as {value ≥ `v`}.
+        fn isovalue(v: f64) => image.options.isovalue = Some(v);
+        /// See [`SizingSettings::field`].
+        fn sizing(source: SizeSource) => sizing.field = Some(source);
+        /// See [`SizingSettings::gradation`].
+        fn size_gradation(gradation: f64) => sizing.gradation = Some(gradation);
+        /// See [`SizingSettings::distance`].
+        fn distance_field(source: SizeSource) => sizing.distance = Some(source);
+        /// See [`MeshSettings::subdivision`].
+        fn subdivision(options: SubdivisionOptions) => subdivision = Some(options);
+        /// See [`MeshSettings::preserve_surface`].
+        fn preserve_surface(preserve: bool) => preserve_surface = preserve;
+        /// See [`MeshSettings::strict`].
+        fn strict(strict: bool) => strict = strict;
     }
 
-    /// See [`MeshSettings::keep_partial`].
-    pub fn keep_partial(mut self, keep: bool) -> Self {
-        self.settings.keep_partial = keep;
-        self
-    }
-    /// See [`FeatureSettings::enabled`].
-    pub fn features(mut self, enabled: bool) -> Self {
-        self.settings.features.enabled = enabled;
-        self
-    }
-    /// See [`FeatureSettings::angle_deg`].
-    pub fn feature_angle(mut self, degrees: f64) -> Self {
-        self.settings.features.angle_deg = degrees;
-        self
-    }
-    /// See [`FeatureSettings::polylines`].
-    pub fn feature_polylines(mut self, path: impl Into<PathBuf>) -> Self {
-        self.settings.features.polylines = Some(path.into());
-        self
-    }
-    /// See [`ImageSettings::options`]: the outside label of a segmented image.
-    pub fn background(mut self, label: u32) -> Self {
-        self.settings.image.options.background = label;
-        self
-    }
-    /// See [`ImageSettings::options`]: mesh a gray-level image as {value ≥ `v`}.
-    pub fn isovalue(mut self, v: f64) -> Self {
-        self.settings.image.options.isovalue = Some(v);
-        self
-    }
     /// See [`ImageSettings::cell_size_per_label`].
     pub fn cell_size_for_label(mut self, label: u32, size: f64) -> Self {
         self.settings.image.cell_size_per_label.insert(label, size);
-        self
-    }
-    /// See [`SizingSettings::field`].
-    pub fn sizing(mut self, source: SizeSource) -> Self {
-        self.settings.sizing.field = Some(source);
         self
     }
     /// See [`SizingSettings::per_subdomain`].
@@ -440,32 +416,6 @@ impl MeshSettingsBuilder {
     /// See [`SizingSettings::per_patch`].
     pub fn size_for_patch(mut self, patch: u32, size: f64) -> Self {
         self.settings.sizing.per_patch.insert(patch, size);
-        self
-    }
-    /// See [`SizingSettings::gradation`].
-    pub fn size_gradation(mut self, gradation: f64) -> Self {
-        self.settings.sizing.gradation = Some(gradation);
-        self
-    }
-    /// See [`SizingSettings::distance`].
-    pub fn distance_field(mut self, source: SizeSource) -> Self {
-        self.settings.sizing.distance = Some(source);
-        self
-    }
-    /// See [`MeshSettings::subdivision`].
-    pub fn subdivision(mut self, options: delamesh_subdivision::SubdivisionOptions) -> Self {
-        self.settings.subdivision = Some(options);
-        self
-    }
-    /// See [`MeshSettings::preserve_surface`].
-    pub fn preserve_surface(mut self, preserve: bool) -> Self {
-        self.settings.preserve_surface = preserve;
-        self
-    }
-
-    /// See [`MeshSettings::strict`].
-    pub fn strict(mut self, strict: bool) -> Self {
-        self.settings.strict = strict;
         self
     }
     /// The settings, if every value is valid.

@@ -98,22 +98,13 @@ fn glb(doc: &Value, bin: &[u8]) -> Vec<u8> {
 
 /// Unit cube corners and its 12 outward triangles.
 fn cube() -> (Vec<[f32; 3]>, Vec<u32>) {
-    let p = (0..8)
-        .map(|i| [(i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32])
-        .collect();
-    let quads = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
-    let t = quads
+    let cube = SurfaceMesh::cuboid(DVec3::ZERO, DVec3::ONE);
+    let p = cube
+        .positions
         .iter()
-        .flat_map(|&[a, b, c, d]| [a, b, c, a, c, d])
+        .map(|v| v.as_vec3().to_array())
         .collect();
-    (p, t)
+    (p, cube.triangles.concat())
 }
 
 /// A scene exercising everything: root (rotated 90° about z, scaled 2) → child (translated) holding

@@ -6,42 +6,22 @@
 use delamesh_core::mesh::{CellField, CurveId, PatchId, SubdomainId, SurfaceMesh, TetMesh};
 use glam::DVec3;
 
-/// Corner `i` of a box with bit 0 → x, bit 1 → y, bit 2 → z; coordinates inexact in decimal (0.1,
-/// 1/3...), rounded to f32 when `f32_exact` so that f32 formats can round-trip them.
-pub fn corner(i: u32, f32_exact: bool) -> DVec3 {
-    let (lo, hi) = (0.1, 1.0 / 3.0 + 1.0);
-    let p = DVec3::new(
-        if i & 1 == 0 { lo } else { hi },
-        if i & 2 == 0 { lo * 2.0 } else { hi * 3.0 },
-        if i & 4 == 0 { -lo } else { hi + 7.0 },
-    );
-    if f32_exact { p.as_vec3().as_dvec3() } else { p }
-}
-
-/// An outward-oriented box of 12 triangles with one patch per side pair.
+/// An outward-oriented box of 12 triangles with one patch per side pair, its corners with
+/// coordinates inexact in decimal (0.1, 1/3...), rounded to f32 when `f32_exact` so that f32
+/// formats can round-trip them.
 pub fn cube_surface(f32_exact: bool) -> SurfaceMesh {
-    let quads = [
-        [0, 2, 3, 1],
-        [4, 5, 7, 6],
-        [0, 1, 5, 4],
-        [2, 6, 7, 3],
-        [0, 4, 6, 2],
-        [1, 3, 7, 5],
-    ];
-    let triangles: Vec<[u32; 3]> = quads
-        .iter()
-        .flat_map(|&[a, b, c, d]| [[a, b, c], [a, c, d]])
-        .collect();
-    let patches = (0..12).map(|t| PatchId(t / 4)).collect();
+    let (lo, hi) = (0.1, 1.0 / 3.0 + 1.0);
+    let round = |p: DVec3| if f32_exact { p.as_vec3().as_dvec3() } else { p };
+    let min = round(DVec3::new(lo, lo * 2.0, -lo));
+    let max = round(DVec3::new(hi, hi * 3.0, hi + 7.0));
     SurfaceMesh {
-        positions: (0..8).map(|i| corner(i, f32_exact)).collect(),
-        triangles,
-        patches,
+        patches: (0..12).map(|t| PatchId(t / 4)).collect(),
         patch_names: vec![
             "bottom-top".into(),
             "front-back".into(),
             "left-right".into(),
         ],
+        ..SurfaceMesh::cuboid(min, max)
     }
 }
 
@@ -58,12 +38,13 @@ pub fn cube_tets() -> TetMesh {
         [0, 5, 1, 7],
     ]
     .to_vec();
+    let boundary_patches = s.oracle_patches();
     let mut m = TetMesh {
         positions: s.positions,
         subdomains: (0..6).map(|t| SubdomainId(1 + t / 3)).collect(),
         tets,
         boundary: s.triangles,
-        boundary_patches: s.oracle_patches(),
+        boundary_patches,
         feature_edges: vec![
             [0, 1],
             [2, 3],
