@@ -1,6 +1,7 @@
 //! `delamesh conform2d`: Pébay's a-priori subdivision of a planar constraint so that it is
 //! Delaunay-admissible, and the Delaunay triangulation of the result.
 
+use super::output::outln;
 use anyhow::{Context, Result};
 use delamesh_core::mesh::PatchId;
 use delamesh_core::mesh2d::{Algorithm, ConformOptions, conform};
@@ -62,7 +63,7 @@ pub fn run(args: &Args) -> Result<()> {
         .map(|c| t.cell(c).map(|v| index[v.0 as usize]))
         .collect();
     let patches = vec![PatchId(0); triangles.len()];
-    let mesh = crate::cli::mesh2d::planar_mesh(
+    let mesh = super::mesh2d::planar_mesh(
         &out.points,
         &triangles,
         &patches,

@@ -1,6 +1,7 @@
 //! `delamesh info IN [--json]`: counts, bounding box, labels and the topology of a mesh's surface
 //! (the description is the library's [`delamesh::info`]; this module prints it).
 
+use super::output::outln;
 use anyhow::Result;
 use delamesh_core::mesh::Topology;
 use delamesh_formats::Format;

@@ -1,5 +1,6 @@
 //! `delamesh mesh2d`: quality triangle mesh of a planar straight-line graph (Ruppert/Shewchuk).
 
+use super::output::outln;
 use anyhow::{Context, Result};
 use delamesh_core::mesh::{CurveId, PatchId, TetMesh};
 use delamesh_core::mesh2d::Point2;

@@ -3,15 +3,6 @@
 //!
 //! Exit codes: 0 success, 1 the work failed (bad input, I/O, refinement guard), 2 bad usage.
 
-/// `println!` that returns the write's error instead of panicking, so a closed stdout
-/// (`delamesh info part.stl | head -0`) ends the command quietly (see [`main`]).
-macro_rules! outln {
-    ($($arg:tt)*) => {{
-        use std::io::Write as _;
-        writeln!(std::io::stdout().lock(), $($arg)*)
-    }};
-}
-
 mod conform2d;
 mod convert;
 mod delaunay;
@@ -20,6 +11,7 @@ mod info;
 mod mesh;
 mod mesh2d;
 mod optimize;
+mod output;
 mod plugins;
 mod sizing;
 
@@ -69,19 +61,10 @@ pub fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) if closed_stdout(&e) => ExitCode::SUCCESS,
+        Err(e) if output::closed_stdout(&e) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::FAILURE
         }
     }
-}
-
-/// Whether the command failed only because the reader of its standard output went away: nobody
-/// is left to tell, so it is not an error.
-fn closed_stdout(e: &anyhow::Error) -> bool {
-    e.chain().any(|c| {
-        c.downcast_ref::<std::io::Error>()
-            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
-    })
 }

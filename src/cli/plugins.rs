@@ -2,6 +2,7 @@
 //! that mesh, and the `delamesh plugins` subcommand (list, or check one). Finding and loading a
 //! plugin is the library's ([`delamesh::plugins`]).
 
+use super::output::outln;
 use anyhow::{Context, Result};
 use delamesh::plugins::{BUILT_IN, PLUGIN_PATH_VAR, installed_libraries, load_domain, search_dirs};
 use delamesh_core::plugin::PluginLibrary;

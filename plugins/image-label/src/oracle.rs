@@ -158,6 +158,18 @@ impl ImageLabelOracle {
         );
         with_grid!(&self.field, g => changes(g, qa, qb, out));
     }
+
+    /// The class changes along `[a, b]` as surface hits, where `b = a + scale * d`: at parameter
+    /// `t` in units of `d` (`scale` 1 for a segment, its length along the ray for a ray).
+    fn hits(&self, a: DVec3, b: DVec3, d: DVec3, scale: f64, out: &mut Vec<SurfaceHit>) {
+        let mut found = Vec::new();
+        self.changes(a, b, &mut found);
+        out.extend(found.into_iter().map(|c| SurfaceHit {
+            point: a + (c.t * scale) * d,
+            t: c.t * scale,
+            patch: patch(c.from, c.to),
+        }));
+    }
 }
 
 /// The patch of the interface between classes `c0` and `c1` (unordered): pairs numbered from 1.
@@ -211,13 +223,7 @@ impl Oracle for ImageLabelOracle {
     }
 
     fn segment_hits(&self, a: DVec3, b: DVec3, out: &mut Vec<SurfaceHit>) {
-        let mut found = Vec::new();
-        self.changes(a, b, &mut found);
-        out.extend(found.into_iter().map(|c| SurfaceHit {
-            point: a + c.t * (b - a),
-            t: c.t,
-            patch: patch(c.from, c.to),
-        }));
+        self.hits(a, b, b - a, 1.0, out);
     }
 
     fn ray_hits(&self, origin: DVec3, dir: DVec3, out: &mut Vec<SurfaceHit>) {
@@ -228,14 +234,7 @@ impl Oracle for ImageLabelOracle {
         if !far.is_finite() || far <= 0.0 {
             return;
         }
-        let end = origin + far * dir;
-        let mut found = Vec::new();
-        self.changes(origin, end, &mut found);
-        out.extend(found.into_iter().map(|c| SurfaceHit {
-            point: origin + (c.t * far) * dir,
-            t: c.t * far,
-            patch: patch(c.from, c.to),
-        }));
+        self.hits(origin, origin + far * dir, dir, far, out);
     }
 
     fn initial_points(&self) -> Vec<SurfacePoint> {
