@@ -9,9 +9,13 @@
 use crate::kernel::Point3;
 
 mod ball;
+#[cfg(test)]
+mod everywhere;
 
 pub use crate::mesh::Aabb;
 pub use ball::UnitBall;
+#[cfg(test)]
+pub(crate) use everywhere::Everywhere;
 
 // The label types of the whole workspace; the C ABI carries them as raw `u32` and converts at
 // the boundary (core/src/plugin).

@@ -1,30 +1,12 @@
 use super::*;
 use crate::mesh::SurfaceMesh;
-use crate::oracle::{Aabb, SubdomainId, SurfaceHit, SurfacePoint};
+use crate::oracle::{Aabb, Everywhere};
 
-/// Every point in subdomain 1: enough for a single closed surface.
-struct One;
-
-impl Oracle for One {
-    fn bounding_box(&self) -> Aabb {
-        Aabb {
-            min: Point3::splat(-1.0),
-            max: Point3::splat(1.0),
-        }
-    }
-    fn subdomain(&self, _p: Point3) -> SubdomainId {
-        SubdomainId(1)
-    }
-    fn segment_hits(&self, _a: Point3, _b: Point3, out: &mut Vec<SurfaceHit>) {
-        out.clear();
-    }
-    fn ray_hits(&self, _o: Point3, _d: Point3, out: &mut Vec<SurfaceHit>) {
-        out.clear();
-    }
-    fn initial_points(&self) -> Vec<SurfacePoint> {
-        Vec::new()
-    }
-}
+/// The box of the test domain: enough for a single closed surface.
+const BOX: Aabb = Aabb {
+    min: Point3::splat(-1.0),
+    max: Point3::splat(1.0),
+};
 
 fn run(
     points: &[Point3],
@@ -32,7 +14,7 @@ fn run(
     options: &PreserveOptions,
 ) -> Result<Preserved, PreserveError> {
     let patches = vec![PatchId(1); triangles.len()];
-    preserve_surface(points, triangles, &patches, &One, options)
+    preserve_surface(points, triangles, &patches, &Everywhere(BOX), options)
 }
 
 #[test]

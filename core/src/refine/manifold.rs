@@ -363,35 +363,17 @@ fn facet_of<T: Triangulation<Point = Point3>>(tr: &T, c: CellId, i: usize) -> [V
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::oracle::{Aabb, Oracle, SurfaceHit, SurfacePoint};
+    use crate::oracle::{Aabb, Everywhere};
     use crate::random::XorShift;
     use crate::refine::criteria::{CellCriteria, Sizing};
     use crate::refine::engine::MesherLevel;
     use crate::triangulation::Delaunay3;
 
-    /// Every point inside: the labels are set by the test.
-    struct Everywhere;
-
-    impl Oracle for Everywhere {
-        fn bounding_box(&self) -> Aabb {
-            Aabb {
-                min: Point3::ZERO,
-                max: Point3::ONE,
-            }
-        }
-        fn subdomain(&self, _p: Point3) -> SubdomainId {
-            SubdomainId(1)
-        }
-        fn segment_hits(&self, _a: Point3, _b: Point3, out: &mut Vec<SurfaceHit>) {
-            out.clear();
-        }
-        fn ray_hits(&self, _o: Point3, _d: Point3, out: &mut Vec<SurfaceHit>) {
-            out.clear();
-        }
-        fn initial_points(&self) -> Vec<SurfacePoint> {
-            Vec::new()
-        }
-    }
+    /// Every point inside, in the unit box: the labels are set by the test.
+    const UNIT_BOX: Aabb = Aabb {
+        min: Point3::ZERO,
+        max: Point3::ONE,
+    };
 
     /// Euler characteristic of the closure of the inside cells, from all its simplices.
     fn domain_euler<T: Triangulation<Point = Point3>>(tr: &T, cells: &CellLevel<'_>) -> i64 {
@@ -427,7 +409,7 @@ mod tests {
             radius_edge_ratio: 0.0,
             size: Sizing::Constant(f64::INFINITY),
         };
-        let mut cells = CellLevel::new(&Everywhere, criteria);
+        let mut cells = CellLevel::new(&Everywhere(UNIT_BOX), criteria);
         let all: Vec<CellId> = tr.finite_cells().collect();
         let moved = vec![false; tr.cell_capacity()];
         let mut around = Vec::new();
