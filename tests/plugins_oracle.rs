@@ -12,7 +12,7 @@ use delamesh_implicit::ImplicitOracle;
 
 /// Deterministic pseudo-random points in a box (xorshift; no seeded RNG dependency needed).
 fn points_in(min: Point3, max: Point3, count: usize) -> Vec<Point3> {
-    let mut rng = XorShift::new(0x9E37_79B9_7F4A_7C15_);
+    let mut rng = XorShift::new(0x9E37_79B9_7F4A_7C15);
     let mut unit = move || rng.next_f64();
     (0..count)
         .map(|_| min + Point3::new(unit(), unit(), unit()) * (max - min))
