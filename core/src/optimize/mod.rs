@@ -201,14 +201,7 @@ pub fn optimize(
     if !options.any() || complex.tets.is_empty() {
         return (complex, report);
     }
-    let mut ws = match Workspace::new(
-        &complex,
-        weights,
-        oracle,
-        criteria.facet.distance.clone(),
-        criteria.facet.size.clone(),
-        criteria.cell.size.clone(),
-    ) {
+    let mut ws = match Workspace::new(&complex, weights, oracle, criteria) {
         Ok(ws) => ws,
         Err(e) => {
             report.skipped = Some(e);

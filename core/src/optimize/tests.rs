@@ -156,15 +156,7 @@ fn every_step_keeps_the_triangulation_regular_and_the_mesh_valid() {
     let refined_volume = volume(&mesh);
     let before = smallest(&mesh);
     let c = criteria();
-    let mut ws = Workspace::new(
-        &mesh,
-        &[],
-        &Ball,
-        c.facet.distance,
-        c.facet.size,
-        c.cell.size,
-    )
-    .expect("taken over");
+    let mut ws = Workspace::new(&mesh, &[], &Ball, &c).expect("taken over");
     let deadline = Deadline(None);
     smooth::smooth(&mut ws, smooth::Smoother::Odt, 3, &deadline);
     assert_eq!(check_regular3(&ws.rt), Ok(()));
@@ -231,15 +223,7 @@ fn surface_vertices_on_the_hull_of_the_mesh_can_move() {
     // frame puts them inside its triangulation, so a small move inwards is a valid move.
     let mesh = refined();
     let c = criteria();
-    let mut ws = Workspace::new(
-        &mesh,
-        &[],
-        &Ball,
-        c.facet.distance,
-        c.facet.size,
-        c.cell.size,
-    )
-    .expect("taken over");
+    let mut ws = Workspace::new(&mesh, &[], &Ball, &c).expect("taken over");
     let surface: Vec<_> = (0..ws.rt.num_vertices())
         .map(|i| crate::triangulation::VertexId(i as u32))
         .filter(|&v| ws.dimension[v.0 as usize] == VertexDimension::Surface)
