@@ -157,7 +157,7 @@ fn every_step_keeps_the_triangulation_regular_and_the_mesh_valid() {
     let before = smallest(&mesh);
     let c = criteria();
     let mut ws = Workspace::new(&mesh, &[], &Ball, &c).expect("taken over");
-    let deadline = Deadline(None);
+    let deadline = Deadline::default();
     smooth::smooth(&mut ws, smooth::Smoother::Odt, 3, &deadline);
     assert_eq!(check_regular3(&ws.rt), Ok(()));
     smooth::smooth(&mut ws, smooth::Smoother::Lloyd, 3, &deadline);
@@ -214,6 +214,21 @@ fn no_optimiser_leaves_the_mesh_as_it_is() {
         &OptimizeOptions::none(),
     );
     assert_eq!(same, mesh);
+    assert!(report.steps.is_empty());
+}
+
+#[test]
+fn a_raised_cancel_flag_stops_the_phase_before_any_step() {
+    let mesh = refined();
+    let flag = crate::refine::Cancel::new();
+    let options = OptimizeOptions {
+        cancel: Some(flag.clone()),
+        ..OptimizeOptions::default()
+    };
+    let (_, running) = optimize(mesh.clone(), &[], &Ball, &criteria(), &options);
+    assert!(!running.steps.is_empty());
+    flag.cancel();
+    let (_, report) = optimize(mesh, &[], &Ball, &criteria(), &options);
     assert!(report.steps.is_empty());
 }
 
