@@ -62,7 +62,8 @@ def mesh(
     ``progress``, if given, is called about ten times a second during refinement with a dict
     ``{"vertices": int, "insertions": int, "pending": {level: queued}}``; an exception it raises
     stops meshing and is raised here. Ctrl-C (any pending signal whose handler raises) stops
-    meshing the same way; both are looked at during refinement, the phase that takes the time.
+    meshing the same way: it is noticed in every phase; refinement and optimisation stop at
+    once, the other phases finish first.
 
     The result has blocks ``tetra``, ``triangle`` (the boundary) and ``line`` (sharp feature
     edges, if any) and the cell data of the .vtu files: ``subdomain``, ``patch``, ``curve`` (int32,

@@ -154,6 +154,20 @@ pub const OPTIONS: &[Opt] = &[
         },
     },
     Opt {
+        name: "no_perturb",
+        set: |s, v| {
+            s.optimize.perturb = !flag(v)?;
+            Ok(())
+        },
+    },
+    Opt {
+        name: "no_exude",
+        set: |s, v| {
+            s.optimize.exude = !flag(v)?;
+            Ok(())
+        },
+    },
+    Opt {
         name: "perturb",
         set: |s, v| {
             s.optimize.perturb = flag(v)?;
@@ -273,6 +287,13 @@ pub const OPTIONS: &[Opt] = &[
                 Ok(())
             }
             None => Err("needs subdivision=".into()),
+        },
+    },
+    Opt {
+        name: "preserve_surface",
+        set: |s, v| {
+            s.preserve_surface = flag(v)?;
+            Ok(())
         },
     },
 ];
