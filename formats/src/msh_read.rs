@@ -33,7 +33,7 @@ pub(crate) fn read(bytes: &[u8]) -> Result<(TetMesh, Vec<CellField>), Problem> {
     let format = mesh_format(body)?;
     let mut nodes: Option<Nodes> = None;
     let mut tets: Vec<[u64; 4]> = Vec::new();
-    let mut fields: Vec<(String, Vec<(u64, f64)>)> = Vec::new();
+    let mut fields: Vec<NodeData> = Vec::new();
     while let Some((name, body)) = sections.next_section()? {
         match name {
             "Nodes" => nodes = Some(read_nodes(body, format)?),
@@ -467,12 +467,12 @@ fn read_elements(
     Ok(())
 }
 
+/// A node field as listed: its name and (node tag, value) pairs.
+type NodeData = (String, Vec<(u64, f64)>);
+
 /// A `$NodeData` section: its name and (node tag, value) pairs, `None` for a field of more than
 /// one component.
-fn read_node_data(
-    body: Section,
-    format: MeshFormat,
-) -> Result<Option<(String, Vec<(u64, f64)>)>, Problem> {
+fn read_node_data(body: Section, format: MeshFormat) -> Result<Option<NodeData>, Problem> {
     let mut c = Cursor::of(body);
     let strings: usize = c.numbers::<usize>(1, "the string tag count")?[0];
     let mut name = String::new();
@@ -562,11 +562,8 @@ mod tests {
         s.extend(b"\n$EndNodes\n$Elements\n3\n");
         if binary {
             // A triangle block (skipped), then the tets, each with two tags.
-            for v in [2, 1, 2, 1, 7, 7, 10, 20, 30] {
-                s.extend((v as i32).to_le_bytes());
-            }
-            for v in [4, 2, 2] {
-                s.extend((v as i32).to_le_bytes());
+            for v in [2i32, 1, 2, 1, 7, 7, 10, 20, 30, 4, 2, 2] {
+                s.extend(v.to_le_bytes());
             }
             for (e, tet) in TETS.iter().enumerate() {
                 for v in [e as u64 + 2, 1, 1].iter().chain(tet) {
