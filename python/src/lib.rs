@@ -6,6 +6,7 @@
 
 mod buffers;
 mod options;
+mod sizing;
 
 use buffers::{Raw, raw_of_surface, raw_of_tet_mesh, read_f64, read_index, tet_mesh_of_raw};
 use delamesh::formats::image::Image;

@@ -205,7 +205,10 @@ pub const OPTIONS: &[Opt] = &[
     Opt {
         name: "sizing",
         set: |s, v| {
-            s.sizing.field = Some(SizeSource::file(path(v)?));
+            s.sizing.field = Some(match crate::sizing::source(v)? {
+                Some(source) => source,
+                None => SizeSource::file(path(v)?),
+            });
             Ok(())
         },
     },
