@@ -94,9 +94,6 @@ def main() -> None:
                     "max_edge_size_at_feature_edges": d / 20,
                     "perturb": False,
                     "exude": False,
-                    # pygalmesh's surface-mesh entry builds CGAL's Polyhedral_mesh_domain_3,
-                    # which protects no sharp feature.
-                    "no_features": True,
                 }
                 done = subprocess.run(
                     [args.pygalmesh, "-c", PYGALMESH, str(model), repr(kw)],
