@@ -345,6 +345,7 @@ impl<'p> Mesher<'p> {
             .settings
             .criteria_with(&bbox, fields.size(), fields.distance());
         options.limits.cancel = self.cancel.clone();
+        options.optimize.cancel = self.cancel.clone();
         if let Some(surface) = input {
             options.validity.input_euler =
                 Some(component_euler_characteristics(&surface.triangles).1);

@@ -6,8 +6,9 @@
 //! (`--cell-size`, `--facet-size`, `--edge-size`, `--facet-distance`) caps it. Per-subdomain sizes
 //! replace the cell size in their subdomains, per-patch sizes the facet size on their patches
 //! (a field still caps both). With a gradation, the cell size is graded on a grid over the domain
-//! (see [`delamesh_core::refine::sizing::graded`]) and every size is kept under the graded one,
-//! so edges and facets follow the same smooth transitions.
+//! (see [`delamesh_core::refine::sizing::graded`]), seeded with the protecting balls of the
+//! sharp features as well, and every size is kept under the graded one, so edges and facets
+//! follow the same smooth transitions.
 
 use delamesh_core::Oracle;
 use delamesh_core::kernel::Point3;
@@ -15,7 +16,7 @@ use delamesh_core::oracle::{Aabb, OUTSIDE};
 use delamesh_core::refine::criteria::Sizing;
 use delamesh_core::refine::sizing::{
     BackgroundMesh, Checked, DEFAULT_GRADATION_NODES, Graded, PointSizes, SizeGrid, SizingField,
-    graded,
+    feature_sizes, graded,
 };
 use delamesh_formats::image::{is_image_path, read_image};
 use std::collections::BTreeMap;
@@ -40,8 +41,11 @@ pub enum SizeSource {
     /// `sqrt`, `min`, `max`, `exp`, `sin`...), e.g. `0.02 + 0.1 * abs(z)`.
     Expression(String),
     /// A field in memory: a closure ([`SizeSource::function`]), or arrays through
-    /// [`BackgroundMesh`], [`PointSizes`] or [`SizeGrid`].
+    /// [`PointSizes`] or [`SizeGrid`].
     Field(Arc<dyn SizingField>),
+    /// A background mesh in memory ([`SizeSource::background`]): checked to cover the domain
+    /// as one read from a file is.
+    Mesh(Arc<BackgroundMesh>),
 }
 
 impl SizeSource {
@@ -49,6 +53,16 @@ impl SizeSource {
     /// run with an error naming the point.
     pub fn function(f: impl Fn(Point3) -> f64 + Send + Sync + 'static) -> Self {
         SizeSource::Field(Arc::new(move |p: Point3, _: u32| f(p)))
+    }
+
+    /// A background tet mesh with a size at every node (see [`BackgroundMesh::new`] for what
+    /// is refused).
+    pub fn background(
+        positions: Vec<Point3>,
+        tets: Vec<[u32; 4]>,
+        values: Vec<f64>,
+    ) -> Result<Self, delamesh_core::refine::sizing::SizingError> {
+        BackgroundMesh::new(positions, tets, values).map(|m| SizeSource::Mesh(Arc::new(m)))
     }
 
     /// A file source (see [`SizeSource::File`]).
@@ -64,7 +78,7 @@ impl SizeSource {
         match self {
             SizeSource::File { path, .. } => path.display().to_string(),
             SizeSource::Expression(e) => format!("--{option}-expr {e:?}"),
-            SizeSource::Field(_) => format!("the {option} field"),
+            SizeSource::Field(_) | SizeSource::Mesh(_) => format!("the {option} field"),
         }
     }
 }
@@ -83,6 +97,7 @@ impl PartialEq for SizeSource {
             (SizeSource::Field(a), SizeSource::Field(b)) => {
                 std::ptr::addr_eq(Arc::as_ptr(a), Arc::as_ptr(b))
             }
+            (SizeSource::Mesh(a), SizeSource::Mesh(b)) => Arc::ptr_eq(a, b),
             _ => false,
         }
     }
@@ -94,6 +109,7 @@ impl fmt::Debug for SizeSource {
             SizeSource::File { path, field } => write!(f, "File({}, {field:?})", path.display()),
             SizeSource::Expression(e) => write!(f, "Expression({e:?})"),
             SizeSource::Field(_) => write!(f, "Field"),
+            SizeSource::Mesh(_) => write!(f, "Mesh"),
         }
     }
 }
@@ -192,6 +208,10 @@ pub(crate) fn load(source: &SizeSource, option: &str) -> Result<Loaded, SizingFi
     let mut background = None;
     let field: Arc<dyn SizingField> = match source {
         SizeSource::Field(f) => f.clone(),
+        SizeSource::Mesh(mesh) => {
+            background = Some(mesh.clone());
+            mesh.clone()
+        }
         SizeSource::Expression(text) => Arc::new(parse_expression(text).map_err(fail)?),
         SizeSource::File { path, field } => {
             let strip = |e: delamesh_formats::Error| {
@@ -359,13 +379,16 @@ pub(crate) fn per_label(base: Sizing, values: &BTreeMap<u32, f64>) -> Sizing {
     }
 }
 
-/// The criteria's sizes limited by the cell size graded by `gradation` over the domain.
+/// The criteria's sizes limited by the cell size graded by `gradation` over the domain, from
+/// the cell size's values and from the protecting balls of the sharp features (small where
+/// features are close, curves short or bent).
 pub(crate) fn grade(
     criteria: &mut delamesh_core::refine::criteria::MeshCriteria,
     oracle: &dyn Oracle,
     gradation: f64,
 ) -> Result<(), SizingFieldError> {
     let bbox = oracle.bounding_box();
+    let seeds = feature_sizes(oracle, criteria);
     let cell = criteria.cell.size.clone();
     let labelled = cell.depends_on_label();
     let sample = move |p: Point3| {
@@ -378,7 +401,7 @@ pub(crate) fn grade(
             cell.at(p, 1)
         }
     };
-    let grid = graded(&sample, &bbox, gradation, DEFAULT_GRADATION_NODES).map_err(|e| {
+    let grid = graded(&sample, &seeds, &bbox, gradation, DEFAULT_GRADATION_NODES).map_err(|e| {
         SizingFieldError {
             source_name: "--size-gradation".into(),
             problem: e.0,

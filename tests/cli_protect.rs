@@ -85,6 +85,58 @@ fn cylinder_rims_are_closed_feature_curves() {
     }
 }
 
+/// A closed cylinder of radius 1 and height 2 whose rims are `n`-gons, as OFF text.
+fn cylinder_off(n: usize) -> String {
+    let mut off = format!("OFF\n{} {} 0\n", 2 * n, 4 * n - 4);
+    for z in [-1.0, 1.0] {
+        for k in 0..n {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            off += &format!("{} {} {z}\n", a.cos(), a.sin());
+        }
+    }
+    for k in 0..n {
+        let (a, b) = (k, (k + 1) % n);
+        off += &format!("3 {a} {} {}\n3 {a} {b} {}\n", n + b, n + a, n + b);
+    }
+    for k in 1..n - 1 {
+        off += &format!("3 0 {} {k}\n3 {n} {} {}\n", k + 1, n + k, n + k + 1);
+    }
+    off
+}
+
+#[test]
+fn optimised_curve_vertices_keep_their_edges_on_a_fine_rim() {
+    // Rims of 256 segments: each vertex lies well within the bend tolerance of its neighbours'
+    // chord, so the perturbation may slide curve vertices across them; the feature edges must
+    // still follow the rims within that tolerance (a quarter of the facet distance).
+    let dir = tempfile::tempdir().expect("temp dir");
+    let input = dir.path().join("fine_cylinder.off");
+    std::fs::write(&input, cylinder_off(256)).expect("written");
+    let report = dir.path().join("report.json");
+    delamesh()
+        .args(["mesh", "-q"])
+        .arg(&input)
+        .arg("-o")
+        .arg(dir.path().join("out.vtu"))
+        .arg("--report")
+        .arg(&report)
+        .assert()
+        .success();
+    let r: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&report).expect("report")).expect("JSON");
+    let f = &r["features"];
+    assert_eq!(f["lost_curves"], 0);
+    assert_eq!(f["missing_corners"], 0);
+    let distance = r["criteria"]["facet_distance"].as_f64().expect("criteria");
+    let h = f["max_curve_hausdorff"].as_f64().expect("every curve kept");
+    assert!(
+        h <= 0.25 * distance,
+        "rim Hausdorff {h}, facet distance {distance}"
+    );
+    assert_eq!(r["quality"]["inverted_tets"], 0);
+    assert_eq!(r["boundary"]["closed"], true);
+}
+
 fn bbox_diagonal(m: &delamesh::core::mesh::TetMesh) -> f64 {
     let (lo, hi) = m.positions.iter().fold(
         ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),

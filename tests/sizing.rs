@@ -109,9 +109,9 @@ fn meshes_follow_an_expression_and_a_closure() {
     );
 }
 
-/// Legacy VTK with the field `h` at the nodes of Kuhn-subdivided cubes of `n`³ cells over
-/// [-l, l]³.
-fn background_vtk(n: usize, l: f64, value: impl Fn(Point3) -> f64) -> String {
+/// Kuhn-subdivided cubes of `n`³ cells over [-l, l]³: the nodes and tets of the background
+/// meshes.
+fn kuhn_grid(n: usize, l: f64) -> (Vec<Point3>, Vec<[usize; 4]>) {
     let node = |i: usize, j: usize, k: usize| i + (n + 1) * (j + (n + 1) * k);
     let mut points = Vec::new();
     for k in 0..=n {
@@ -133,6 +133,12 @@ fn background_vtk(n: usize, l: f64, value: impl Fn(Point3) -> f64) -> String {
             }
         }
     }
+    (points, tets)
+}
+
+/// Legacy VTK with the field `h` at the nodes of [`kuhn_grid`].
+fn background_vtk(n: usize, l: f64, value: impl Fn(Point3) -> f64) -> String {
+    let (points, tets) = kuhn_grid(n, l);
     let mut s = format!(
         "# vtk DataFile Version 3.0\nbackground\nASCII\nDATASET UNSTRUCTURED_GRID\nPOINTS {} double\n",
         points.len()
@@ -154,6 +160,61 @@ fn background_vtk(n: usize, l: f64, value: impl Fn(Point3) -> f64) -> String {
         s += &format!("{}\n", value(*p));
     }
     s
+}
+
+/// Gmsh 4.1 binary with the node data `h` on [`kuhn_grid`] (node tags from 1), as Gmsh writes
+/// it: `size_t` counts and tags, an `int` tag before each value.
+fn background_msh(n: usize, l: f64, value: impl Fn(Point3) -> f64) -> Vec<u8> {
+    let (points, tets) = kuhn_grid(n, l);
+    let mut s = b"$MeshFormat\n4.1 1 8\n".to_vec();
+    s.extend(1i32.to_le_bytes());
+    s.extend(b"\n$EndMeshFormat\n$Nodes\n");
+    let sizes =
+        |s: &mut Vec<u8>, v: &[usize]| v.iter().for_each(|&x| s.extend((x as u64).to_le_bytes()));
+    let np = points.len();
+    sizes(&mut s, &[1, np, 1, np]);
+    [3i32, 1, 0].iter().for_each(|x| s.extend(x.to_le_bytes()));
+    sizes(&mut s, &[np]);
+    sizes(&mut s, &(1..=np).collect::<Vec<_>>());
+    for p in &points {
+        p.to_array().iter().for_each(|x| s.extend(x.to_le_bytes()));
+    }
+    s.extend(b"\n$EndNodes\n$Elements\n");
+    sizes(&mut s, &[1, tets.len(), 1, tets.len()]);
+    [3i32, 1, 4].iter().for_each(|x| s.extend(x.to_le_bytes()));
+    sizes(&mut s, &[tets.len()]);
+    for (e, t) in tets.iter().enumerate() {
+        sizes(&mut s, &[e + 1, t[0] + 1, t[1] + 1, t[2] + 1, t[3] + 1]);
+    }
+    s.extend(format!("\n$EndElements\n$NodeData\n1\n\"h\"\n1\n0\n3\n0\n1\n{np}\n").bytes());
+    for (k, p) in points.iter().enumerate() {
+        s.extend((k as i32 + 1).to_le_bytes());
+        s.extend(value(*p).to_le_bytes());
+    }
+    s.extend(b"\n$EndNodeData\n");
+    s
+}
+
+/// A MEDIT mesh of [`kuhn_grid`] and the `.sol` of `value` at its vertices.
+fn background_medit(n: usize, l: f64, value: impl Fn(Point3) -> f64) -> (String, String) {
+    let (points, tets) = kuhn_grid(n, l);
+    let mut mesh = format!(
+        "MeshVersionFormatted 2\nDimension 3\nVertices\n{}\n",
+        points.len()
+    );
+    let mut sol = format!(
+        "MeshVersionFormatted 2\nDimension 3\nSolAtVertices\n{}\n1 1\n",
+        points.len()
+    );
+    for p in &points {
+        mesh += &format!("{} {} {} 0\n", p.x, p.y, p.z);
+        sol += &format!("{}\n", value(*p));
+    }
+    mesh += &format!("Tetrahedra\n{}\n", tets.len());
+    for t in &tets {
+        mesh += &format!("{} {} {} {} 1\n", t[0] + 1, t[1] + 1, t[2] + 1, t[3] + 1);
+    }
+    (mesh + "End\n", sol + "End\n")
 }
 
 /// A raw NRRD image of `value` at `n`³ voxel centres over [-l, l]³.
@@ -194,6 +255,22 @@ fn the_same_field_as_expression_background_mesh_and_image_gives_the_same_vertex_
     }
     let background = mesh(with_sizing(SizeSource::file(&bg)));
     assert_follows(&background, h);
+    // The same background mesh as Gmsh and MEDIT files: the same mesh.
+    let msh = dir.path().join("bg.msh");
+    std::fs::write(&msh, background_msh(6, 1.2, h)).expect("written");
+    let (medit, sol) = background_medit(6, 1.2, h);
+    let medit_path = dir.path().join("bg.mesh");
+    std::fs::write(&medit_path, medit).expect("written");
+    std::fs::write(dir.path().join("bg.sol"), sol).expect("written");
+    for path in [&msh, &medit_path] {
+        let other = mesh(with_sizing(SizeSource::file(path)));
+        assert_eq!(
+            other.complex.points.len(),
+            background.complex.points.len(),
+            "{}",
+            path.display()
+        );
+    }
 }
 
 #[test]
@@ -322,6 +399,13 @@ fn bad_fields_are_refused_naming_the_file_and_the_value() {
     assert!(!ok && e.contains("\"q\""), "{e}");
     let (ok, e) = run(d, &["--size-gradation", "-1"]);
     assert!(!ok && e.contains("--size-gradation"), "{e}");
+    let (medit, _) = background_medit(2, 1.2, |_| 0.4);
+    let lone = write("lone.mesh", &medit);
+    let (ok, e) = run(d, &["--sizing", &lone]);
+    assert!(
+        !ok && e.contains("lone.mesh") && e.contains("lone.sol"),
+        "{e}"
+    );
     let (ok, e) = run(
         d,
         &["--sizing", &d.join("missing.vtu").display().to_string()],
@@ -331,4 +415,69 @@ fn bad_fields_are_refused_naming_the_file_and_the_value() {
     assert!(run(d, &["--sizing", &good]).0);
     let cloud = write("cloud.xyz", "-1 0 0 0.2\n1 0 0 0.5\n0 0 1 0.3\n");
     assert!(run(d, &["--sizing", &cloud, "--size-gradation", "0.5"]).0);
+}
+
+#[test]
+fn a_background_mesh_in_memory_is_checked_as_a_file_is() {
+    let source = |l: f64| {
+        let (points, tets) = kuhn_grid(2, l);
+        let tets = tets.iter().map(|t| t.map(|v| v as u32)).collect();
+        let values = vec![0.4; points.len()];
+        SizeSource::background(points, tets, values).expect("valid arrays")
+    };
+    let settings = |l: f64| {
+        MeshSettings::builder()
+            .sizing(source(l))
+            .features(false)
+            .build()
+            .expect("valid settings")
+    };
+    let e = Mesher::new(settings(0.5))
+        .mesh_surface("ball", ball())
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
+    assert!(e.contains("does not cover"), "{e}");
+    assert_follows(&mesh(settings(1.2)), |_| 0.4);
+    let (points, tets) = kuhn_grid(1, 1.0);
+    let tets: Vec<[u32; 4]> = tets.iter().map(|t| t.map(|v| v as u32)).collect();
+    let mut values = vec![0.4; points.len()];
+    values[5] = -0.1;
+    let e = SizeSource::background(points, tets, values)
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
+    assert!(e.contains("node 5") && e.contains("-0.1"), "{e}");
+}
+
+#[test]
+fn gradation_starts_from_small_features_too() {
+    // A thin plate: its short edges get small protecting balls, which the constant size
+    // knows nothing of.
+    let plate = SurfaceMesh::cuboid(Point3::ZERO, Point3::new(2.0, 2.0, 0.12));
+    let g = 0.3;
+    let settings = MeshSettings::builder()
+        .cell_size(0.5)
+        .facet_size(0.5)
+        .size_gradation(g)
+        .build()
+        .expect("valid");
+    let m = Mesher::new(settings)
+        .mesh_surface("plate", plate)
+        .expect("meshed");
+    let size = |p: Point3| m.criteria.cell.size.at(p, 1);
+    let corner = size(Point3::ZERO);
+    assert!(corner < 0.1, "size {corner} at a corner");
+    let middle = size(Point3::new(1.0, 1.0, 0.06));
+    assert!(
+        middle > 2.0 * corner && middle <= corner + 1.09 * g * 2f64.sqrt() + 0.05,
+        "size {middle} in the middle, {corner} at a corner"
+    );
+    assert!(m.criteria.edge_size.at(Point3::ZERO, 1) <= corner + 1e-12);
+    let points: Vec<Point3> = m.complex.points.iter().step_by(5).copied().collect();
+    for (i, &a) in points.iter().enumerate() {
+        let b = points[(i + 1) % points.len()];
+        let l1 = (a - b).abs().element_sum();
+        assert!((size(a) - size(b)).abs() <= g * l1 * (1.0 + 1e-9) + 1e-12);
+    }
 }

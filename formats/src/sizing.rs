@@ -2,7 +2,7 @@
 
 use crate::error::{Error, Problem, Result};
 use crate::format::Format;
-use delamesh_core::mesh::TetMesh;
+use delamesh_core::mesh::{CellField, TetMesh};
 use std::path::Path;
 
 /// A tetrahedral mesh and one of its point fields.
@@ -16,19 +16,20 @@ pub struct NodeField {
     pub values: Vec<f64>,
 }
 
-/// Reads a tetrahedral mesh with a one-component point field (`.vtu`, `.vtk`): the field named
-/// `name`, or the only one when `name` is `None`. Errors name the fields the file has.
+/// Reads a tetrahedral mesh with a one-component point field: the field named `name`, or the
+/// only one when `name` is `None`. Errors name the fields the file has. The fields are the point
+/// arrays of `.vtu` and `.vtk` files, the one-component `$NodeData` of Gmsh `.msh` files (2.2
+/// and 4.1, ASCII or binary), and for a MEDIT `.mesh` the scalar `SolAtVertices` solutions of
+/// the `.sol` file of the same name next to it, named `1`, `2`... by position.
 pub fn read_node_field(path: &Path, name: Option<&str>) -> Result<NodeField> {
     let run = || -> Result<NodeField, Problem> {
         let format = Format::from_path(path);
-        let format = match format {
-            Some(f @ (Format::Vtu | Format::Vtk)) => f,
-            _ => {
-                return Err(Problem::Unsupported(
-                    "a background mesh with a point field is read from .vtu or .vtk files".into(),
-                ));
-            }
-        };
+        if !matches!(
+            format,
+            Some(Format::Vtu | Format::Vtk | Format::Msh | Format::Medit)
+        ) {
+            return Err(unsupported());
+        }
         if path.is_dir() {
             return Err(Problem::Unsupported(
                 "is a directory, not a mesh file".into(),
@@ -38,7 +39,19 @@ pub fn read_node_field(path: &Path, name: Option<&str>) -> Result<NodeField> {
         if bytes.is_empty() {
             return Err(Problem::bad("the file is empty"));
         }
-        let (mesh, fields, _, _) = crate::vtk::read_cells_and_point_fields(&bytes, format)?;
+        let (mesh, fields) = match format {
+            Some(Format::Msh) => crate::msh_read::read(&bytes)?,
+            Some(Format::Medit) => {
+                let (mesh, _) = crate::medit::read(&bytes)?;
+                let fields = solution_next_to(path, mesh.positions.len())?;
+                (mesh, fields)
+            }
+            Some(f @ (Format::Vtu | Format::Vtk)) => {
+                let (mesh, fields, _, _) = crate::vtk::read_cells_and_point_fields(&bytes, f)?;
+                (mesh, fields)
+            }
+            _ => return Err(unsupported()),
+        };
         if mesh.tets.is_empty() {
             return Err(Problem::Unsupported("the file holds no tetrahedra".into()));
         }
@@ -70,6 +83,32 @@ pub fn read_node_field(path: &Path, name: Option<&str>) -> Result<NodeField> {
         })
     };
     run().map_err(|p| Error::new(path, p))
+}
+
+fn unsupported() -> Problem {
+    Problem::Unsupported(
+        "a background mesh with a point field is read from .vtu, .vtk, .msh or .mesh files".into(),
+    )
+}
+
+/// The scalar solutions of the `.sol` next to the MEDIT mesh `path`, one value per node.
+fn solution_next_to(path: &Path, nodes: usize) -> Result<Vec<CellField>, Problem> {
+    let sol = path.with_extension("sol");
+    let name = sol.display();
+    let bytes = std::fs::read(&sol).map_err(|e| {
+        Problem::Unsupported(format!(
+            "a MEDIT background mesh takes its sizes from {name} (SolAtVertices), which cannot \
+             be read: {e}"
+        ))
+    })?;
+    let fields = crate::sol::read(&bytes).map_err(|p| Problem::bad(format!("{name}: {p}")))?;
+    if let Some(f) = fields.iter().find(|f| f.values.len() != nodes) {
+        return Err(Problem::bad(format!(
+            "{name}: {} values for the mesh's {nodes} vertices",
+            f.values.len()
+        )));
+    }
+    Ok(fields)
 }
 
 #[cfg(test)]

@@ -6,7 +6,9 @@
 CLI is the `delamesh` binary (a release build), PYTHON an interpreter where pygalmesh imports
 (Debian's python3-pygalmesh lives in the system python). The criteria are delamesh's defaults made
 explicit (bounding-box diagonal d: facet and cell size d/20, facet distance d/400, edge size d/20,
-facet angle 25°, radius-edge ratio 3), no optimisation on either side.
+facet angle 25°, radius-edge ratio 3), no optimisation on either side (`perturb=False,
+exude=False`: delamesh optimises by default), and no sharp features on either side
+(`no_features=True`: pygalmesh's `generate_volume_mesh_from_surface_mesh` protects none).
 """
 
 from __future__ import annotations
@@ -77,6 +79,11 @@ def main() -> None:
                     "cell_radius_edge_ratio": 3.0,
                     "cell_size": d / 20,
                     "edge_size": d / 20,
+                    "perturb": False,
+                    "exude": False,
+                    # pygalmesh's surface-mesh entry builds CGAL's Polyhedral_mesh_domain_3,
+                    # which protects no sharp feature.
+                    "no_features": True,
                 }
                 kw = {
                     "min_facet_angle": 25.0,

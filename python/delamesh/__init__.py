@@ -14,9 +14,10 @@ command line's message.
 from __future__ import annotations
 
 import json
+import math
 import os
 import warnings
-from typing import Any, Callable, Dict, Optional, Tuple, Union
+from typing import Any, Callable, Dict, List, Optional, Tuple, Union
 
 import meshio
 import numpy as np
@@ -59,10 +60,19 @@ def mesh(
     ``no_features=True``, ``strict=True``... (all of them: :data:`OPTIONS`). An unknown keyword or
     a bad value raises :class:`Error` naming it.
 
+    ``sizing`` (the size of facets and cells, and of edges along sharp features) is a path (a
+    background mesh .vtu .vtk .msh .mesh with a point field, a size image, or ``x y z h``
+    lines), a callable ``f(x, y, z) -> float``, a ``(points, tets, values)`` triple of arrays (a
+    background tet mesh: ``(n, 3)`` floats, ``(m, 4)`` vertex indices, ``n`` sizes, linear in
+    each tet, the nearest node's value outside) or a ``(points, values)`` pair (sizes at
+    scattered points). A value that is not a positive number raises :class:`Error` with the
+    point; an exception the callable raises stops meshing and is raised here.
+
     ``progress``, if given, is called about ten times a second during refinement with a dict
     ``{"vertices": int, "insertions": int, "pending": {level: queued}}``; an exception it raises
     stops meshing and is raised here. Ctrl-C (any pending signal whose handler raises) stops
-    meshing the same way; both are looked at during refinement, the phase that takes the time.
+    meshing the same way: it is noticed in every phase; refinement and optimisation stop at
+    once, the other phases finish first.
 
     The result has blocks ``tetra``, ``triangle`` (the boundary) and ``line`` (sharp feature
     edges, if any) and the cell data of the .vtu files: ``subdomain``, ``patch``, ``curve`` (int32,
@@ -73,6 +83,24 @@ def mesh(
     """
     if progress is not None and not callable(progress):
         raise Error(f"progress: expected a callable, got {type(progress).__name__}")
+    raised = _sizing(options)
+    try:
+        raw = _dispatch(source, voxel_size, origin, options, progress)
+    except Error as e:
+        if raised:
+            raise raised[0] from e
+        raise
+    for note in raw["warnings"]:
+        warnings.warn(note, stacklevel=2)
+    if raw["stopped"] is not None:
+        warnings.warn(raw["stopped"], stacklevel=2)
+    return _meshio(raw)
+
+
+def _dispatch(
+    source: Source, voxel_size: Any, origin: Any, options: Dict[str, Any], progress: Any
+) -> Dict[str, Any]:
+    """The extension's call for ``source``: its flat buffers."""
     image = isinstance(source, np.ndarray) and source.ndim == 3
     if not image and (voxel_size is not None or origin is not None):
         raise Error("voxel_size and origin are those of an image: give a 3D array of labels")
@@ -96,11 +124,64 @@ def mesh(
             "mesh: the source must be a path, a meshio.Mesh or a (vertices, faces) pair, "
             f"got {type(source).__name__}"
         )
-    for note in raw["warnings"]:
-        warnings.warn(note, stacklevel=2)
-    if raw["stopped"] is not None:
-        warnings.warn(raw["stopped"], stacklevel=2)
-    return _meshio(raw)
+    return raw
+
+
+def _sizing(options: Dict[str, Any]) -> List[BaseException]:
+    """Puts ``sizing=`` in the form the extension takes: a path as it is, a callable wrapped so
+    that what it raises (or a result that is not a number) is kept and gives NaN, which stops
+    meshing with the point; arrays as tagged tuples of bytes. Returns the list where the
+    callable's first exception goes, to be raised instead of the extension's error."""
+    value = options.get("sizing")
+    raised: List[BaseException] = []
+    if value is None or isinstance(value, (str, os.PathLike)):
+        return raised
+    if callable(value):
+        f = value
+
+        def size(x: float, y: float, z: float) -> float:
+            try:
+                result = f(x, y, z)
+            except BaseException as e:  # kept, and raised once meshing stops
+                raised[:] = raised or [e]
+                return math.nan
+            try:
+                return float(result)
+            except (TypeError, ValueError):
+                bad = Error(f"sizing: the callable gave {result!r} at ({x}, {y}, {z}), not a number")
+                raised[:] = raised or [bad]
+                return math.nan
+
+        options["sizing"] = size
+    elif isinstance(value, tuple) and len(value) == 3:
+        points, tets, sizes = value
+        options["sizing"] = (
+            "background",
+            _floats(points, "sizing points"),
+            _indices(tets, 4, "sizing tets"),
+            _sizes(sizes, points),
+        )
+    elif isinstance(value, tuple) and len(value) == 2:
+        points, sizes = value
+        options["sizing"] = ("points", _floats(points, "sizing points"), _sizes(sizes, points))
+    else:
+        raise Error(
+            "sizing: expected a path, a callable f(x, y, z), (points, tets, values) or "
+            f"(points, values) arrays, got {type(value).__name__}"
+        )
+    return raised
+
+
+def _sizes(values: Any, points: Any) -> bytes:
+    """One float64 size per point, as native-endian bytes (NaN kept: the facade names it)."""
+    try:
+        x = np.asarray(values, dtype=np.float64)
+    except (TypeError, ValueError) as e:
+        raise Error(f"sizing values: not an array of numbers ({e})") from None
+    n = len(np.asarray(points))
+    if x.shape != (n,):
+        raise Error(f"sizing values: expected one per point ({n},), got shape {x.shape}")
+    return np.ascontiguousarray(x).tobytes()
 
 
 def delaunay(points: Any) -> np.ndarray:

@@ -164,6 +164,12 @@ pub fn read_f64(bytes: &[u8], per: usize, what: &str) -> PyResult<Vec<f64>> {
     Ok(values)
 }
 
+/// float64 values as given, NaN and infinities kept: the sizing fields' own checks name the node
+/// holding a bad one.
+pub fn read_sizes(bytes: &[u8], what: &str) -> PyResult<Vec<f64>> {
+    Ok(chunks(bytes, what)?.map(f64::from_ne_bytes).collect())
+}
+
 /// int64 vertex indices, `per` to a row, each in `0..vertices`.
 pub fn read_index(bytes: &[u8], per: usize, vertices: usize, what: &str) -> PyResult<Vec<u32>> {
     let values: Vec<i64> = chunks(bytes, what)?.map(i64::from_ne_bytes).collect();

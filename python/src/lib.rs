@@ -6,6 +6,7 @@
 
 mod buffers;
 mod options;
+mod sizing;
 
 use buffers::{Raw, raw_of_surface, raw_of_tet_mesh, read_f64, read_index, tet_mesh_of_raw};
 use delamesh::formats::image::Image;
@@ -15,6 +16,8 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::path::PathBuf;
+use std::sync::mpsc::{self, RecvTimeoutError};
+use std::sync::{Mutex, PoisonError};
 use std::time::{Duration, Instant};
 
 pyo3::create_exception!(
@@ -36,8 +39,14 @@ fn error(e: &(dyn std::error::Error + 'static)) -> PyErr {
     Error::new_err(message)
 }
 
-/// How often, at most, a run takes the GIL back to check for Ctrl-C and call `progress`.
+/// How often, at most, a run takes the GIL back to call `progress`.
 const CHECK_EVERY: Duration = Duration::from_millis(100);
+
+/// How often the calling thread looks for a pending signal (Ctrl-C) while a run meshes.
+const SIGNAL_POLL: Duration = Duration::from_millis(50);
+
+/// Stack of the thread a run meshes on: a main thread's usual size.
+const WORKER_STACK: usize = 8 << 20;
 
 /// Where a mesh comes from.
 enum Source {
@@ -46,9 +55,14 @@ enum Source {
     Image(Image),
 }
 
-/// Meshes `source` with `options` with the GIL released; every [`CHECK_EVERY`] the progress
-/// hook takes it back to look for a pending signal (Ctrl-C) and call `progress`. An exception
-/// there raises the cancel flag, and is what the call raises.
+/// What a run gives back: the mesh, its warnings, why it stopped early if it did.
+type Outcome = (Raw, Vec<String>, Option<String>);
+
+/// Meshes `source` with `options` on a worker thread, with the GIL released. The calling
+/// thread waits, and every [`SIGNAL_POLL`] takes the GIL to run pending signal handlers, in
+/// every phase of the run (signals reach the main thread only); the worker calls `progress`
+/// every [`CHECK_EVERY`] during refinement. An exception from either raises the cancel flag
+/// and is what the call raises.
 fn run(
     py: Python<'_>,
     source: Source,
@@ -58,55 +72,49 @@ fn run(
     let settings = options::settings(options)?;
     let warnings: Vec<String> = settings.warnings();
     let cancel = Cancel::new();
-    let mut raised: Option<PyErr> = None;
+    let raised: Mutex<Option<PyErr>> = Mutex::new(None);
+    let stop = |e: PyErr| {
+        let mut first = raised.lock().unwrap_or_else(PoisonError::into_inner);
+        first.get_or_insert(e);
+        cancel.cancel();
+    };
     let outcome = py.detach(|| {
-        let mut last = Instant::now();
-        let hook = |p: &Progress| {
-            if last.elapsed() < CHECK_EVERY || cancel.is_cancelled() {
-                return;
-            }
-            last = Instant::now();
-            Python::attach(|py| {
-                let result = py.check_signals().and_then(|()| match &progress {
-                    Some(f) => f.call1(py, (progress_dict(py, p)?,)).map(drop),
-                    None => Ok(()),
+        std::thread::scope(|scope| {
+            let (done, finished) = mpsc::channel::<()>();
+            let worker = std::thread::Builder::new()
+                .stack_size(WORKER_STACK)
+                .spawn_scoped(scope, || {
+                    let _done = done;
+                    let mut last = Instant::now();
+                    let hook = |p: &Progress| {
+                        let Some(f) = &progress else { return };
+                        if last.elapsed() < CHECK_EVERY || cancel.is_cancelled() {
+                            return;
+                        }
+                        last = Instant::now();
+                        Python::attach(|py| {
+                            if let Err(e) = progress_dict(py, p).and_then(|d| f.call1(py, (d,))) {
+                                stop(e);
+                            }
+                        });
+                    };
+                    mesh_source(source, settings, warnings, hook, &cancel)
+                })
+                .map_err(|e| Error::new_err(format!("cannot start the meshing thread: {e}")))?;
+            while let Err(RecvTimeoutError::Timeout) = finished.recv_timeout(SIGNAL_POLL) {
+                Python::attach(|py| {
+                    if let Err(e) = py.check_signals() {
+                        stop(e);
+                    }
                 });
-                if let Err(e) = result {
-                    raised = Some(e);
-                    cancel.cancel();
-                }
-            });
-        };
-        let mut mesher = Mesher::new(settings)
-            .on_progress(hook)
-            .cancel_on(cancel.clone());
-        let meshed = match source {
-            Source::File(path) => mesher.mesh_file(&path),
-            Source::Surface(surface) => mesher.mesh_surface(SURFACE, surface),
-            Source::Image(image) => mesher.mesh_image(IMAGE, image),
-        }?;
-        let mut notes = warnings;
-        let repairs = meshed.domain().repairs();
-        if !repairs.is_empty() {
-            notes.push(format!(
-                "{}: repaired: {}",
-                meshed.name(),
-                repairs.join("; ")
-            ));
-        }
-        notes.extend(
-            meshed
-                .warnings
-                .iter()
-                .map(|w| format!("{}: {w}", meshed.name())),
-        );
-        let stopped = meshed
-            .stopped
-            .as_ref()
-            .map(|e| format!("{}: stopped early: {e}", meshed.name()));
-        Ok::<_, delamesh::Error>((raw_of_tet_mesh(&meshed.tet_mesh()), notes, stopped))
-    });
-    if let Some(e) = raised {
+            }
+            match worker.join() {
+                Ok(outcome) => Ok::<_, PyErr>(outcome),
+                Err(panic) => std::panic::resume_unwind(panic),
+            }
+        })
+    })?;
+    if let Some(e) = raised.into_inner().unwrap_or_else(PoisonError::into_inner) {
         return Err(e);
     }
     let (raw, notes, stopped) = outcome.map_err(|e| error(&e))?;
@@ -114,6 +122,44 @@ fn run(
     dict.set_item("warnings", PyList::new(py, notes)?)?;
     dict.set_item("stopped", stopped)?;
     Ok(dict.unbind())
+}
+
+/// Meshes `source` through the facade, with `progress` as its hook and `cancel` as its flag.
+fn mesh_source(
+    source: Source,
+    settings: delamesh::MeshSettings,
+    warnings: Vec<String>,
+    progress: impl FnMut(&Progress),
+    cancel: &Cancel,
+) -> Result<Outcome, delamesh::Error> {
+    let mut mesher = Mesher::new(settings)
+        .on_progress(progress)
+        .cancel_on(cancel.clone());
+    let meshed = match source {
+        Source::File(path) => mesher.mesh_file(&path),
+        Source::Surface(surface) => mesher.mesh_surface(SURFACE, surface),
+        Source::Image(image) => mesher.mesh_image(IMAGE, image),
+    }?;
+    let mut notes = warnings;
+    let repairs = meshed.domain().repairs();
+    if !repairs.is_empty() {
+        notes.push(format!(
+            "{}: repaired: {}",
+            meshed.name(),
+            repairs.join("; ")
+        ));
+    }
+    notes.extend(
+        meshed
+            .warnings
+            .iter()
+            .map(|w| format!("{}: {w}", meshed.name())),
+    );
+    let stopped = meshed
+        .stopped
+        .as_ref()
+        .map(|e| format!("{}: stopped early: {e}", meshed.name()));
+    Ok((raw_of_tet_mesh(&meshed.tet_mesh()), notes, stopped))
 }
 
 /// The name of an in-memory surface in messages.

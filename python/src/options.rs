@@ -154,6 +154,20 @@ pub const OPTIONS: &[Opt] = &[
         },
     },
     Opt {
+        name: "no_perturb",
+        set: |s, v| {
+            s.optimize.perturb = !flag(v)?;
+            Ok(())
+        },
+    },
+    Opt {
+        name: "no_exude",
+        set: |s, v| {
+            s.optimize.exude = !flag(v)?;
+            Ok(())
+        },
+    },
+    Opt {
         name: "perturb",
         set: |s, v| {
             s.optimize.perturb = flag(v)?;
@@ -191,7 +205,10 @@ pub const OPTIONS: &[Opt] = &[
     Opt {
         name: "sizing",
         set: |s, v| {
-            s.sizing.field = Some(SizeSource::file(path(v)?));
+            s.sizing.field = Some(match crate::sizing::source(v)? {
+                Some(source) => source,
+                None => SizeSource::file(path(v)?),
+            });
             Ok(())
         },
     },
@@ -273,6 +290,13 @@ pub const OPTIONS: &[Opt] = &[
                 Ok(())
             }
             None => Err("needs subdivision=".into()),
+        },
+    },
+    Opt {
+        name: "preserve_surface",
+        set: |s, v| {
+            s.preserve_surface = flag(v)?;
+            Ok(())
         },
     },
 ];

@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 import os
 import shutil
+import re
 import signal
 import subprocess
 import threading
@@ -119,6 +120,19 @@ def surface(path: Path) -> tuple[np.ndarray, np.ndarray]:
 )
 def test_same_mesh_as_the_command_line(path, options, tmp_path):
     assert_same_mesh(delamesh.mesh(path, **options), cli_mesh(path, options, tmp_path))
+
+
+# What `delamesh mesh` takes that `delamesh.mesh` does not: where the mesh and its report go
+# (the caller writes the result), and run-time plugins (the command line's domain loader).
+NOT_KEYWORDS = {"output", "report", "report_plot", "ascii", "plugin", "plugin_config", "quiet", "help"}
+
+
+@needs_cli
+def test_every_meshing_option_of_the_command_line_is_a_keyword():
+    usage = run_cli("mesh", "--help").stdout
+    long_options = {m.replace("-", "_") for m in re.findall(r"^\s+(?:-\w, )?--([a-z][a-z-]*)", usage, re.M)}
+    assert {"facet_size", "no_features", "preserve_surface"} <= long_options
+    assert long_options - NOT_KEYWORDS <= set(delamesh.OPTIONS), long_options - set(delamesh.OPTIONS)
 
 
 @needs_cli

@@ -24,6 +24,7 @@ pub use state::WorkspaceError;
 use crate::complex::MeshComplex;
 use crate::oracle::Oracle;
 use crate::quality::Histogram;
+use crate::refine::Cancel;
 use crate::refine::criteria::MeshCriteria;
 use smooth::Smoother;
 use state::Workspace;
@@ -48,6 +49,9 @@ pub struct OptimizeOptions {
     pub sliver_bound_deg: f64,
     /// Smoothing sweeps at most (each of Lloyd and ODT).
     pub max_smoothing_sweeps: usize,
+    /// The phase stops, keeping the moves made, once this flag is raised (the caller was
+    /// interrupted; see [`Limits::cancel`](crate::refine::Limits::cancel)).
+    pub cancel: Option<Cancel>,
 }
 
 impl Default for OptimizeOptions {
@@ -61,6 +65,7 @@ impl Default for OptimizeOptions {
             time_limit: None,
             sliver_bound_deg: 20.0,
             max_smoothing_sweeps: 20,
+            cancel: None,
         }
     }
 }
@@ -167,12 +172,17 @@ impl OptimizeReport {
     }
 }
 
-/// The end of the phase, if bounded.
-pub(crate) struct Deadline(Option<Instant>);
+/// The end of the phase: a time bound, an interruption, or neither.
+#[derive(Default)]
+pub(crate) struct Deadline {
+    at: Option<Instant>,
+    cancel: Option<Cancel>,
+}
 
 impl Deadline {
     fn passed(&self) -> bool {
-        self.0.is_some_and(|d| Instant::now() >= d)
+        self.at.is_some_and(|d| Instant::now() >= d)
+            || self.cancel.as_ref().is_some_and(Cancel::is_cancelled)
     }
 }
 
@@ -189,7 +199,10 @@ pub fn optimize(
     options: &OptimizeOptions,
 ) -> (MeshComplex, OptimizeReport) {
     let start = Instant::now();
-    let deadline = Deadline(options.time_limit.map(|t| start + t));
+    let deadline = Deadline {
+        at: options.time_limit.map(|t| start + t),
+        cancel: options.cancel.clone(),
+    };
     let angles: Vec<f64> = (0..complex.tets.len())
         .map(|t| state::min_dihedral(&complex.tet_points(t)))
         .collect();
@@ -201,14 +214,7 @@ pub fn optimize(
     if !options.any() || complex.tets.is_empty() {
         return (complex, report);
     }
-    let mut ws = match Workspace::new(
-        &complex,
-        weights,
-        oracle,
-        criteria.facet.distance.clone(),
-        criteria.facet.size.clone(),
-        criteria.cell.size.clone(),
-    ) {
+    let mut ws = match Workspace::new(&complex, weights, oracle, criteria) {
         Ok(ws) => ws,
         Err(e) => {
             report.skipped = Some(e);

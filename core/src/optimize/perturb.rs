@@ -15,6 +15,7 @@ use crate::kernel::Point3;
 use crate::oracle::{PatchId, SurfaceHit};
 use crate::random::XorShift;
 use crate::refine::curves::Polyline;
+use crate::refine::protect::SHARP_TURN;
 use crate::triangulation::{CellId, Triangulation, VertexId};
 
 /// Step lengths tried along a direction, as fractions of the distance to the nearest other
@@ -52,7 +53,75 @@ pub(super) fn perturb(ws: &mut Workspace<'_>, bound: f64, deadline: &Deadline) -
 enum Freedom<'a> {
     Volume,
     Surface(Point3, PatchId),
-    Curve(&'a Polyline),
+    Curve(&'a Polyline, [VertexId; 2]),
+}
+
+/// A curve vertex sliding along its curve between its two neighbours there, so that its two
+/// feature edges keep following the curve as protection made them (within the bend tolerance,
+/// every vertex the curve must keep still a mesh vertex; see [`Polyline::chord_follows`]).
+struct Slide<'a> {
+    curve: &'a Polyline,
+    /// Arc length of the neighbour the parameter `t` starts from.
+    start: f64,
+    /// Arc length from that neighbour to the other one, through the vertex.
+    span: f64,
+    /// The vertex's `t`.
+    at: f64,
+    tolerance: f64,
+}
+
+impl<'a> Slide<'a> {
+    /// The slide of the vertex at `p` between `ends`; `None` where it must stay (on a vertex the
+    /// curve keeps, or not between its neighbours).
+    fn new(curve: &'a Polyline, p: Point3, ends: [Point3; 2], tolerance: f64) -> Option<Self> {
+        let eps = 1e-9 * curve.length();
+        let s = curve.project(p).s;
+        if curve
+            .vertex_at(s, eps)
+            .is_some_and(|i| curve.keeps_vertex(i, tolerance, SHARP_TURN))
+        {
+            return None;
+        }
+        let [a, b] = ends.map(|e| curve.project(e).s);
+        let forward = |x: f64, y: f64| {
+            if curve.is_closed() {
+                (y - x).rem_euclid(curve.length())
+            } else {
+                y - x
+            }
+        };
+        // From the neighbour the vertex follows, forward along the curve to the other one.
+        let (start, span, at) = if (0.0..forward(a, b)).contains(&forward(a, s)) {
+            (a, forward(a, b), forward(a, s))
+        } else {
+            (b, forward(b, a), forward(b, s))
+        };
+        (at > eps && span - at > eps).then_some(Slide {
+            curve,
+            start,
+            span,
+            at,
+            tolerance,
+        })
+    }
+
+    /// The point at signed arc length `d` from the vertex (for a gradient: no check).
+    fn point(&self, d: f64) -> Point3 {
+        self.curve.point_at(self.start + self.at + d)
+    }
+
+    /// The point at signed arc length `d` from the vertex, if the vertex may go there: strictly
+    /// between its neighbours, and both new feature edges following the curve.
+    fn to(&self, d: f64) -> Option<Point3> {
+        let t = self.at + d;
+        let eps = 1e-9 * self.curve.length();
+        let c = self.curve;
+        (t > eps
+            && self.span - t > eps
+            && c.chord_follows(self.start, t, self.tolerance, SHARP_TURN)
+            && c.chord_follows(self.start + t, self.span - t, self.tolerance, SHARP_TURN))
+        .then(|| self.point(d))
+    }
 }
 
 /// Tries to improve sliver `c` by moving one of its vertices.
@@ -82,7 +151,7 @@ fn perturb_cell(ws: &mut Workspace<'_>, c: CellId, rng: &mut XorShift) -> bool {
                 None => continue,
             },
             VertexDimension::Curve => match ws.curve(v) {
-                Some(curve) => Freedom::Curve(curve),
+                Some((curve, ends)) => Freedom::Curve(curve, ends),
                 None => continue,
             },
             VertexDimension::Corner => continue,
@@ -112,23 +181,20 @@ fn perturb_cell(ws: &mut Workspace<'_>, c: CellId, rng: &mut XorShift) -> bool {
                     _ => tries,
                 }
             }
-            Freedom::Curve(curve) => {
-                // Along the curve, the way the angle grows first, then the other way.
-                let s0 = curve.project(p).s;
-                // A vertex on a bend of the curve stays; others stay within their segment.
-                let Some((lo, hi)) = curve.segment_around(s0, 1e-9 * curve.length()) else {
+            Freedom::Curve(curve, ends) => {
+                let ends = ends.map(|u| ws.rt.point(u));
+                let Some(slide) = Slide::new(curve, p, ends, ws.bend_tolerance()) else {
                     continue;
                 };
+                // Along the curve, the way the angle grows first, then the other way.
                 let h = 1e-4 * reach;
-                let at = |s: f64| curve.point_at(s);
-                let up = angle_at(at(s0 + h)) >= angle_at(at(s0 - h));
+                let up = angle_at(slide.point(h)) >= angle_at(slide.point(-h));
                 let sign = if up { 1.0 } else { -1.0 };
-                let within = |d: f64| curve.advance(s0, d).filter(|s| lo < *s && *s < hi);
                 let mut tries: Vec<Point3> = STEPS
                     .iter()
-                    .filter_map(|&s| within(sign * s * reach).map(at))
+                    .filter_map(|&s| slide.to(sign * s * reach))
                     .collect();
-                tries.extend(within(-sign * STEPS[1] * reach).map(at));
+                tries.extend(slide.to(-sign * STEPS[1] * reach));
                 tries
             }
         };

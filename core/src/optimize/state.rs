@@ -13,7 +13,7 @@ use crate::complex::{MeshComplex, VertexDimension};
 use crate::kernel::Point3;
 use crate::oracle::{OUTSIDE, PatchId, SubdomainId};
 use crate::quality::tet_volume;
-use crate::refine::criteria::Sizing;
+use crate::refine::criteria::{MeshCriteria, Sizing};
 use crate::refine::curves::Polyline;
 use crate::refine::{facet_vertices, triangle_circumcenter};
 use crate::triangulation::{CellId, MoveReport, Regular3, Triangulation, VertexId};
@@ -85,8 +85,19 @@ pub(super) struct Workspace<'o> {
     /// The feature curves of the domain, and the one each curve vertex inside a curve (two
     /// feature edges on it) moves along.
     curves: Vec<Polyline>,
-    curve_of: HashMap<u32, usize>,
+    curve_of: HashMap<u32, CurveVertex>,
+    /// How far a feature edge may leave its curve ([`MeshCriteria::bend_tolerance`]), as
+    /// protection placed them.
+    bend_tolerance: f64,
     report: MoveReport,
+}
+
+/// A vertex inside a feature curve: the curve, and its two neighbours along it (the other ends
+/// of its two feature edges), between which it may slide.
+#[derive(Clone, Copy, Debug)]
+struct CurveVertex {
+    curve: usize,
+    neighbours: [VertexId; 2],
 }
 
 /// A created cell inside the domain with a smallest dihedral angle below this (degrees) is
@@ -98,14 +109,14 @@ const FLAT_DEG: f64 = 1e-3;
 /// of the surface: a cell under them may be peeled even next to a feature curve.
 const COPLANAR_COS: f64 = 0.866;
 
-/// The feature curves of `oracle` as polylines, and for each curve vertex with exactly two
-/// feature edges on one curve (by triangulation vertex), the index of that curve.
+/// The feature curves of `oracle` as polylines, and each curve vertex with exactly two
+/// feature edges on one curve (by triangulation vertex).
 fn curve_vertices(
     complex: &MeshComplex,
     vertex_of: &[VertexId],
     dimension: &[VertexDimension],
     oracle: &dyn crate::oracle::Oracle,
-) -> (Vec<Polyline>, HashMap<u32, usize>) {
+) -> (Vec<Polyline>, HashMap<u32, CurveVertex>) {
     let mut curves = Vec::new();
     let mut index = HashMap::new();
     for c in oracle.feature_curves() {
@@ -114,20 +125,21 @@ fn curve_vertices(
             curves.push(p);
         }
     }
-    // Per vertex: feature edges seen, and the curve if all are on one.
-    let mut seen: HashMap<u32, (usize, Option<usize>)> = HashMap::new();
+    // Per vertex: the other ends of its feature edges, and the curve if all are on one.
+    let mut seen: HashMap<u32, (Vec<VertexId>, Option<usize>)> = HashMap::new();
     for (e, &id) in complex
         .feature_edges
         .iter()
         .zip(&complex.feature_edge_curve)
     {
         let curve = index.get(&id).copied();
-        for &i in e {
-            let Some(&v) = vertex_of.get(i as usize) else {
-                continue;
-            };
-            let entry = seen.entry(v.0).or_insert((0, curve));
-            entry.0 += 1;
+        let (Some(&a), Some(&b)) = (vertex_of.get(e[0] as usize), vertex_of.get(e[1] as usize))
+        else {
+            continue;
+        };
+        for (v, other) in [(a, b), (b, a)] {
+            let entry = seen.entry(v.0).or_insert((Vec::new(), curve));
+            entry.0.push(other);
             if entry.1 != curve {
                 entry.1 = None;
             }
@@ -135,8 +147,17 @@ fn curve_vertices(
     }
     let curve_of = seen
         .into_iter()
-        .filter(|&(v, (n, _))| n == 2 && dimension[v as usize] == VertexDimension::Curve)
-        .filter_map(|(v, (_, c))| Some((v, c?)))
+        .filter(|(v, _)| dimension[*v as usize] == VertexDimension::Curve)
+        .filter_map(|(v, (ends, c))| {
+            let neighbours = <[VertexId; 2]>::try_from(ends).ok()?;
+            Some((
+                v,
+                CurveVertex {
+                    curve: c?,
+                    neighbours,
+                },
+            ))
+        })
         .collect();
     (curves, curve_of)
 }
@@ -246,13 +267,10 @@ impl<'o> Workspace<'o> {
         complex: &MeshComplex,
         weights: &[f64],
         oracle: &'o dyn crate::oracle::Oracle,
-        facet_distance: Sizing,
-        facet_size: Sizing,
-        cell_size: Sizing,
+        criteria: &MeshCriteria,
     ) -> Result<Self, WorkspaceError> {
-        let sizes = (facet_distance, facet_size, cell_size);
-        Self::build(complex, weights, oracle, sizes.clone(), true)
-            .or_else(|_| Self::build(complex, weights, oracle, sizes, false))
+        Self::build(complex, weights, oracle, criteria, true)
+            .or_else(|_| Self::build(complex, weights, oracle, criteria, false))
     }
 
     /// The workspace, its triangulation with the [`frame`] around the mesh vertices or without
@@ -261,7 +279,7 @@ impl<'o> Workspace<'o> {
         complex: &MeshComplex,
         weights: &[f64],
         oracle: &'o dyn crate::oracle::Oracle,
-        (facet_distance, facet_size, cell_size): (Sizing, Sizing, Sizing),
+        criteria: &MeshCriteria,
         framed: bool,
     ) -> Result<Self, WorkspaceError> {
         let mut points: Vec<(Point3, f64)> = complex
@@ -327,9 +345,10 @@ impl<'o> Workspace<'o> {
             feature_edges,
             peeled: std::collections::HashSet::new(),
             oracle,
-            facet_distance,
-            cell_size,
-            facet_size,
+            facet_distance: criteria.facet.distance.clone(),
+            cell_size: criteria.cell.size.clone(),
+            facet_size: criteria.facet.size.clone(),
+            bend_tolerance: criteria.bend_tolerance(),
             vertex_of,
             report: MoveReport::default(),
         };
@@ -345,10 +364,18 @@ impl<'o> Workspace<'o> {
         Ok(ws)
     }
 
-    /// The feature curve vertex `v` may move along: it is a curve vertex with exactly two
-    /// feature edges, both on that curve (an end or a junction of curves stays).
-    pub fn curve(&self, v: VertexId) -> Option<&Polyline> {
-        self.curve_of.get(&v.0).map(|&k| &self.curves[k])
+    /// The feature curve vertex `v` may move along, and its two neighbours along it: it is a
+    /// curve vertex with exactly two feature edges, both on that curve (an end or a junction of
+    /// curves stays).
+    pub fn curve(&self, v: VertexId) -> Option<(&Polyline, [VertexId; 2])> {
+        self.curve_of
+            .get(&v.0)
+            .map(|cv| (&self.curves[cv.curve], cv.neighbours))
+    }
+
+    /// How far a feature edge may leave its curve (see [`MeshCriteria::bend_tolerance`]).
+    pub fn bend_tolerance(&self) -> f64 {
+        self.bend_tolerance
     }
 
     /// The boundary facets around `v` with their area-weighted normals, oriented from the first

@@ -28,20 +28,6 @@ fn refined() -> MeshComplex {
         .complex
 }
 
-/// The optimisers' workspace over `mesh`, with the sizes of [`criteria`].
-fn workspace(mesh: &MeshComplex) -> Workspace<'static> {
-    let c = criteria();
-    Workspace::new(
-        mesh,
-        &[],
-        &UnitBall,
-        c.facet.distance,
-        c.facet.size,
-        c.cell.size,
-    )
-    .expect("taken over")
-}
-
 fn smallest(c: &MeshComplex) -> f64 {
     (0..c.tets.len())
         .map(|t| min_dihedral(&c.tet_points(t)))
@@ -85,8 +71,9 @@ fn every_step_keeps_the_triangulation_regular_and_the_mesh_valid() {
     let mesh = refined();
     let refined_volume = volume(&mesh);
     let before = smallest(&mesh);
-    let mut ws = workspace(&mesh);
-    let deadline = Deadline(None);
+    let c = criteria();
+    let mut ws = Workspace::new(&mesh, &[], &UnitBall, &c).expect("taken over");
+    let deadline = Deadline::default();
     smooth::smooth(&mut ws, smooth::Smoother::Odt, 3, &deadline);
     assert_eq!(check_regular3(&ws.rt), Ok(()));
     smooth::smooth(&mut ws, smooth::Smoother::Lloyd, 3, &deadline);
@@ -147,11 +134,27 @@ fn no_optimiser_leaves_the_mesh_as_it_is() {
 }
 
 #[test]
+fn a_raised_cancel_flag_stops_the_phase_before_any_step() {
+    let mesh = refined();
+    let flag = crate::refine::Cancel::new();
+    let options = OptimizeOptions {
+        cancel: Some(flag.clone()),
+        ..OptimizeOptions::default()
+    };
+    let (_, running) = optimize(mesh.clone(), &[], &UnitBall, &criteria(), &options);
+    assert!(!running.steps.is_empty());
+    flag.cancel();
+    let (_, report) = optimize(mesh, &[], &UnitBall, &criteria(), &options);
+    assert!(report.steps.is_empty());
+}
+
+#[test]
 fn surface_vertices_on_the_hull_of_the_mesh_can_move() {
     // Every vertex on the sphere is on the convex hull of the mesh vertices; the workspace's
     // frame puts them inside its triangulation, so a small move inwards is a valid move.
     let mesh = refined();
-    let mut ws = workspace(&mesh);
+    let c = criteria();
+    let mut ws = Workspace::new(&mesh, &[], &UnitBall, &c).expect("taken over");
     let surface: Vec<_> = (0..ws.rt.num_vertices())
         .map(|i| crate::triangulation::VertexId(i as u32))
         .filter(|&v| ws.dimension[v.0 as usize] == VertexDimension::Surface)

@@ -157,14 +157,60 @@ impl Polyline {
         if t == 1.0 { b } else { a + t * (b - a) }
     }
 
-    /// The parameters bounding the segment that holds `s` strictly inside, or `None` when `s` is
-    /// within `tol` of a vertex: a point sliding within that segment never cuts a corner of the
-    /// polyline, so the mesh edges keep following it.
-    pub fn segment_around(&self, s: f64, tol: f64) -> Option<(f64, f64)> {
+    /// Whether vertex `i` is a bend the mesh must keep as a vertex: the curve turns there by
+    /// more than `max_turn` (radians), or leaves the chord of the vertex's two neighbours by more
+    /// than `tol`. The ends of an open curve are always kept.
+    pub fn keeps_vertex(&self, i: usize, tol: f64, max_turn: f64) -> bool {
+        let n = self.points.len();
+        if !self.closed && (i == 0 || i + 1 >= n) {
+            return true;
+        }
+        let (a, x, b) = (
+            self.points[(i + n - 1) % n],
+            self.points[i % n],
+            self.points[(i + 1) % n],
+        );
+        (x - a).angle_between(b - x) > max_turn || point_segment_distance(x, a, b) > tol
+    }
+
+    /// The vertex at arc length `s`, within `eps`, if any.
+    pub fn vertex_at(&self, s: f64, eps: f64) -> Option<usize> {
         let s = self.normalize(s);
-        let i = self.arc.partition_point(|&a| a <= s).checked_sub(1)?;
-        let (lo, hi) = (self.arc[i], *self.arc.get(i + 1)?);
-        (s - lo > tol && hi - s > tol).then_some((lo, hi))
+        let i = self.arc.partition_point(|&a| a < s - eps);
+        let i = (i < self.arc.len() && self.arc[i] <= s + eps).then_some(i)?;
+        Some(i % self.points.len())
+    }
+
+    /// Whether the chord from the point at `s0` to the point `len ≥ 0` further along the curve
+    /// (wrapping round a closed curve) follows it: every vertex strictly between lies within
+    /// `tol` of the chord and is no vertex to keep ([`Polyline::keeps_vertex`]), so a feature
+    /// edge along that chord stays as close to the curve as protection places them.
+    pub fn chord_follows(&self, s0: f64, len: f64, tol: f64, max_turn: f64) -> bool {
+        let (l, n) = (self.length(), self.points.len());
+        let eps = 1e-9 * l;
+        let (a, b) = (self.point_at(s0), self.point_at(s0 + len));
+        let s0 = self.normalize(s0);
+        let mut i = self.arc.partition_point(|&x| x <= s0 + eps);
+        let mut offset = 0.0;
+        for _ in 0..=n {
+            if i >= self.arc.len() - usize::from(self.closed) {
+                if !self.closed {
+                    return true;
+                }
+                i = 0;
+                offset += l;
+            }
+            if self.arc[i] + offset >= s0 + len - eps {
+                return true;
+            }
+            if self.keeps_vertex(i, tol, max_turn)
+                || point_segment_distance(self.points[i], a, b) > tol
+            {
+                return false;
+            }
+            i += 1;
+        }
+        true
     }
 
     /// The parameter at signed geodesic distance `d` from parameter `s`, or `None` when an open
@@ -339,6 +385,42 @@ fn segment_outside_ball(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A chord follows the curve when the vertices it passes lie within the tolerance and none
+    /// is a corner to keep; a closed curve's chords wrap round its first point.
+    #[test]
+    fn chords_follow_a_fine_arc_but_not_across_a_corner() {
+        // A quarter circle of 32 segments, then a square corner: a closed loop.
+        let mut pts: Vec<Point3> = (0..=32)
+            .map(|k| {
+                let a = std::f64::consts::FRAC_PI_2 * k as f64 / 32.0;
+                Point3::new(a.cos(), a.sin(), 0.0)
+            })
+            .collect();
+        pts.push(Point3::ZERO);
+        let line = Polyline::new(&pts, true).expect("valid");
+        let (l, turn) = (line.length(), 0.35);
+        // A vertex off the chord of its two neighbours: 1 − cos(π/64) ≈ 1.2e-3; off the chord
+        // of the vertices four away: 1 − cos(π/16) ≈ 1.9e-2.
+        let tol = 2e-3;
+        assert!(!line.keeps_vertex(16, tol, turn));
+        assert!(
+            line.keeps_vertex(16, 1e-5, turn),
+            "too far from its neighbours' chord"
+        );
+        assert!(line.keeps_vertex(0, tol, turn) && line.keeps_vertex(33, tol, turn));
+        let s8 = line.arc_at(8);
+        assert!(line.chord_follows(s8, line.arc_at(10) - s8, tol, turn));
+        assert!(!line.chord_follows(s8, line.arc_at(16) - s8, tol, turn));
+        // Across the right-angle corner at the origin (vertex 33), whatever the tolerance.
+        let s32 = line.arc_at(32);
+        assert!(!line.chord_follows(s32, l - s32 + 0.1, 10.0, turn));
+        // Within one segment, no vertex is passed: a chord of the curve itself.
+        assert!(line.chord_follows(s8 + 1e-3, 1e-3, 0.0, turn));
+        assert_eq!(line.vertex_at(s8 + 1e-12, 1e-9), Some(8));
+        assert_eq!(line.vertex_at(s8 + 1e-3, 1e-9), None);
+        assert_eq!(line.vertex_at(l - 1e-12, 1e-9), Some(0));
+    }
 
     /// A random walk of `n` points, so runs of segments have overlapping and far-apart boxes.
     fn random_walk(rng: &mut impl rand::Rng, n: usize) -> Vec<Point3> {

@@ -46,7 +46,7 @@ const COLLINEAR: f64 = 1e-11;
 const MAX_RUN: usize = 256;
 /// Turning angle (radians, 20°) above which a polyline vertex is a bend even within the bend
 /// tolerance: a tessellated smooth curve turns far less per vertex.
-const SHARP_TURN: f64 = 0.35;
+pub(crate) const SHARP_TURN: f64 = 0.35;
 /// Radius of a ball on a bend, as a fraction of the longer straight run next to it (above 1/2 so
 /// that consecutive bends' balls overlap).
 const BEND_FRACTION: f64 = 0.6;

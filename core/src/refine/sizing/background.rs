@@ -4,12 +4,17 @@ use super::{SizingError, SizingField, check_value, show};
 use crate::kernel::Point3;
 use rstar::RTree;
 use rstar::primitives::GeomWithData;
+use std::sync::atomic::{AtomicU32, Ordering};
 
 type Node = GeomWithData<[f64; 3], u32>;
 
 /// Barycentric coordinates may be this much below zero (relative) and still count as inside:
 /// points on a shared face belong to both tets, whichever is found first.
 const INSIDE_TOLERANCE: f64 = 1e-9;
+
+/// Barycentric coordinates above this are inside the last tet found and no other (unless a
+/// neighbour is a thousand times larger): there the cached tet answers.
+const STRICTLY_INSIDE: f64 = 1e-6;
 
 /// Six times the signed volume of a tet.
 fn volume([a, b, c, d]: &[Point3; 4]) -> f64 {
@@ -30,6 +35,9 @@ pub struct BackgroundMesh {
     volumes: Vec<f64>,
     nodes: RTree<Node>,
     smallest: f64,
+    /// The tet the last located point was in: refinement asks about points near each other
+    /// one after another, and most fall in the same tet.
+    last: AtomicU32,
 }
 
 impl BackgroundMesh {
@@ -86,6 +94,7 @@ impl BackgroundMesh {
             tets,
             values,
             smallest,
+            last: AtomicU32::new(0),
         })
     }
 
@@ -111,12 +120,27 @@ impl BackgroundMesh {
         (l[3] >= -INSIDE_TOLERANCE).then_some(l)
     }
 
-    /// The containing tet and the coordinates of `p` in it.
+    /// The containing tet and the coordinates of `p` in it. The last tet found answers first
+    /// when `p` lies strictly inside it ([`STRICTLY_INSIDE`]: no other tet of a valid mesh
+    /// contains `p`, so the answer does not depend on the order of the queries, from several
+    /// threads or not);
+    /// otherwise the first containing tet by index.
     fn locate(&self, p: Point3) -> Option<(u32, [f64; 4])> {
-        self.buckets
+        let last = self.last.load(Ordering::Relaxed);
+        if let Some(l) = self.barycentric(last, p)
+            && l.iter().all(|&c| c > STRICTLY_INSIDE)
+        {
+            return Some((last, l));
+        }
+        let found = self
+            .buckets
             .tets_near(p)
             .iter()
-            .find_map(|&t| self.barycentric(t, p).map(|l| (t, l)))
+            .find_map(|&t| self.barycentric(t, p).map(|l| (t, l)));
+        if let Some((t, _)) = found {
+            self.last.store(t, Ordering::Relaxed);
+        }
+        found
     }
 
     /// Whether some tet contains `p`.

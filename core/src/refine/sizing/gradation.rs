@@ -86,9 +86,12 @@ fn layout(bbox: &Aabb, max_nodes: usize) -> ([usize; 3], f64) {
 
 /// The grid of `sample` over `bbox` graded by `gradation` (see the module's documentation).
 /// Values of `sample` that are not finite and positive (no bound there, or outside the domain)
-/// seed nothing. `None` when no node has a bound, or when `gradation` is not a positive number.
+/// seed nothing. Each of `seeds` (a point and its size: a protecting ball) lowers the nodes of
+/// its grid cell to its size plus `gradation` times their distance, so the sweep grows sizes
+/// from it too. `None` when no node has a bound, or when `gradation` is not a positive number.
 pub fn graded(
     sample: &(dyn Fn(Point3) -> f64 + Sync),
+    seeds: &[(Point3, f64)],
     bbox: &Aabb,
     gradation: f64,
     max_nodes: usize,
@@ -114,6 +117,20 @@ pub fn graded(
             }
         })
         .collect();
+    for &(p, size) in seeds {
+        if !(size.is_finite() && size > 0.0 && p.is_finite()) {
+            continue;
+        }
+        let q = ((p - origin) / spacing).floor();
+        for corner in 0..8 {
+            let c = [0, 1, 2].map(|axis| q[axis] as i64 + ((corner >> axis) & 1) as i64);
+            if (0..3).any(|axis| c[axis] < 0 || c[axis] >= dims[axis] as i64) {
+                continue;
+            }
+            let n = c[0] as usize + nx * (c[1] as usize + ny * c[2] as usize);
+            h[n] = h[n].min(size + gradation * node(n).distance(p));
+        }
+    }
     let mut queue: BinaryHeap<Queued> = h
         .iter()
         .enumerate()

@@ -9,16 +9,19 @@
 //! - any closure `Fn(Point3, u32) -> f64`, wrapped in [`Checked`] so that a bad value met during
 //!   refinement is reported instead of looping.
 //!
-//! [`graded`] limits how fast a field grows (|∇h| ≤ G). Reading files is the formats crate's
+//! [`graded`] limits how fast a field grows (|∇h| ≤ G), from the field's small values and from
+//! the sharp features' protecting balls ([`feature_sizes`]). Reading files is the formats crate's
 //! job: this module takes arrays.
 
 mod background;
 mod cloud;
+mod features;
 mod gradation;
 mod grid;
 
 pub use background::BackgroundMesh;
 pub use cloud::{IDW_NEIGHBOURS, PointSizes};
+pub use features::feature_sizes;
 pub use gradation::{DEFAULT_GRADATION_NODES, Graded, graded};
 pub use grid::SizeGrid;
 

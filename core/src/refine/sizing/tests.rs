@@ -142,7 +142,7 @@ fn gradation_bounds_the_growth_and_never_exceeds_the_field() {
         }
     };
     let g = 0.4;
-    let grid = graded(&field, &bbox, g, 20_000)
+    let grid = graded(&field, &[], &bbox, g, 20_000)
         .expect("valid")
         .expect("bounded");
     let n = grid.dims();
@@ -176,9 +176,13 @@ fn gradation_bounds_the_growth_and_never_exceeds_the_field() {
         let l1 = (a - b).abs().element_sum();
         assert!((grid.at(a) - hb).abs() <= g * l1 * (1.0 + 1e-9) + 1e-12);
     }
-    assert!(graded(&field, &bbox, 0.0, 1000).expect("valid").is_none());
     assert!(
-        graded(&|_| f64::INFINITY, &bbox, 0.5, 1000)
+        graded(&field, &[], &bbox, 0.0, 1000)
+            .expect("valid")
+            .is_none()
+    );
+    assert!(
+        graded(&|_| f64::INFINITY, &[], &bbox, 0.5, 1000)
             .expect("valid")
             .is_none()
     );
@@ -196,4 +200,32 @@ fn checked_fields_remember_the_first_bad_value() {
     assert_eq!(checked.size_at(-Point3::X, 1), f64::INFINITY);
     assert_eq!(checked.size_at(-Point3::Y - Point3::X, 1), f64::INFINITY);
     assert_eq!(checked.first_bad(), Some((-Point3::X, -1.0)));
+}
+
+#[test]
+fn seeds_grow_by_the_gradation_too() {
+    let bbox = Aabb {
+        min: Point3::ZERO,
+        max: Point3::ONE,
+    };
+    let seed = Point3::new(0.31, 0.52, 0.47);
+    let (g, small) = (0.5, 0.01);
+    let grid = graded(&|_| 1.0, &[(seed, small)], &bbox, g, 20_000)
+        .expect("valid")
+        .expect("bounded");
+    let spacing =
+        grid.node(1).map(|n| n.0.x).unwrap_or(0.0) - grid.node(0).map(|n| n.0.x).unwrap_or(0.0);
+    assert!(spacing > 0.0);
+    for p in random_points(200, 0.0, 1.0, 9) {
+        let d = p.distance(seed);
+        let h = grid.at(p);
+        // The cone from the seed (8 % longer paths, a cell's diagonal of interpolation), the
+        // field's value beyond it.
+        let cone = small + g * (1.09 * d + 2.0 * 3f64.sqrt() * spacing);
+        assert!(h <= cone.min(1.0) + 1e-12, "at {p}: {h} > {cone}");
+        assert!(
+            h >= (small + g * (d - 3f64.sqrt() * spacing)).min(1.0) - 1e-12,
+            "at {p}: {h}"
+        );
+    }
 }
