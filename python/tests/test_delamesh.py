@@ -469,6 +469,9 @@ def test_progress_is_called_and_its_exception_stops_meshing():
     reason="signals go to the main thread",
 )
 def test_ctrl_c_interrupts_a_long_run():
+    # Python's own Ctrl-C handler, as in a terminal: a process started in the background by a
+    # non-interactive shell inherits SIGINT ignored, and Python then installs none.
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
     timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
     try:
@@ -476,6 +479,7 @@ def test_ctrl_c_interrupts_a_long_run():
             delamesh.mesh(SPHERE, **LONG)
     finally:
         timer.cancel()
+        signal.signal(signal.SIGINT, previous)
 
 
 def test_the_readme_example_runs(tmp_path, monkeypatch):
