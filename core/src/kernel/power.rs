@@ -3,10 +3,13 @@
 //! A weighted point `(p, w)` lifts to `|p|² − w`; the power test is the sign of the 5×5 lifted
 //! determinant, i.e. whether a fifth weighted point has a negative power distance to the sphere
 //! orthogonal to four others. With all weights zero it is the in-sphere test, with the same sign
-//! convention. A semi-static floating-point filter decides almost every call; the rest are
-//! evaluated exactly on the doubles' exact dyadic values with big integers.
+//! convention. A semi-static floating-point filter decides almost every call; a double-double
+//! stage (shared with the in-sphere test) nearly all of the rest, slivers' tests above all; the
+//! remaining near-degeneracies are evaluated exactly on the doubles' exact dyadic values with big
+//! integers.
 
 use super::exact::{det, dyadic, scaled, sign_of};
+use super::predicates::lifted_sign_double_double;
 use super::{Point2, Point3, Sign, orient2d, orient3d};
 use num_bigint::BigInt;
 
@@ -130,6 +133,11 @@ pub(crate) fn off_plane_point(tri: [Point3; 3]) -> (Point3, Sign) {
 /// The exact sign of the lifted 5×5 determinant, rows `[x y z |p|²−w 1]`.
 #[cold]
 fn power_test_exact(p: [WeightedPoint3; 5]) -> Sign {
+    lifted_sign_double_double([p[0], p[1], p[2], p[3]], p[4]).unwrap_or_else(|| power_test_big(p))
+}
+
+/// [`power_test_exact`] with big integers alone.
+fn power_test_big(p: [WeightedPoint3; 5]) -> Sign {
     // Smallest exponents of the coordinates and of the weights: scaling a column by a power of
     // two keeps the determinant's sign, so every entry becomes an integer.
     let exp = |x: f64| if x == 0.0 { i32::MAX } else { dyadic(x).1 };
@@ -238,6 +246,52 @@ mod tests {
         let q = w(1e40, 1e40, 1e40, 0.0);
         let s = power_test(big[0], big[1], big[2], big[3], q);
         assert_eq!(s, power_test_exact([big[0], big[1], big[2], big[3], q]));
+    }
+
+    /// Fifth points orthogonal, up to a rounding, to the sphere of four random weighted points
+    /// (the tests of slivers look like this): the double-double stage decides nearly all and
+    /// agrees with the big integers on every one it decides; exactly orthogonal ones it leaves.
+    #[test]
+    fn double_double_stage_agrees_with_big_integers_near_orthogonality() {
+        let mut rng = XorShift::new(0x5EED_F5C1_E5EE);
+        let mut unit = move || rng.next_f64() * 2.0 - 1.0;
+        let (mut decided, runs) = (0, 6_000);
+        for k in 0..runs {
+            let scale = [1.0, 1e-20, 1e15][k % 3];
+            let mut q = [(); 4].map(|()| {
+                let p = Point3::new(unit(), unit(), unit()) * scale;
+                WeightedPoint3::new(p, 0.1 * unit().abs() * scale * scale)
+            });
+            if orient3d(q[0].point, q[1].point, q[2].point, q[3].point) == Sign::Negative {
+                q.swap(0, 1);
+            }
+            let centre = orthocenter3(q[0], q[1], q[2], q[3]);
+            let power = q[0].point.distance_squared(centre) - q[0].weight;
+            // A point on the orthogonal sphere, its weight making it orthogonal up to rounding.
+            let p = centre + Point3::new(unit(), unit(), unit()) * scale;
+            let e = WeightedPoint3::new(p, p.distance_squared(centre) - power);
+            let big = power_test_big([q[0], q[1], q[2], q[3], e]);
+            if let Some(sign) = lifted_sign_double_double(q, e) {
+                assert_eq!(sign, big, "{q:?} {e:?}");
+                decided += 1;
+            }
+            assert_eq!(power_test(q[0], q[1], q[2], q[3], e), big);
+        }
+        assert!(
+            decided * 10 > runs * 9,
+            "double-double decided {decided} of {runs}"
+        );
+        // Exactly orthogonal: integer points and weights, the stage must not decide.
+        let q = [
+            (0.0, 0.0, 0.0),
+            (4.0, 0.0, 0.0),
+            (0.0, 4.0, 0.0),
+            (0.0, 0.0, 4.0),
+        ]
+        .map(|(x, y, z)| w(x, y, z, 1.0));
+        let e = w(4.0, 4.0, 0.0, 1.0);
+        assert_eq!(lifted_sign_double_double(q, e), None);
+        assert_eq!(power_test_big([q[0], q[1], q[2], q[3], e]), Sign::Zero);
     }
 
     #[test]

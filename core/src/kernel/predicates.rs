@@ -8,7 +8,7 @@
 
 use super::double_double::{dd_add, dd_mul, dd_neg, dd_sub, two_diff};
 use super::exact::{expansions_are_exact, insphere_big, orient2d_big, orient3d_big};
-use super::{Point2, Point3};
+use super::{Point2, Point3, WeightedPoint3};
 use robust::{Coord, Coord3D};
 
 /// The sign of a determinant. Triangulations branch on signs only, never on magnitudes.
@@ -329,12 +329,12 @@ fn insphere_refined(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3, det: 
 
 /// u = 2⁻⁵³, the unit roundoff.
 const UNIT_ROUNDOFF: f64 = f64::EPSILON / 2.0;
-/// Error bound of [`insphere_double_double`] relative to its permanent: eight levels of
-/// double-double operations, each within 7u² of its exact result, stay within
-/// (1 + 7u²)⁸ − 1 < 57u²; this is twice that.
-const INSPHERE_ERROR_DD: f64 = 114.0 * UNIT_ROUNDOFF * UNIT_ROUNDOFF;
+/// Error bound of [`lifted_double_double`] relative to its permanent: nine levels of
+/// double-double operations (the eighth subtracts the weights from the lift), each within 7u² of
+/// its exact result, stay within (1 + 7u²)⁹ − 1 < 64u²; this is twice that.
+const LIFTED_ERROR_DD: f64 = 128.0 * UNIT_ROUNDOFF * UNIT_ROUNDOFF;
 /// Non-zero differences outside this range skip the double-double stage: inside it no term of
-/// degree five overflows.
+/// degree five overflows. Weights, of degree two, may span the squared range.
 const DD_RANGE: (f64, f64) = (1e-50, 1e50);
 /// Smallest permanent the double-double stage decides with: above it, what underflow can lose
 /// is far below the error bound.
@@ -346,13 +346,9 @@ const MIN_DD_PERMANENT: f64 = 1e-200;
 #[cold]
 #[inline(never)]
 fn insphere_exact(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> Sign {
-    let diffs = [a, b, c, d].map(|p| [two_diff(p.x, e.x), two_diff(p.y, e.y), two_diff(p.z, e.z)]);
-    let in_range = |x: f64| x == 0.0 || (DD_RANGE.0..=DD_RANGE.1).contains(&x.abs());
-    if diffs.iter().flatten().all(|&(hi, _)| in_range(hi)) {
-        let (det, permanent) = insphere_double_double(diffs);
-        if permanent > MIN_DD_PERMANENT && det.abs() > INSPHERE_ERROR_DD * permanent {
-            return Sign::of(det);
-        }
+    let unweighted = [a, b, c, d].map(|p| WeightedPoint3::new(p, 0.0));
+    if let Some(sign) = lifted_sign_double_double(unweighted, WeightedPoint3::new(e, 0.0)) {
+        return sign;
     }
     if expansions_are_exact(&coordinates(&[a, b, c, d, e]), 5) {
         Sign::of(robust::insphere(c3(a), c3(b), c3(c), c3(d), c3(e)))
@@ -361,10 +357,40 @@ fn insphere_exact(a: Point3, b: Point3, c: Point3, d: Point3, e: Point3) -> Sign
     }
 }
 
-/// The in-sphere determinant of the exact differences `(hi, lo)` (rows a, b, c, d relative to
-/// e) in double-double arithmetic, in the same expansion as [`insphere_det`], with its
-/// permanent: the same expression in absolute values, which bounds the rounding error.
-fn insphere_double_double(d: [[(f64, f64); 3]; 4]) -> (f64, f64) {
+/// The sign of the lifted determinant of the power test (the in-sphere test with zero weights)
+/// of `rows` against `e`, from the exact differences in double-double arithmetic; `None` when
+/// the error bound cannot decide it (a near-exact degeneracy) or the magnitudes are out of the
+/// stage's range. The filters of slivers' tests fail for most of them, and this decides nearly
+/// all of those at a fraction of the big-integer evaluation's cost.
+pub(crate) fn lifted_sign_double_double(
+    rows: [WeightedPoint3; 4],
+    e: WeightedPoint3,
+) -> Option<Sign> {
+    let diffs = rows.map(|q| {
+        let p = q.point;
+        [
+            two_diff(p.x, e.point.x),
+            two_diff(p.y, e.point.y),
+            two_diff(p.z, e.point.z),
+        ]
+    });
+    let weights = rows.map(|q| two_diff(q.weight, e.weight));
+    let within = |x: f64, (lo, hi): (f64, f64)| x == 0.0 || (lo..=hi).contains(&x.abs());
+    let squared = (DD_RANGE.0 * DD_RANGE.0, DD_RANGE.1 * DD_RANGE.1);
+    let in_range = diffs.iter().flatten().all(|&(hi, _)| within(hi, DD_RANGE))
+        && weights.iter().all(|&(hi, _)| within(hi, squared));
+    if !in_range {
+        return None;
+    }
+    let (det, permanent) = lifted_double_double(diffs, weights);
+    (permanent > MIN_DD_PERMANENT && det.abs() > LIFTED_ERROR_DD * permanent).then(|| Sign::of(det))
+}
+
+/// The lifted determinant of the exact differences `(hi, lo)` (rows a, b, c, d relative to e,
+/// lifts `|row|² − weight`) in double-double arithmetic, in the same expansion as
+/// [`insphere_det`], with its permanent: the same expression in absolute values, which bounds
+/// the rounding error.
+fn lifted_double_double(d: [[(f64, f64); 3]; 4], w: [(f64, f64); 4]) -> (f64, f64) {
     let [[ax, ay, az], [bx, by, bz], [cx, cy, cz], [dx, dy, dz]] = d;
     let cross = |ux, uy, vx, vy| dd_sub(dd_mul(ux, vy), dd_mul(vx, uy));
     let (ab, cd, bc) = (
@@ -383,12 +409,18 @@ fn insphere_double_double(d: [[(f64, f64); 3]; 4]) -> (f64, f64) {
     let cda = triple(cz, da, dz, ac, az, cd);
     let bcd = triple(bz, cd, dd_neg(cz), bd, dz, bc);
     let dab = triple(dz, ab, az, bd, bz, da);
-    let lift = |x, y, z| dd_add(dd_add(dd_mul(x, x), dd_mul(y, y)), dd_mul(z, z));
+    let square = |x, y, z| dd_add(dd_add(dd_mul(x, x), dd_mul(y, y)), dd_mul(z, z));
+    let (sa, sb, sc, sd) = (
+        square(ax, ay, az),
+        square(bx, by, bz),
+        square(cx, cy, cz),
+        square(dx, dy, dz),
+    );
     let (la, lb, lc, ld) = (
-        lift(ax, ay, az),
-        lift(bx, by, bz),
-        lift(cx, cy, cz),
-        lift(dx, dy, dz),
+        dd_sub(sa, w[0]),
+        dd_sub(sb, w[1]),
+        dd_sub(sc, w[2]),
+        dd_sub(sd, w[3]),
     );
     let det = dd_add(
         dd_sub(dd_mul(ld, abc), dd_mul(lc, dab)),
@@ -401,10 +433,12 @@ fn insphere_double_double(d: [[(f64, f64); 3]; 4]) -> (f64, f64) {
     let (pab, pcd, pbc) = (p2(ax, ay, bx, by), p2(cx, cy, dx, dy), p2(bx, by, cx, cy));
     let (pda, pac, pbd) = (p2(dx, dy, ax, ay), p2(ax, ay, cx, cy), p2(bx, by, dx, dy));
     let p3 = |z1, m1: f64, z2, m2: f64, z3, m3: f64| h(z1) * m1 + h(z2) * m2 + h(z3) * m3;
-    let permanent = ld.0 * p3(az, pbc, bz, pac, cz, pab)
-        + lc.0 * p3(dz, pab, az, pbd, bz, pda)
-        + lb.0 * p3(cz, pda, dz, pac, az, pcd)
-        + la.0 * p3(bz, pcd, cz, pbd, dz, pbc);
+    // A lift's rounding is relative to its square and its weight, not to their difference.
+    let lift = |s: (f64, f64), w: (f64, f64)| s.0 + w.0.abs();
+    let permanent = lift(sd, w[3]) * p3(az, pbc, bz, pac, cz, pab)
+        + lift(sc, w[2]) * p3(dz, pab, az, pbd, bz, pda)
+        + lift(sb, w[1]) * p3(cz, pda, dz, pac, az, pcd)
+        + lift(sa, w[0]) * p3(bz, pcd, cz, pbd, dz, pbc);
     (det.0 + det.1, permanent)
 }
 
@@ -449,8 +483,8 @@ mod tests {
                     two_diff(p.z, q[4].z),
                 ]
             });
-            let (det, permanent) = insphere_double_double(diffs);
-            decided += usize::from(det.abs() > INSPHERE_ERROR_DD * permanent);
+            let (det, permanent) = lifted_double_double(diffs, [(0.0, 0.0); 4]);
+            decided += usize::from(det.abs() > LIFTED_ERROR_DD * permanent);
         }
         // The stage is worth having only if it decides most of these.
         assert!(decided > 19_900, "double-double decided {decided} of 20000");
