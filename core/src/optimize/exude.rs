@@ -27,10 +27,16 @@ const MAX_BOUND_DEG: f64 = 14.0;
 /// first, until a sweep improves nothing or the deadline passes. Returns the number of weight
 /// changes kept.
 pub(super) fn exude(ws: &mut Workspace<'_>, bound: f64, deadline: &Deadline) -> usize {
-    ws.sweep_slivers(bound.min(MAX_BOUND_DEG), deadline, MAX_SWEEPS, |ws, c| {
-        let cell = ws.rt.cell(c);
-        cell.iter().any(|&v| pump(ws, v))
-    })
+    ws.sweep_slivers(
+        bound.min(MAX_BOUND_DEG),
+        deadline,
+        MAX_SWEEPS,
+        false,
+        |ws, c| {
+            let cell = ws.rt.cell(c);
+            cell.iter().any(|&v| pump(ws, v))
+        },
+    )
 }
 
 /// Gives `v` a larger weight (among a few up to its bound) that improves the smallest dihedral

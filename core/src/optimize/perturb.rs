@@ -33,15 +33,19 @@ const MAX_SWEEPS: usize = 6;
 const SCHEDULE_DEG: [f64; 2] = [10.0, 14.0];
 
 /// Perturbs the vertices of the cells below each bound of [`SCHEDULE_DEG`] under `bound` and then
-/// `bound` degrees, worst first, until a sweep improves nothing or the deadline passes. Returns
-/// the number of moves kept.
+/// `bound` degrees, worst first, until a sweep improves nothing or the deadline passes (the last
+/// bound also stops once the worst cell is stuck, but for the slivers below 10°). Returns the
+/// number of moves kept.
 pub(super) fn perturb(ws: &mut Workspace<'_>, bound: f64, deadline: &Deadline) -> usize {
     let mut rng = XorShift::new(0x9E37_79B9_7F4A_7C15);
     let bounds = SCHEDULE_DEG.into_iter().filter(|&b| b < bound);
     bounds
         .chain(std::iter::once(bound))
         .map(|b| {
-            ws.sweep_slivers(b, deadline, MAX_SWEEPS, |ws, c| {
+            // The last bound stops at the floor: the smallest angle is what the earlier bounds
+            // were for, and past it the last bound only reshapes cells that are no slivers,
+            // at most of the phase's time.
+            ws.sweep_slivers(b, deadline, MAX_SWEEPS, b == bound, |ws, c| {
                 ws.peel(c) || perturb_cell(ws, c, &mut rng)
             })
         })

@@ -57,6 +57,10 @@ pub(super) struct Change {
     pub after: f64,
 }
 
+/// Below this smallest dihedral angle (degrees) a cell is a sliver proper, the share the quality
+/// reports count.
+const SLIVER_DEG: f64 = 10.0;
+
 /// The triangulation, its labels and the boundary, with the per-vertex data of the mesh.
 pub(super) struct Workspace<'o> {
     pub rt: Regular3,
@@ -867,29 +871,39 @@ impl<'o> Workspace<'o> {
     /// Sweeps over the slivers below `bound` degrees, worst first, trying `improve` on each
     /// (perturbation and exudation differ only in that step), until a sweep improves nothing,
     /// `max_sweeps` are done or the deadline passes. A cell `improve` could not help is not tried
-    /// again while it exists. Returns the number of improvements kept.
+    /// again while it exists. With `stop_at_floor`, a sweep whose worst cell could not be helped
+    /// goes on only over the cells below [`SLIVER_DEG`]: the smallest angle cannot rise any more
+    /// in it. Returns the number of improvements kept.
     pub fn sweep_slivers(
         &mut self,
         bound: f64,
         deadline: &super::Deadline,
         max_sweeps: usize,
+        stop_at_floor: bool,
         mut improve: impl FnMut(&mut Self, CellId) -> bool,
     ) -> usize {
         let mut kept = 0;
         let mut stuck = std::collections::HashSet::new();
         for _ in 0..max_sweeps {
             let mut improved = 0;
-            for (_, c, cell) in self.slivers(bound) {
+            let slivers = self.slivers(bound);
+            let worst = slivers.first().map_or(0.0, |s| s.0);
+            // Once a cell at the sweep's smallest angle cannot be improved, that angle is the
+            // mesh's for this sweep: the rest of it works only on the slivers proper.
+            let mut floor_fixed = false;
+            for (angle, c, cell) in slivers {
                 if deadline.passed() {
                     return kept + improved;
                 }
-                if !self.rt.is_live(c) || self.rt.cell(c) != cell || stuck.contains(&cell) {
-                    continue;
+                if stop_at_floor && floor_fixed && angle >= SLIVER_DEG {
+                    break;
                 }
-                if improve(self, c) {
+                let gone = !self.rt.is_live(c) || self.rt.cell(c) != cell;
+                if !gone && !stuck.contains(&cell) && improve(self, c) {
                     improved += 1;
-                } else {
+                } else if !gone {
                     stuck.insert(cell);
+                    floor_fixed |= angle <= worst;
                 }
             }
             kept += improved;

@@ -172,3 +172,27 @@ fn surface_vertices_on_the_hull_of_the_mesh_can_move() {
     assert_eq!(check_regular3(&ws.rt), Ok(()));
     assert_valid_ball(&ws.into_complex(mesh.clone()), volume(&mesh));
 }
+
+/// With the floor fixed (the worst cell cannot be helped), a sweep tries only the cells below
+/// 10° after it; without, every cell under the bound.
+#[test]
+fn a_sweep_stops_at_a_stuck_floor_only_when_asked() {
+    let mesh = refined();
+    let c = criteria();
+    let mut ws = Workspace::new(&mesh, &[], &UnitBall, &c).expect("taken over");
+    let deadline = Deadline::default();
+    let under = |ws: &Workspace<'_>, bound: f64| ws.slivers(bound).len();
+    let (all, slivers) = (under(&ws, 40.0), under(&ws, 10.0));
+    assert!(
+        all > slivers + 1,
+        "{all} cells under 40°, {slivers} under 10°"
+    );
+    for (stop, expected) in [(false, all), (true, slivers.max(1))] {
+        let mut tried = 0;
+        let kept = ws.sweep_slivers(40.0, &deadline, 1, stop, |_, _| {
+            tried += 1;
+            false
+        });
+        assert_eq!((kept, tried), (0, expected), "stop at floor: {stop}");
+    }
+}
