@@ -35,7 +35,7 @@ pub use points::{parse_point_sizes, parse_xyz, read_point_sizes, read_points};
 pub use polygons::{PolygonMesh, read_polygon_bytes, read_polygons};
 pub use sizing::{NodeField, read_node_field};
 
-use delamesh_core::mesh::{PatchId, SurfaceMesh, TetMesh, weld_exact};
+use delamesh_core::mesh::{MeshError, PatchId, SurfaceMesh, TetMesh, weld_exact};
 use std::io::Write;
 use std::path::Path;
 
@@ -244,20 +244,30 @@ pub fn write_document(
 
 /// Writes a surface in any writable format (volume formats get a mesh of labelled triangles).
 pub fn write_surface(path: &Path, mesh: &SurfaceMesh, options: &WriteOptions) -> Result<()> {
-    let run = || -> Result<(), Problem> {
-        mesh.validate()?;
-        let format = resolve(path, options.format)?;
-        atomic::write_atomic(path, |w| write_surface_to(w, mesh, format, options))
-    };
-    run().map_err(|p| Error::new(path, p))
+    write_valid(path, options, mesh.validate(), |w, format| {
+        write_surface_to(w, mesh, format, options)
+    })
 }
 
 /// Writes a tet mesh; surface formats get its boundary triangles.
 pub fn write_tet_mesh(path: &Path, mesh: &TetMesh, options: &WriteOptions) -> Result<()> {
+    write_valid(path, options, mesh.validate(), |w, format| {
+        write_tet_mesh_to(w, mesh, format, options)
+    })
+}
+
+/// Writes a mesh that passed its `validity` check atomically in the format the options or the
+/// path's extension name; a problem, the check's first, becomes an error naming the file.
+fn write_valid(
+    path: &Path,
+    options: &WriteOptions,
+    validity: Result<(), MeshError>,
+    body: impl FnOnce(&mut dyn Write, Format) -> Result<(), Problem>,
+) -> Result<()> {
     let run = || -> Result<(), Problem> {
-        mesh.validate()?;
+        validity?;
         let format = resolve(path, options.format)?;
-        atomic::write_atomic(path, |w| write_tet_mesh_to(w, mesh, format, options))
+        atomic::write_atomic(path, |w| body(w, format))
     };
     run().map_err(|p| Error::new(path, p))
 }

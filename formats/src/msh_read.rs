@@ -196,6 +196,17 @@ struct Cursor<'a> {
 }
 
 impl<'a> Cursor<'a> {
+    /// The entity-block count that opens an MSH 4 `$Nodes` or `$Elements` section; the header's
+    /// other three numbers (a total and a tag range) are read past, not needed.
+    fn block_count(&mut self, binary: bool, what: &str) -> Result<usize, Problem> {
+        Ok(if binary {
+            let h = [self.u64()?, self.u64()?, self.u64()?, self.u64()?];
+            h[0] as usize
+        } else {
+            self.numbers::<usize>(4, what)?[0]
+        })
+    }
+
     fn of(section: Section<'a>) -> Self {
         Cursor {
             bytes: section.bytes,
@@ -323,12 +334,7 @@ fn read_nodes(body: Section, format: MeshFormat) -> Result<Nodes, Problem> {
         }
         return Ok(nodes);
     }
-    let blocks = if format.binary {
-        let h = [c.u64()?, c.u64()?, c.u64()?, c.u64()?];
-        h[0] as usize
-    } else {
-        c.numbers::<usize>(4, "the $Nodes header")?[0]
-    };
+    let blocks = c.block_count(format.binary, "the $Nodes header")?;
     for _ in 0..blocks {
         let (dim, parametric, n) = if format.binary {
             let dim = c.i32()?;
@@ -430,12 +436,7 @@ fn read_elements(
         }
         return Ok(());
     }
-    let blocks = if format.binary {
-        let h = [c.u64()?, c.u64()?, c.u64()?, c.u64()?];
-        h[0] as usize
-    } else {
-        c.numbers::<usize>(4, "the $Elements header")?[0]
-    };
+    let blocks = c.block_count(format.binary, "the $Elements header")?;
     for _ in 0..blocks {
         let (element_type, n) = if format.binary {
             let _dim = c.i32()?;

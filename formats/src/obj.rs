@@ -63,18 +63,22 @@ fn append_positions(positions: &mut Vec<DVec3>, mesh: &tobj::Mesh) -> (u32, usiz
     (base, mesh.positions.len() / 3)
 }
 
-/// The polygons of an OBJ file as written (a subdivision control mesh), groups as patches,
-/// welded by exact position.
-pub(crate) fn read_polygons(bytes: &[u8]) -> Result<(PolygonMesh, Vec<String>), Problem> {
-    let (models, warnings) = load(bytes, false)?;
-    let mut m = PolygonMesh::default();
+/// Feeds each face of the non-empty groups to `add`, with its group's patch and its corners as
+/// indices into `positions`, where each group's own vertex array is appended first.
+fn each_face(
+    models: &[tobj::Model],
+    names: &mut Vec<String>,
+    positions: &mut Vec<DVec3>,
+    mut add: impl FnMut(u32, &[u32]) -> Result<(), Problem>,
+) -> Result<(), Problem> {
+    let mut corners = Vec::new();
     for model in models {
         let mesh = &model.mesh;
         if mesh.indices.is_empty() {
             continue;
         }
-        let patch = group_patch(&mut m.group_names, &model);
-        let (base, n) = append_positions(&mut m.positions, mesh);
+        let patch = group_patch(names, model);
+        let (base, n) = append_positions(positions, mesh);
         let mut rest = &mesh.indices[..];
         // tobj leaves `face_arities` empty when every face is a triangle.
         let arities: Vec<u32> = if mesh.face_arities.is_empty() {
@@ -90,10 +94,29 @@ pub(crate) fn read_polygons(bytes: &[u8]) -> Result<(PolygonMesh, Vec<String>), 
             if let Some(&bad) = face.iter().find(|&&v| v as usize >= n) {
                 return Err(Problem::bad(format!("face refers to vertex {bad} of {n}")));
             }
-            m.faces.push(face.iter().map(|&v| base + v).collect());
-            m.groups.push(PatchId(patch));
+            corners.clear();
+            corners.extend(face.iter().map(|&v| base + v));
+            add(patch, &corners)?;
         }
     }
+    Ok(())
+}
+
+/// The polygons of an OBJ file as written (a subdivision control mesh), groups as patches,
+/// welded by exact position.
+pub(crate) fn read_polygons(bytes: &[u8]) -> Result<(PolygonMesh, Vec<String>), Problem> {
+    let (models, warnings) = load(bytes, false)?;
+    let mut m = PolygonMesh::default();
+    each_face(
+        &models,
+        &mut m.group_names,
+        &mut m.positions,
+        |patch, face| {
+            m.faces.push(face.to_vec());
+            m.groups.push(PatchId(patch));
+            Ok(())
+        },
+    )?;
     m.weld();
     Ok((m, warnings))
 }
@@ -101,22 +124,19 @@ pub(crate) fn read_polygons(bytes: &[u8]) -> Result<(PolygonMesh, Vec<String>), 
 pub(crate) fn read(bytes: &[u8]) -> Result<(SurfaceMesh, Vec<String>), Problem> {
     let (models, warnings) = load(bytes, true)?;
     let mut m = SurfaceMesh::default();
-    for model in models {
-        let mesh = &model.mesh;
-        if mesh.indices.is_empty() {
-            continue;
-        }
-        let patch = group_patch(&mut m.patch_names, &model);
-        let (base, n) = append_positions(&mut m.positions, mesh);
-        for tri in mesh.indices.chunks_exact(3) {
-            if let Some(&bad) = tri.iter().find(|&&v| v as usize >= n) {
-                return Err(Problem::bad(format!("face refers to vertex {bad} of {n}")));
-            }
-            m.triangles
-                .push([base + tri[0], base + tri[1], base + tri[2]]);
+    each_face(
+        &models,
+        &mut m.patch_names,
+        &mut m.positions,
+        |patch, face| {
+            let &[a, b, c] = face else {
+                return Err(Problem::bad("face not triangulated"));
+            };
+            m.triangles.push([a, b, c]);
             m.patches.push(PatchId(patch));
-        }
-    }
+            Ok(())
+        },
+    )?;
     Ok((m, warnings))
 }
 
