@@ -111,6 +111,11 @@ impl Step {
     }
 }
 
+/// Below this smallest dihedral angle (degrees) a cell is a sliver proper: the share
+/// [`Quality::below_10_deg`] counts, and the cells the last perturbation bound still works on once
+/// the smallest angle is stuck.
+pub(crate) const SLIVER_DEG: f64 = 10.0;
+
 /// Dihedral-angle quality of the mesh at one point of the phase.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Quality {
@@ -133,7 +138,7 @@ impl Quality {
         Quality {
             tets: angles.len(),
             min_dihedral_deg: angles.iter().copied().fold(180.0, f64::min),
-            below_10_deg: angles.iter().filter(|&&a| a < 10.0).count(),
+            below_10_deg: angles.iter().filter(|&&a| a < SLIVER_DEG).count(),
             histogram,
         }
     }

@@ -42,9 +42,8 @@ pub(super) fn perturb(ws: &mut Workspace<'_>, bound: f64, deadline: &Deadline) -
     bounds
         .chain(std::iter::once(bound))
         .map(|b| {
-            // The last bound stops at the floor: the smallest angle is what the earlier bounds
-            // were for, and past it the last bound only reshapes cells that are no slivers,
-            // at most of the phase's time.
+            // The last bound stops at a stuck floor: past it, it would only reshape cells that
+            // are no slivers, which took most of the phase's time.
             ws.sweep_slivers(b, deadline, MAX_SWEEPS, b == bound, |ws, c| {
                 ws.peel(c) || perturb_cell(ws, c, &mut rng)
             })

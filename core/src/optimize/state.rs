@@ -9,6 +9,7 @@
 //! from the cells around them; a move after which no consistent labelling exists, or after
 //! which a boundary facet is no longer a facet, is undone.
 
+use super::SLIVER_DEG;
 use crate::complex::{MeshComplex, VertexDimension};
 use crate::kernel::Point3;
 use crate::oracle::{OUTSIDE, PatchId, SubdomainId};
@@ -56,10 +57,6 @@ pub(super) struct Change {
     /// Smallest dihedral angle of the created cells inside the domain.
     pub after: f64,
 }
-
-/// Below this smallest dihedral angle (degrees) a cell is a sliver proper, the share the quality
-/// reports count.
-const SLIVER_DEG: f64 = 10.0;
 
 /// The triangulation, its labels and the boundary, with the per-vertex data of the mesh.
 pub(super) struct Workspace<'o> {
