@@ -217,6 +217,11 @@ pub struct RefinementReport {
     pub rejections: usize,
     /// Elements dropped without refinement.
     pub dropped: usize,
+    /// Rounds of validity repairs after the criteria were met.
+    pub repair_rounds: usize,
+    /// Times the sharp features were protected again with smaller balls where the boundary
+    /// stayed non-manifold (the other counts are those of the last attempt).
+    pub reprotections: usize,
 }
 
 /// Shape of the tetrahedra.
@@ -402,6 +407,8 @@ impl Report {
                 insertions_per_level: r.stats.insertions.clone(),
                 rejections: r.stats.rejections,
                 dropped: r.stats.dropped,
+                repair_rounds: r.stats.repair_rounds,
+                reprotections: r.stats.reprotections,
             },
             times_s: TimesSeconds::default(),
             quality: QualityReport {

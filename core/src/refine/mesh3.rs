@@ -3,7 +3,7 @@
 //! features over a regular triangulation for piecewise-smooth domains (ch. 4), then the complex.
 
 use super::cells::CellLevel;
-use super::criteria::MeshCriteria;
+use super::criteria::{MeshCriteria, Sizing};
 use super::engine::{Engine, Limits, Progress, RefineError, RefineStats};
 use super::facets::SurfaceLevel;
 use super::guard::CurveLevel;
@@ -51,7 +51,8 @@ impl MeshOptions {
 /// Wall time of each phase.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct PhaseTimes {
-    /// Protection of features and the initial points on the boundary.
+    /// Protection of features and the initial points on the boundary (with the earlier
+    /// attempts, when the features were protected again: [`mesh_with_features`]).
     pub initial_points: Duration,
     /// Refinement to the criteria, validity repairs included.
     pub refinement: Duration,
@@ -147,16 +148,10 @@ fn mesh_smooth(
         surface.mark_on_surface(v);
     }
     let initial_points = start.elapsed();
-    refine_and_collect(
-        oracle,
-        tr,
-        surface,
-        cells,
-        None,
-        options,
-        initial_points,
-        progress,
-    )
+    let mut refined =
+        refine_with_repairs(tr, surface, cells, None, options, initial_points, progress);
+    relabel(&mut refined, options);
+    collect_and_optimize(oracle, refined, options)
 }
 
 /// Inserts a protecting ball as a weighted vertex; `None` when the triangulation hides it.
@@ -166,12 +161,18 @@ pub type InsertBall<'a, T> =
 /// The mesher of chapter 4 with CGAL's protection: protecting balls on corners and curves
 /// (weighted vertices of `tr`, inserted by `insert_ball`), the initial surface points outside
 /// them, then [curve balls, surface facets with patch checks, cells].
-pub fn mesh_with_features<T: Triangulation<Point = Point3>>(
+///
+/// Where the boundary stays non-manifold at a protected vertex after the repairs and relabelling
+/// then changes the input's topology, the balls there were too big for the geometry around them
+/// (a slot or a wall thinner than the ball, which refinement may not enter): the features are
+/// protected again with smaller balls around those spots and the domain meshed again from `tr`,
+/// at most [`MAX_REPROTECTIONS`] times (as CGAL refines its protecting balls).
+pub fn mesh_with_features<T: Triangulation<Point = Point3> + Clone>(
     oracle: &dyn Oracle,
     options: &MeshOptions,
     curves: &[FeatureCurve],
     corners: &[Point3],
-    mut tr: T,
+    tr: T,
     insert_ball: &mut InsertBall<'_, T>,
     progress: &mut dyn FnMut(&Progress),
 ) -> Result<MeshOutcome, MeshError> {
@@ -182,59 +183,163 @@ pub fn mesh_with_features<T: Triangulation<Point = Point3>>(
         deadline: options.limits.time_limit.map(|t| start + t),
         bend_tolerance: options.criteria.bend_tolerance(),
     };
-    let protection = protect(curves, corners, &options.criteria.edge_size, &limits)?;
     let floor = options.criteria.refinement_floor(&oracle.bounding_box());
-    let mut surface = SurfaceLevel::new(oracle, options.criteria.facet.clone())
-        .check_patches()
-        .min_radius(floor);
-    let cells = CellLevel::new(oracle, options.criteria.cell.clone())
-        .outside_box()
-        .min_radius(floor);
-    let mut vertices = Vec::with_capacity(protection.balls.len());
-    for b in &protection.balls {
-        let v =
-            insert_ball(&mut tr, b.center, b.radius * b.radius).map_err(MeshError::InitialPoint)?;
-        if let Some(v) = v {
-            surface.mark_on_patch(v, PatchId(0));
+    let mut spots: Vec<PinchSpot> = Vec::new();
+    let mut options = options.clone();
+    let mut attempt = 0;
+    let mut best_so_far: Option<Refined<'_, T>> = None;
+    loop {
+        let attempt_start = Instant::now();
+        let edge_size = shrunk_near(&options.criteria.edge_size, &spots);
+        let protection = protect(curves, corners, &edge_size, &limits)?;
+        let mut surface = SurfaceLevel::new(oracle, options.criteria.facet.clone())
+            .check_patches()
+            .min_radius(floor);
+        let cells = CellLevel::new(oracle, options.criteria.cell.clone())
+            .outside_box()
+            .min_radius(floor);
+        let mut tr = tr.clone();
+        let mut vertices = Vec::with_capacity(protection.balls.len());
+        for b in &protection.balls {
+            let v = insert_ball(&mut tr, b.center, b.radius * b.radius)
+                .map_err(MeshError::InitialPoint)?;
+            if let Some(v) = v {
+                surface.mark_on_patch(v, PatchId(0));
+            }
+            vertices.push(v);
         }
-        vertices.push(v);
+        let curve_level = CurveLevel::new(protection, vertices);
+        for p in oracle.initial_points() {
+            if curve_level.in_a_ball(p.point) {
+                continue;
+            }
+            if let InsertOutcome::Inserted(v) =
+                tr.insert(p.point).map_err(MeshError::InitialPoint)?
+            {
+                surface.mark_on_patch(v, p.patch);
+            }
+        }
+        let initial_points = attempt_start.elapsed();
+        let mut refined = refine_with_repairs(
+            tr,
+            surface,
+            cells,
+            Some(curve_level),
+            &options,
+            initial_points,
+            progress,
+        );
+        relabel(&mut refined, &options);
+        refined.times.initial_points += attempt_start.duration_since(start);
+        if let Ok(stats) = refined.result.as_mut() {
+            stats.reprotections = attempt;
+        }
+        // Relabelling resolves most pinches harmlessly; where it changed the topology, the
+        // protection is refined instead. The attempt closest to the input's topology is kept
+        // (the first of equals), and a failed retry falls back on it.
+        let gap = refined.validity.topology_gap;
+        let new_spots = match (&refined.result, &refined.curves) {
+            (Ok(_), Some(level)) if attempt < MAX_REPROTECTIONS && gap > 0 => {
+                pinch_spots(level, &refined.pinched, limits.min_radius)
+            }
+            _ => Vec::new(),
+        };
+        let best = match best_so_far.take() {
+            Some(b) if refined.result.is_err() || b.validity.topology_gap <= gap => b,
+            _ => refined,
+        };
+        if new_spots.is_empty() {
+            return collect_and_optimize(oracle, best, &options);
+        }
+        best_so_far = Some(best);
+        spots.extend(new_spots);
+        attempt += 1;
+        // The next attempt has what is left of the time limit.
+        if let Some(t) = options.limits.time_limit.as_mut() {
+            *t = t.saturating_sub(attempt_start.elapsed());
+        }
     }
-    let curve_level = CurveLevel::new(protection, vertices);
-    for p in oracle.initial_points() {
-        if curve_level.in_a_ball(p.point) {
-            continue;
-        }
-        if let InsertOutcome::Inserted(v) = tr.insert(p.point).map_err(MeshError::InitialPoint)? {
-            surface.mark_on_patch(v, p.patch);
-        }
-    }
-    let initial_points = start.elapsed();
-    refine_and_collect(
-        oracle,
-        tr,
-        surface,
-        cells,
-        Some(curve_level),
-        options,
-        initial_points,
-        progress,
-    )
 }
 
-/// Run the level stack (curve balls first when given), collect the complex and optimise it.
-/// (The levels are the two meshers' own; bundling them would only move the argument list.)
-#[allow(clippy::too_many_arguments)]
-fn refine_and_collect<T: Triangulation<Point = Point3>>(
-    oracle: &dyn Oracle,
+/// Most times the features are protected again with smaller balls where the boundary stayed
+/// non-manifold ([`mesh_with_features`]).
+pub const MAX_REPROTECTIONS: usize = 2;
+
+/// How fast the edge size grows back away from a pinch spot (|∇h|).
+const PINCH_GRADATION: f64 = 0.5;
+
+/// A protected vertex where the boundary stayed non-manifold: the edge size is `radius` there.
+#[derive(Clone, Copy, Debug)]
+struct PinchSpot {
+    center: Point3,
+    radius: f64,
+}
+
+/// The protecting balls among the `pinched` vertices, each as a spot asking for half its radius
+/// (none when that is below the smallest ball radius allowed: nothing more to gain).
+fn pinch_spots(level: &CurveLevel, pinched: &[VertexId], min_radius: f64) -> Vec<PinchSpot> {
+    let balls = &level.protection().balls;
+    let ball_of: HashMap<VertexId, usize> = (0..balls.len())
+        .filter_map(|b| Some((level.ball_vertex(b)?, b)))
+        .collect();
+    let mut spots: Vec<PinchSpot> = pinched
+        .iter()
+        .filter_map(|v| ball_of.get(v))
+        .map(|&b| PinchSpot {
+            center: balls[b].center,
+            radius: 0.5 * balls[b].radius,
+        })
+        .filter(|s| s.radius >= min_radius)
+        .collect();
+    spots.sort_by(|a, b| {
+        (a.center.to_array(), a.radius)
+            .partial_cmp(&(b.center.to_array(), b.radius))
+            .unwrap_or(std::cmp::Ordering::Equal)
+    });
+    spots.dedup_by(|a, b| a.center == b.center);
+    spots
+}
+
+/// `base`, bounded near each spot by the spot's radius growing at [`PINCH_GRADATION`].
+fn shrunk_near(base: &Sizing, spots: &[PinchSpot]) -> Sizing {
+    if spots.is_empty() {
+        return base.clone();
+    }
+    let (base, spots) = (base.clone(), spots.to_vec());
+    Sizing::function(move |p, label| {
+        spots.iter().fold(base.at(p, label), |h, s| {
+            h.min(s.radius + PINCH_GRADATION * s.center.distance(p))
+        })
+    })
+}
+
+/// One refinement's triangulation and levels, and where the validity repairs left them.
+struct Refined<'o, T> {
+    tr: T,
+    surface: SurfaceLevel<'o>,
+    cells: CellLevel<'o>,
+    curves: Option<CurveLevel>,
+    result: Result<RefineStats, RefineError>,
+    validity: Validity,
+    /// Vertices at the non-manifold spots refinement left (relabelling comes later).
+    pinched: Vec<VertexId>,
+    times: PhaseTimes,
+    start: Instant,
+}
+
+/// Run the level stack (curve balls first when given) to the criteria, then the validity
+/// repairs in bounded rounds. (The levels are the two meshers' own; bundling them would only
+/// move the argument list.)
+fn refine_with_repairs<'o, T: Triangulation<Point = Point3>>(
     mut tr: T,
-    mut surface: SurfaceLevel<'_>,
-    mut cells: CellLevel<'_>,
+    mut surface: SurfaceLevel<'o>,
+    mut cells: CellLevel<'o>,
     mut curves: Option<CurveLevel>,
     options: &MeshOptions,
     initial_points: Duration,
     progress: &mut dyn FnMut(&Progress),
-) -> Result<MeshOutcome, MeshError> {
-    let mut times = PhaseTimes {
+) -> Refined<'o, T> {
+    let times = PhaseTimes {
         initial_points,
         ..PhaseTimes::default()
     };
@@ -273,10 +378,12 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
         ..options.limits.clone()
     };
     let mut validity = Validity::default();
+    let mut pinched = Vec::new();
     if let Ok(stats) = result.as_mut() {
         loop {
             let defects = find_defects(&tr, &cells, &options.validity, true);
             validity = defects.validity();
+            pinched = defects.pinched.clone();
             if defects.is_empty() || stats.repair_rounds >= options.validity.max_rounds {
                 break;
             }
@@ -290,11 +397,22 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
                 repair_limits.clone(),
                 false,
             ) {
-                Ok(more) => stats.absorb(&more),
+                Ok(more) => {
+                    stats.absorb(&more);
+                    // A round that inserted nothing leaves the same defects: the next would too.
+                    if more.insertions.iter().all(|&n| n == 0) {
+                        let defects = find_defects(&tr, &cells, &options.validity, false);
+                        validity = defects.validity();
+                        pinched = defects.pinched;
+                        break;
+                    }
+                }
                 // The vertex guard stops the repairs, not the meshing: the mesh so far is kept
                 // and the validity says what is left.
                 Err(RefineError::TooManyVertices { .. }) => {
-                    validity = find_defects(&tr, &cells, &options.validity, false).validity();
+                    let defects = find_defects(&tr, &cells, &options.validity, false);
+                    validity = defects.validity();
+                    pinched = defects.pinched;
                     break;
                 }
                 Err(e) => {
@@ -303,21 +421,65 @@ fn refine_and_collect<T: Triangulation<Point = Point3>>(
                 }
             }
         }
-        // Where refinement could not resolve a pinch, relabelling does (one move per vertex at
-        // most, so it ends).
-        if options.validity.manifold && !validity.manifold {
-            let on_surface = |v| surface.is_on_surface(v);
-            let relabelling = relabel_to_manifold(&tr, &mut cells, &on_surface, tr.num_vertices());
-            validity = find_defects(&tr, &cells, &options.validity, false).validity();
-            validity.relabelling = relabelling;
-        }
-        if options.validity.manifold && validity.manifold && validity.extra_components > 0 {
-            let mut relabelling = validity.relabelling;
-            remove_stray_pieces(&tr, &mut cells, validity.extra_components, &mut relabelling);
-            validity = find_defects(&tr, &cells, &options.validity, false).validity();
-            validity.relabelling = relabelling;
-        }
     }
+    Refined {
+        tr,
+        surface,
+        cells,
+        curves,
+        result,
+        validity,
+        pinched,
+        times,
+        start,
+    }
+}
+
+/// Where refinement could not resolve a pinch, relabel cells (one move per vertex at most, so it
+/// ends); then give stray pieces the other label.
+fn relabel<T: Triangulation<Point = Point3>>(refined: &mut Refined<'_, T>, options: &MeshOptions) {
+    let Refined {
+        tr,
+        surface,
+        cells,
+        result,
+        validity,
+        ..
+    } = refined;
+    if result.is_err() || !options.validity.manifold {
+        return;
+    }
+    if !validity.manifold {
+        let on_surface = |v| surface.is_on_surface(v);
+        let relabelling = relabel_to_manifold(tr, cells, &on_surface, tr.num_vertices());
+        *validity = find_defects(tr, cells, &options.validity, false).validity();
+        validity.relabelling = relabelling;
+    }
+    if validity.manifold && validity.extra_components > 0 {
+        let mut relabelling = validity.relabelling;
+        remove_stray_pieces(tr, cells, validity.extra_components, &mut relabelling);
+        *validity = find_defects(tr, cells, &options.validity, false).validity();
+        validity.relabelling = relabelling;
+    }
+}
+
+/// Finish a relabelled refinement: collect the complex and optimise it.
+fn collect_and_optimize<T: Triangulation<Point = Point3>>(
+    oracle: &dyn Oracle,
+    refined: Refined<'_, T>,
+    options: &MeshOptions,
+) -> Result<MeshOutcome, MeshError> {
+    let Refined {
+        tr,
+        surface,
+        cells,
+        curves,
+        result,
+        mut validity,
+        mut times,
+        start,
+        ..
+    } = refined;
     validity.unresolved_sheets = surface
         .restricted_facets(&tr)
         .filter(|(_, _, ball)| ball.twin_patch != PatchId(0))

@@ -18,7 +18,7 @@ use super::geometry::{cell_vertices, facet_vertices, is_flat};
 use crate::kernel::Point3;
 use crate::mesh::{component_euler_characteristics, non_manifold_elements};
 use crate::oracle::OUTSIDE;
-use crate::triangulation::{CellId, Triangulation};
+use crate::triangulation::{CellId, Triangulation, VertexId};
 use std::collections::{BTreeMap, HashMap};
 
 /// What the repairs after the criteria must reach.
@@ -57,6 +57,10 @@ pub struct Validity {
     /// One sentence per input component whose Euler characteristic the mesh boundary does not
     /// reproduce (empty when the topology matches or was not asked for).
     pub topology_warnings: Vec<String>,
+    /// How far the boundary's topology is from the input's: the difference of the total Euler
+    /// characteristics plus that of the component counts (0 when they match or were not asked
+    /// for).
+    pub topology_gap: u64,
     /// Cells relabelled to make the boundary a 2-manifold where refinement could not.
     pub relabelling: super::manifold::Relabelling,
     /// Boundary components beyond those matching the input's components.
@@ -81,7 +85,10 @@ pub(crate) struct Defects {
     /// Boundary facets to refine (by their surface ball, or their cell when they have none).
     facets: Vec<BoundaryFacet>,
     non_manifold: bool,
+    /// Vertices of the non-manifold edges and the non-manifold vertices.
+    pub(crate) pinched: Vec<VertexId>,
     topology_warnings: Vec<String>,
+    topology_gap: u64,
     /// Boundary components beyond those matching the input's.
     extra_components: usize,
 }
@@ -118,6 +125,7 @@ impl Defects {
             flat_cells: self.flat.len(),
             manifold: !self.non_manifold,
             topology_warnings: self.topology_warnings.clone(),
+            topology_gap: self.topology_gap,
             relabelling: Default::default(),
             extra_components: self.extra_components,
             unresolved_sheets: 0,
@@ -158,6 +166,14 @@ pub(crate) fn find_defects<T: Triangulation<Point = Point3>>(
     };
     let (edges, vertices) = non_manifold_elements(&triangles);
     defects.non_manifold = !edges.is_empty() || !vertices.is_empty();
+    defects.pinched = edges
+        .iter()
+        .flatten()
+        .chain(&vertices)
+        .map(|&v| VertexId(v))
+        .collect();
+    defects.pinched.sort_unstable();
+    defects.pinched.dedup();
     if options.manifold && defects.non_manifold {
         // The facets around each spot, then the biggest of them refined.
         let mut around: HashMap<u32, Vec<usize>> = HashMap::new();
@@ -200,6 +216,9 @@ pub(crate) fn find_defects<T: Triangulation<Point = Point3>>(
             count[k as usize] += 1;
         }
         let (offending, unmatched) = match_components(input, &euler, &count);
+        defects.topology_gap = (euler.iter().sum::<i64>() - input.iter().sum::<i64>())
+            .unsigned_abs()
+            + euler.len().abs_diff(input.len()) as u64;
         if topology {
             for &k in &offending {
                 let facets: Vec<usize> = (0..triangles.len())
