@@ -6,6 +6,7 @@ use super::cells::CellLevel;
 use super::criteria::{MeshCriteria, Sizing};
 use super::engine::{Engine, Limits, Progress, RefineError, RefineStats};
 use super::facets::SurfaceLevel;
+use super::geometry::is_flat;
 use super::guard::CurveLevel;
 use super::manifold::{relabel_to_manifold, remove_stray_pieces};
 use super::protect::{ProtectError, ProtectLimits, protect};
@@ -162,11 +163,11 @@ pub type InsertBall<'a, T> =
 /// (weighted vertices of `tr`, inserted by `insert_ball`), the initial surface points outside
 /// them, then [curve balls, surface facets with patch checks, cells].
 ///
-/// Where the boundary stays non-manifold at a protected vertex after the repairs and relabelling
-/// then changes the input's topology, the balls there were too big for the geometry around them
-/// (a slot or a wall thinner than the ball, which refinement may not enter): the features are
-/// protected again with smaller balls around those spots and the domain meshed again from `tr`,
-/// at most [`MAX_REPROTECTIONS`] times (as CGAL refines its protecting balls).
+/// Where the repairs leave a flat cell, or a non-manifold spot whose relabelling changes the
+/// input's topology, at a protected vertex, the balls there were too big for the geometry around
+/// them (a slot or a wall thinner than the ball, which refinement may not enter): the features
+/// are protected again with smaller balls around those vertices and the domain meshed again from
+/// `tr`, at most [`MAX_REPROTECTIONS`] times (as CGAL refines its protecting balls).
 pub fn mesh_with_features<T: Triangulation<Point = Point3> + Clone>(
     oracle: &dyn Oracle,
     options: &MeshOptions,
@@ -184,7 +185,7 @@ pub fn mesh_with_features<T: Triangulation<Point = Point3> + Clone>(
         bend_tolerance: options.criteria.bend_tolerance(),
     };
     let floor = options.criteria.refinement_floor(&oracle.bounding_box());
-    let mut spots: Vec<PinchSpot> = Vec::new();
+    let mut spots: Vec<StuckSpot> = Vec::new();
     let mut options = options.clone();
     let mut attempt = 0;
     let mut best_so_far: Option<Refined<'_, T>> = None;
@@ -234,18 +235,19 @@ pub fn mesh_with_features<T: Triangulation<Point = Point3> + Clone>(
         if let Ok(stats) = refined.result.as_mut() {
             stats.reprotections = attempt;
         }
-        // Relabelling resolves most pinches harmlessly; where it changed the topology, the
-        // protection is refined instead. The attempt closest to the input's topology is kept
-        // (the first of equals), and a failed retry falls back on it.
-        let gap = refined.validity.topology_gap;
+        // Relabelling resolves most pinches harmlessly; where it changed the topology, or where
+        // flat cells are left, the protection is refined instead. The attempt with the fewest
+        // flat cells, then the closest to the input's topology, is kept (the first of equals), and
+        // a failed retry falls back on it.
+        let defect = |r: &Refined<'_, T>| (r.validity.flat_cells, r.validity.topology_gap);
         let new_spots = match (&refined.result, &refined.curves) {
-            (Ok(_), Some(level)) if attempt < MAX_REPROTECTIONS && gap > 0 => {
-                pinch_spots(level, &refined.pinched, limits.min_radius)
+            (Ok(_), Some(level)) if attempt < MAX_REPROTECTIONS && defect(&refined) != (0, 0) => {
+                stuck_spots(level, &refined.stuck, limits.min_radius)
             }
             _ => Vec::new(),
         };
         let best = match best_so_far.take() {
-            Some(b) if refined.result.is_err() || b.validity.topology_gap <= gap => b,
+            Some(b) if refined.result.is_err() || defect(&b) <= defect(&refined) => b,
             _ => refined,
         };
         if new_spots.is_empty() {
@@ -261,31 +263,32 @@ pub fn mesh_with_features<T: Triangulation<Point = Point3> + Clone>(
     }
 }
 
-/// Most times the features are protected again with smaller balls where the boundary stayed
-/// non-manifold ([`mesh_with_features`]).
+/// Most times the features are protected again with smaller balls where refinement left a
+/// defect at a protecting ball ([`mesh_with_features`]).
 pub const MAX_REPROTECTIONS: usize = 2;
 
-/// How fast the edge size grows back away from a pinch spot (|∇h|).
-const PINCH_GRADATION: f64 = 0.5;
+/// How fast the edge size grows back away from a stuck spot (|∇h|).
+const SPOT_GRADATION: f64 = 0.5;
 
-/// A protected vertex where the boundary stayed non-manifold: the edge size is `radius` there.
+/// A protected vertex of a defect refinement left (a flat cell, a non-manifold spot): the edge
+/// size is `radius` there.
 #[derive(Clone, Copy, Debug)]
-struct PinchSpot {
+struct StuckSpot {
     center: Point3,
     radius: f64,
 }
 
-/// The protecting balls among the `pinched` vertices, each as a spot asking for half its radius
+/// The protecting balls among the `stuck` vertices, each as a spot asking for half its radius
 /// (none when that is below the smallest ball radius allowed: nothing more to gain).
-fn pinch_spots(level: &CurveLevel, pinched: &[VertexId], min_radius: f64) -> Vec<PinchSpot> {
+fn stuck_spots(level: &CurveLevel, stuck: &[VertexId], min_radius: f64) -> Vec<StuckSpot> {
     let balls = &level.protection().balls;
     let ball_of: HashMap<VertexId, usize> = (0..balls.len())
         .filter_map(|b| Some((level.ball_vertex(b)?, b)))
         .collect();
-    let mut spots: Vec<PinchSpot> = pinched
+    let mut spots: Vec<StuckSpot> = stuck
         .iter()
         .filter_map(|v| ball_of.get(v))
-        .map(|&b| PinchSpot {
+        .map(|&b| StuckSpot {
             center: balls[b].center,
             radius: 0.5 * balls[b].radius,
         })
@@ -300,15 +303,15 @@ fn pinch_spots(level: &CurveLevel, pinched: &[VertexId], min_radius: f64) -> Vec
     spots
 }
 
-/// `base`, bounded near each spot by the spot's radius growing at [`PINCH_GRADATION`].
-fn shrunk_near(base: &Sizing, spots: &[PinchSpot]) -> Sizing {
+/// `base`, bounded near each spot by the spot's radius growing at [`SPOT_GRADATION`].
+fn shrunk_near(base: &Sizing, spots: &[StuckSpot]) -> Sizing {
     if spots.is_empty() {
         return base.clone();
     }
     let (base, spots) = (base.clone(), spots.to_vec());
     Sizing::function(move |p, label| {
         spots.iter().fold(base.at(p, label), |h, s| {
-            h.min(s.radius + PINCH_GRADATION * s.center.distance(p))
+            h.min(s.radius + SPOT_GRADATION * s.center.distance(p))
         })
     })
 }
@@ -321,8 +324,9 @@ struct Refined<'o, T> {
     curves: Option<CurveLevel>,
     result: Result<RefineStats, RefineError>,
     validity: Validity,
-    /// Vertices at the non-manifold spots refinement left (relabelling comes later).
-    pinched: Vec<VertexId>,
+    /// Vertices of the flat cells and non-manifold spots refinement left (relabelling comes
+    /// later).
+    stuck: Vec<VertexId>,
     times: PhaseTimes,
     start: Instant,
 }
@@ -378,12 +382,12 @@ fn refine_with_repairs<'o, T: Triangulation<Point = Point3>>(
         ..options.limits.clone()
     };
     let mut validity = Validity::default();
-    let mut pinched = Vec::new();
+    let mut stuck = Vec::new();
     if let Ok(stats) = result.as_mut() {
         loop {
             let defects = find_defects(&tr, &cells, &options.validity, true);
             validity = defects.validity();
-            pinched = defects.pinched.clone();
+            stuck = defects.stuck.clone();
             if defects.is_empty() || stats.repair_rounds >= options.validity.max_rounds {
                 break;
             }
@@ -403,7 +407,7 @@ fn refine_with_repairs<'o, T: Triangulation<Point = Point3>>(
                     if more.insertions.iter().all(|&n| n == 0) {
                         let defects = find_defects(&tr, &cells, &options.validity, false);
                         validity = defects.validity();
-                        pinched = defects.pinched;
+                        stuck = defects.stuck;
                         break;
                     }
                 }
@@ -412,7 +416,7 @@ fn refine_with_repairs<'o, T: Triangulation<Point = Point3>>(
                 Err(RefineError::TooManyVertices { .. }) => {
                     let defects = find_defects(&tr, &cells, &options.validity, false);
                     validity = defects.validity();
-                    pinched = defects.pinched;
+                    stuck = defects.stuck;
                     break;
                 }
                 Err(e) => {
@@ -429,7 +433,7 @@ fn refine_with_repairs<'o, T: Triangulation<Point = Point3>>(
         curves,
         result,
         validity,
-        pinched,
+        stuck,
         times,
         start,
     }
@@ -502,6 +506,9 @@ fn collect_and_optimize<T: Triangulation<Point = Point3>>(
                 &options.optimize,
             );
             times.optimization = start.elapsed();
+            validity.flat_cells = (0..complex.tets.len())
+                .filter(|&t| is_flat(&complex.tet_points(t)))
+                .count();
             Ok(MeshOutcome {
                 complex,
                 stats,

@@ -50,7 +50,8 @@ impl Default for ValidityOptions {
 /// How valid the complex is after the repairs.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Validity {
-    /// Flat cells left inside the domain (0 unless a guard stopped the repairs).
+    /// Flat cells left inside the domain: after refinement and its repairs, then counted again
+    /// on the output mesh once the optimisers, which may remove them, have run.
     pub flat_cells: usize,
     /// The boundary is a 2-manifold.
     pub manifold: bool,
@@ -85,8 +86,9 @@ pub(crate) struct Defects {
     /// Boundary facets to refine (by their surface ball, or their cell when they have none).
     facets: Vec<BoundaryFacet>,
     non_manifold: bool,
-    /// Vertices of the non-manifold edges and the non-manifold vertices.
-    pub(crate) pinched: Vec<VertexId>,
+    /// Vertices of the flat cells, the non-manifold edges and the non-manifold vertices: where
+    /// refinement may be kept out by a protecting ball.
+    pub(crate) stuck: Vec<VertexId>,
     topology_warnings: Vec<String>,
     topology_gap: u64,
     /// Boundary components beyond those matching the input's.
@@ -166,14 +168,15 @@ pub(crate) fn find_defects<T: Triangulation<Point = Point3>>(
     };
     let (edges, vertices) = non_manifold_elements(&triangles);
     defects.non_manifold = !edges.is_empty() || !vertices.is_empty();
-    defects.pinched = edges
+    defects.stuck = edges
         .iter()
         .flatten()
         .chain(&vertices)
         .map(|&v| VertexId(v))
+        .chain(defects.flat.iter().flat_map(|&c| cell_vertices(tr, c)))
         .collect();
-    defects.pinched.sort_unstable();
-    defects.pinched.dedup();
+    defects.stuck.sort_unstable();
+    defects.stuck.dedup();
     if options.manifold && defects.non_manifold {
         // The facets around each spot, then the biggest of them refined.
         let mut around: HashMap<u32, Vec<usize>> = HashMap::new();
