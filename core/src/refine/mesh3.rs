@@ -265,7 +265,7 @@ pub fn mesh_with_features<T: Triangulation<Point = Point3> + Clone>(
 
 /// Most times the features are protected again with smaller balls where refinement left a
 /// defect at a protecting ball ([`mesh_with_features`]).
-pub const MAX_REPROTECTIONS: usize = 2;
+pub const MAX_REPROTECTIONS: usize = 1;
 
 /// How fast the edge size grows back away from a stuck spot (|∇h|).
 const SPOT_GRADATION: f64 = 0.5;
