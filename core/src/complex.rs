@@ -8,7 +8,27 @@ use crate::quality;
 use crate::refine::cells::CellLevel;
 use crate::refine::facets::SurfaceLevel;
 use crate::refine::guard::CurveLevel;
-use crate::triangulation::{Triangulation, VertexId};
+use crate::triangulation::{CellId, Triangulation, VertexId};
+
+/// The facets `i` of finite cell `c` (subdomain `sub`) that a complex records, with the subdomain
+/// on their other side (`subdomain_of` the neighbour, `OUTSIDE` past the hull): those where it is
+/// smaller than `sub`, so that a facet between two subdomains is recorded once.
+pub(crate) fn facets_to_smaller<T: Triangulation>(
+    tr: &T,
+    c: CellId,
+    sub: SubdomainId,
+    subdomain_of: impl Fn(CellId) -> SubdomainId,
+) -> impl Iterator<Item = (usize, SubdomainId)> {
+    (0..4).filter_map(move |i| {
+        let n = tr.neighbor(c, i);
+        let other = if tr.is_infinite_cell(n) {
+            OUTSIDE
+        } else {
+            subdomain_of(n)
+        };
+        (other < sub).then_some((i, other))
+    })
+}
 
 /// Where a vertex lies: on a corner, a feature curve, the boundary surfaces or inside a subdomain
 /// (the dimension of the feature, as CGAL's `in_dimension`).
@@ -106,19 +126,10 @@ impl MeshComplex {
             }
             complex.tets.push(tet);
             complex.tet_subdomain.push(sub);
-            for (i, &apex) in p.iter().enumerate() {
-                let n = tr.neighbor(c, i);
-                let other = if tr.is_infinite_cell(n) {
-                    OUTSIDE
-                } else {
-                    cells.subdomain(n)
-                };
-                if other >= sub {
-                    continue;
-                }
+            for (i, other) in facets_to_smaller(tr, c, sub, |n| cells.subdomain(n)) {
                 let mut f = crate::refine::facet_vertices(&cell, i);
                 let [a, b, d] = f.map(|v| tr.point(v));
-                if (b - a).cross(d - a).dot(apex - a) > 0.0 {
+                if (b - a).cross(d - a).dot(p[i] - a) > 0.0 {
                     f.swap(0, 1);
                 }
                 complex.facets.push(f.map(index_of));

@@ -113,6 +113,19 @@ impl Polyhedron {
     }
 }
 
+/// The segment and ray queries of a test oracle, both answered by its own `hits` walk along
+/// `o + t dir` for `t` up to a bound (a macro: they are methods of the `Oracle` impls).
+macro_rules! hits_by_walk {
+    () => {
+        fn segment_hits(&self, a: Point3, b: Point3, out: &mut Vec<SurfaceHit>) {
+            self.hits(a, b - a, 1.0, out);
+        }
+        fn ray_hits(&self, origin: Point3, dir: Point3, out: &mut Vec<SurfaceHit>) {
+            self.hits(origin, dir, f64::INFINITY, out);
+        }
+    };
+}
+
 impl Oracle for Polyhedron {
     fn bounding_box(&self) -> Aabb {
         Aabb::of(&self.vertices).expect("vertices")
@@ -120,12 +133,7 @@ impl Oracle for Polyhedron {
     fn subdomain(&self, p: Point3) -> SubdomainId {
         SubdomainId(self.planes.iter().all(|&(n, d)| n.dot(p) < d) as u32)
     }
-    fn segment_hits(&self, a: Point3, b: Point3, out: &mut Vec<SurfaceHit>) {
-        self.hits(a, b - a, 1.0, out);
-    }
-    fn ray_hits(&self, origin: Point3, dir: Point3, out: &mut Vec<SurfaceHit>) {
-        self.hits(origin, dir, f64::INFINITY, out);
-    }
+    hits_by_walk!();
     fn initial_points(&self) -> Vec<SurfacePoint> {
         let mut out = Vec::new();
         for (i, f) in self.faces.iter().enumerate() {
@@ -215,12 +223,7 @@ impl Oracle for Cylinder {
     fn subdomain(&self, p: Point3) -> SubdomainId {
         SubdomainId((p.x * p.x + p.y * p.y < 1.0 && p.z > 0.0 && p.z < 1.0) as u32)
     }
-    fn segment_hits(&self, a: Point3, b: Point3, out: &mut Vec<SurfaceHit>) {
-        self.hits(a, b - a, 1.0, out);
-    }
-    fn ray_hits(&self, origin: Point3, dir: Point3, out: &mut Vec<SurfaceHit>) {
-        self.hits(origin, dir, f64::INFINITY, out);
-    }
+    hits_by_walk!();
     fn initial_points(&self) -> Vec<SurfacePoint> {
         let mut out = Vec::new();
         for k in 0..6 {

@@ -3,7 +3,7 @@
 //! each other takes the subdomain the oracle gives its largest cell's centroid.
 
 use super::constraints::Constraints;
-use crate::complex::{MeshComplex, VertexDimension};
+use crate::complex::{MeshComplex, VertexDimension, facets_to_smaller};
 use crate::kernel::{Sign, orient3d};
 use crate::oracle::{OUTSIDE, Oracle, PatchId, SubdomainId};
 use crate::refine::{cell_vertices, facet_vertices, is_flat};
@@ -160,20 +160,11 @@ fn collect(
         tet.swap(0, 1);
         complex.tets.push(tet);
         complex.tet_subdomain.push(sub);
-        for (i, &apex) in p.iter().enumerate() {
-            let n = dt.neighbor(c, i);
-            let other = if dt.is_infinite_cell(n) {
-                OUTSIDE
-            } else {
-                subdomain[n.0 as usize]
-            };
-            if other >= sub {
-                continue;
-            }
+        for (i, other) in facets_to_smaller(dt, c, sub, |n| subdomain[n.0 as usize]) {
             let mut f = facet_vertices(&cell, i);
             let [a, b, d] = f.map(|v| dt.point(v));
             // The normal (counter-clockwise side) points away from this cell, to `other`.
-            if orient3d(a, b, d, apex) != Sign::Positive {
+            if orient3d(a, b, d, p[i]) != Sign::Positive {
                 f.swap(0, 1);
             }
             complex

@@ -271,13 +271,9 @@ mod tests {
             orient2d_big([[t, 0.0], [2.0 * t, 0.0], [0.0, 0.0]]),
             Sign::Zero
         );
-        let tet = [
-            [t, 0.0, 0.0],
-            [0.0, 0.3, 0.0],
-            [0.0, 0.0, 0.7],
-            [0.0, 0.0, 0.0],
-        ];
-        assert_eq!(orient3d_big(tet), Sign::Positive);
+        // A corner tet with its legs `t`, `y` and `z` long along the axes.
+        let tet = |y: f64, z: f64| [[t, 0.0, 0.0], [0.0, y, 0.0], [0.0, 0.0, z], [0.0; 3]];
+        assert_eq!(orient3d_big(tet(0.3, 0.7)), Sign::Positive);
         // The centre of the unit square's circumcircle is inside; a point beyond it is not.
         let sq = |x: f64, y: f64| [x, y];
         let c = [sq(t, 0.0), sq(1.0, 0.0), sq(1.0, 1.0)];
@@ -289,12 +285,7 @@ mod tests {
             incircle_big([c[0], c[1], c[2], sq(3.0, 3.0)]),
             Sign::Negative
         );
-        let s = [
-            [t, 0.0, 0.0],
-            [0.0, 1.0, 0.0],
-            [0.0, 0.0, 1.0],
-            [0.0, 0.0, 0.0],
-        ];
+        let s = tet(1.0, 1.0);
         assert_eq!(
             insphere_big([s[0], s[1], s[2], s[3], [0.2, 0.2, 0.2]]),
             Sign::Positive

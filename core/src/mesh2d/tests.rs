@@ -194,6 +194,27 @@ fn pslg_validation_rejects_bad_constraints() {
     );
 }
 
+/// The vertices along the sub-segments of input segment `s` (those of origin `s`), from its first
+/// vertex `a`; panics where they do not form a chain. Shared with the mesher's tests.
+pub(super) fn sub_segment_chain(
+    segments: &[[u32; 2]],
+    origins: &[u32],
+    s: usize,
+    a: u32,
+) -> Vec<u32> {
+    let subs: Vec<[u32; 2]> = (0..segments.len())
+        .filter(|&k| origins[k] == s as u32)
+        .map(|k| segments[k])
+        .collect();
+    let mut chain = vec![a];
+    for _ in 0..subs.len() {
+        let at = chain[chain.len() - 1];
+        let next = subs.iter().find(|e| e[0] == at).map(|e| e[1]);
+        chain.push(next.expect("sub-segments form a chain"));
+    }
+    chain
+}
+
 /// Note 000 §7, properties 1–4 and 10, for a conformed constraint.
 fn check_conformed(input: &Pslg, out: &Conformed) {
     let n = input.points.len();
@@ -205,19 +226,13 @@ fn check_conformed(input: &Pslg, out: &Conformed) {
     // Each original segment is the chain of its sub-edges, all (nearly) on its line.
     for (s, &[a, b]) in input.segments.iter().enumerate() {
         let (pa, pb) = (input.points[a as usize], input.points[b as usize]);
-        let subs: Vec<[u32; 2]> = (0..out.segments.len())
-            .filter(|&k| out.segment_origins[k] == s as u32)
-            .map(|k| out.segments[k])
-            .collect();
-        let mut at = a;
-        for _ in 0..subs.len() {
-            let next = subs.iter().find(|e| e[0] == at).map(|e| e[1]);
-            at = next.expect("sub-edges form a chain");
+        let chain = sub_segment_chain(&out.segments, &out.segment_origins, s, a);
+        for &at in &chain[1..] {
             let p = out.points[at as usize];
             let off = (p - pa).perp_dot(pb - pa).abs() / (pb - pa).length_squared();
             assert!(off < 1e-12, "point {p} off its segment");
         }
-        assert_eq!(at, b);
+        assert_eq!(chain.last(), Some(&b));
     }
     let result = pslg(&out.points, &out.segments);
     result.validate().expect("Def. 1.5 holds");

@@ -5,11 +5,11 @@
 //! the panic message as the last error, and never unwinds into the host (which would abort it).
 
 use super::abi::*;
-use crate::oracle::{Oracle, SurfaceHit};
+use crate::oracle::{Oracle, SurfaceHit, SurfacePoint};
 use std::any::Any;
 use std::cell::RefCell;
 use std::ffi::{CStr, c_char, c_void};
-use std::panic::{AssertUnwindSafe, UnwindSafe, catch_unwind};
+use std::panic::{AssertUnwindSafe, RefUnwindSafe, UnwindSafe, catch_unwind};
 
 /// A Rust oracle that can be built from a plugin configuration string.
 pub trait PluginOracle: Oracle + Sized + 'static {
@@ -43,11 +43,11 @@ impl ExportedTable {
             last_error: Some(last_error),
             bounding_box: Some(bounding_box::<T>),
             subdomains: Some(subdomains::<T>),
-            segment_hits: Some(segment_hits::<T>),
-            ray_hits: Some(ray_hits::<T>),
-            initial_points: Some(initial_points::<T>),
+            segment_hits: Some(hits::<T, false>),
+            ray_hits: Some(hits::<T, true>),
+            initial_points: Some(list::<T, DmSurfacePoint>),
             feature_curves: Some(feature_curves::<T>),
-            corners: Some(corners::<T>),
+            corners: Some(list::<T, DmVec3>),
         })
     }
 
@@ -253,10 +253,12 @@ unsafe extern "C" fn subdomains<T: PluginOracle>(
     })
 }
 
-/// Shared body of `segment_hits` and `ray_hits`.
-fn hits_with<T: PluginOracle>(
+/// `segment_hits` (`RAY` false: `a` and `b` are the segment's ends) and `ray_hits` (`RAY` true:
+/// `a` is the origin, `b` the direction): one body, as the ABI gives both the same signature.
+unsafe extern "C" fn hits<T: PluginOracle, const RAY: bool>(
     handle: *const c_void,
-    query: impl FnOnce(&T, &mut Vec<SurfaceHit>),
+    a: DmVec3,
+    b: DmVec3,
     out: *mut DmSurfaceHit,
     cap: usize,
     len: *mut usize,
@@ -267,7 +269,11 @@ fn hits_with<T: PluginOracle>(
         HITS.with(|buffer| {
             let mut buffer = buffer.borrow_mut();
             buffer.clear();
-            query(oracle, &mut buffer);
+            if RAY {
+                oracle.ray_hits(a.into(), b.into(), &mut buffer);
+            } else {
+                oracle.segment_hits(a.into(), b.into(), &mut buffer);
+            }
             let items = buffer.iter().map(|h| DmSurfaceHit {
                 point: h.point.into(),
                 t: h.t,
@@ -279,59 +285,41 @@ fn hits_with<T: PluginOracle>(
     }))
 }
 
-unsafe extern "C" fn segment_hits<T: PluginOracle>(
-    handle: *const c_void,
-    a: DmVec3,
-    b: DmVec3,
-    out: *mut DmSurfaceHit,
-    cap: usize,
-    len: *mut usize,
-) -> i32 {
-    let query = move |o: &T, v: &mut Vec<SurfaceHit>| o.segment_hits(a.into(), b.into(), v);
-    hits_with(handle, query, out, cap, len)
+/// An entry of a list the oracle gives whole, as the ABI writes it: a surface point of
+/// `initial_points` or a corner of `corners`, so that one function, [`list`], serves both slots.
+trait ListEntry: Copy + RefUnwindSafe {
+    /// The oracle's list, converted.
+    fn list<T: PluginOracle>(oracle: &T) -> Vec<Self>;
 }
 
-unsafe extern "C" fn ray_hits<T: PluginOracle>(
-    handle: *const c_void,
-    origin: DmVec3,
-    dir: DmVec3,
-    out: *mut DmSurfaceHit,
-    cap: usize,
-    len: *mut usize,
-) -> i32 {
-    let query = move |o: &T, v: &mut Vec<SurfaceHit>| o.ray_hits(origin.into(), dir.into(), v);
-    hits_with(handle, query, out, cap, len)
-}
-
-unsafe extern "C" fn initial_points<T: PluginOracle>(
-    handle: *const c_void,
-    out: *mut DmSurfacePoint,
-    cap: usize,
-    len: *mut usize,
-) -> i32 {
-    guarded(|| {
-        // SAFETY: see `oracle`.
-        let points = unsafe { oracle::<T>(handle) }?.initial_points();
-        let items = points.iter().map(|p| DmSurfacePoint {
+impl ListEntry for DmSurfacePoint {
+    fn list<T: PluginOracle>(oracle: &T) -> Vec<Self> {
+        let to_abi = |p: &SurfacePoint| DmSurfacePoint {
             point: p.point.into(),
             patch: p.patch.0,
-        });
-        // SAFETY: the host passes `cap` slots and one length.
-        unsafe { fill(items, out, cap, len) }
-    })
+        };
+        oracle.initial_points().iter().map(to_abi).collect()
+    }
 }
 
-unsafe extern "C" fn corners<T: PluginOracle>(
+impl ListEntry for DmVec3 {
+    fn list<T: PluginOracle>(oracle: &T) -> Vec<Self> {
+        oracle.corners().into_iter().map(DmVec3::from).collect()
+    }
+}
+
+/// `initial_points` and `corners`: the oracle's list written into `out`.
+unsafe extern "C" fn list<T: PluginOracle, E: ListEntry>(
     handle: *const c_void,
-    out: *mut DmVec3,
+    out: *mut E,
     cap: usize,
     len: *mut usize,
 ) -> i32 {
     guarded(|| {
         // SAFETY: see `oracle`.
-        let corners = unsafe { oracle::<T>(handle) }?.corners();
+        let entries = E::list(unsafe { oracle::<T>(handle) }?);
         // SAFETY: the host passes `cap` slots and one length.
-        unsafe { fill(corners.iter().map(|&p| DmVec3::from(p)), out, cap, len) }
+        unsafe { fill(entries.into_iter(), out, cap, len) }
     })
 }
 

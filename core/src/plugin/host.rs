@@ -277,6 +277,15 @@ impl PluginLibrary {
     }
 }
 
+/// Which of the plugin's two hit queries [`DynOracle::try_hits`] makes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HitQuery {
+    /// `segment_hits`: the crossings of the closed segment `[a, b]`.
+    Segment,
+    /// `ray_hits`: the crossings of the ray `a + t b`, `t ≥ 0`.
+    Ray,
+}
+
 /// An oracle living in a plugin library. Implements [`Oracle`]; every answer is checked against
 /// the contract. The trait's methods cannot fail, so the first fault is recorded (see
 /// [`DynOracle::fault`]) and a neutral answer returned — outside, no hits — which makes
@@ -489,15 +498,19 @@ impl DynOracle {
         Ok(SubdomainId(label))
     }
 
-    fn try_hits(
+    /// [`Oracle::segment_hits`] (`a` and `b` the ends) or [`Oracle::ray_hits`] (`a` the origin,
+    /// `b` the direction), with the plugin's failure as an error rather than recorded.
+    pub fn try_hits(
         &self,
-        query: &'static str,
-        function: Checked<DmHitsFn>,
+        kind: HitQuery,
         a: Point3,
         b: Point3,
-        t_max: f64,
         out: &mut Vec<SurfaceHit>,
     ) -> Result<(), PluginError> {
+        let (query, function, t_max) = match kind {
+            HitQuery::Segment => ("segment_hits", self.functions.segment_hits, 1.0),
+            HitQuery::Ray => ("ray_hits", self.functions.ray_hits, f64::INFINITY),
+        };
         HIT_BUFFER.with(|buffer| {
             let mut buffer = buffer.borrow_mut();
             let (da, db) = (DmVec3::from(a), DmVec3::from(b));
@@ -525,31 +538,14 @@ impl DynOracle {
         })
     }
 
-    /// [`Oracle::segment_hits`], with the plugin's failure as an error rather than recorded.
-    pub fn try_segment_hits(
-        &self,
-        a: Point3,
-        b: Point3,
-        out: &mut Vec<SurfaceHit>,
-    ) -> Result<(), PluginError> {
-        self.try_hits("segment_hits", self.functions.segment_hits, a, b, 1.0, out)
-    }
-
-    /// [`Oracle::ray_hits`], with the plugin's failure as an error rather than recorded.
-    pub fn try_ray_hits(
-        &self,
-        origin: Point3,
-        dir: Point3,
-        out: &mut Vec<SurfaceHit>,
-    ) -> Result<(), PluginError> {
-        self.try_hits(
-            "ray_hits",
-            self.functions.ray_hits,
-            origin,
-            dir,
-            f64::INFINITY,
-            out,
-        )
+    /// [`Self::try_hits`] for the `Oracle` methods: on a failure `out` is left as it was and the
+    /// failure recorded.
+    fn recorded_hits(&self, kind: HitQuery, a: Point3, b: Point3, out: &mut Vec<SurfaceHit>) {
+        let start = out.len();
+        if let Err(e) = self.try_hits(kind, a, b, out) {
+            out.truncate(start);
+            self.recorded(Err(e), ());
+        }
     }
 
     /// [`Oracle::initial_points`], with the plugin's failure as an error rather than recorded.
@@ -683,12 +679,9 @@ impl DynOracle {
         self.try_subdomains(&probes, &mut labels)?;
         let mut hits = Vec::new();
         for i in 0..4 {
-            self.try_segment_hits(corners[i], corners[7 - i], &mut hits)?;
-            self.try_ray_hits(
-                self.bbox.center(),
-                corners[i] - self.bbox.center(),
-                &mut hits,
-            )?;
+            self.try_hits(HitQuery::Segment, corners[i], corners[7 - i], &mut hits)?;
+            let center = self.bbox.center();
+            self.try_hits(HitQuery::Ray, center, corners[i] - center, &mut hits)?;
         }
         self.try_initial_points()?;
         self.try_corners()?;
@@ -707,19 +700,11 @@ impl Oracle for DynOracle {
     }
 
     fn segment_hits(&self, a: Point3, b: Point3, out: &mut Vec<SurfaceHit>) {
-        let start = out.len();
-        if let Err(e) = self.try_segment_hits(a, b, out) {
-            out.truncate(start);
-            self.recorded(Err(e), ());
-        }
+        self.recorded_hits(HitQuery::Segment, a, b, out);
     }
 
     fn ray_hits(&self, origin: Point3, dir: Point3, out: &mut Vec<SurfaceHit>) {
-        let start = out.len();
-        if let Err(e) = self.try_ray_hits(origin, dir, out) {
-            out.truncate(start);
-            self.recorded(Err(e), ());
-        }
+        self.recorded_hits(HitQuery::Ray, origin, dir, out);
     }
 
     fn initial_points(&self) -> Vec<SurfacePoint> {

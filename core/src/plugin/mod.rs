@@ -15,4 +15,4 @@ pub mod export;
 pub mod host;
 
 pub use export::PluginOracle;
-pub use host::{DynOracle, PluginError, PluginInfo, PluginLibrary, PluginProblem};
+pub use host::{DynOracle, HitQuery, PluginError, PluginInfo, PluginLibrary, PluginProblem};

@@ -244,14 +244,8 @@ impl Polyline {
         };
         self.scan_near(p, f64::INFINITY, |i, bound| {
             let (a, b) = self.segment(i);
-            let ab = b - a;
-            let len2 = ab.length_squared();
-            let t = if len2 > 0.0 {
-                ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let q = a + t * ab;
+            let t = nearest_parameter(p, a, b);
+            let q = a + t * (b - a);
             let d = q.distance(p);
             if d >= bound {
                 return bound;
@@ -344,14 +338,19 @@ fn box_distance(p: Point3, lo: Point3, hi: Point3) -> f64 {
 
 /// Distance from `p` to the segment `[a, b]`.
 pub fn point_segment_distance(p: Point3, a: Point3, b: Point3) -> f64 {
+    (a + nearest_parameter(p, a, b) * (b - a)).distance(p)
+}
+
+/// The parameter in `[0, 1]` of the point of segment `[a, b]` nearest to `p` (0 when `a == b`).
+#[inline]
+fn nearest_parameter(p: Point3, a: Point3, b: Point3) -> f64 {
     let ab = b - a;
     let len2 = ab.length_squared();
-    let t = if len2 > 0.0 {
+    if len2 > 0.0 {
         ((p - a).dot(ab) / len2).clamp(0.0, 1.0)
     } else {
         0.0
-    };
-    (a + t * ab).distance(p)
+    }
 }
 
 /// The parts of segment `[a, b]` outside the open ball `(center, radius)`: at most two.

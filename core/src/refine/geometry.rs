@@ -251,13 +251,15 @@ pub(crate) fn shortest_edge(p: &[Point3; 4]) -> f64 {
 mod tests {
     use super::*;
 
+    /// A scalene triangle with its corners at heights `z`.
+    fn triangle(z: [f64; 3]) -> [Point3; 3] {
+        let xy = [(1.0, 0.2), (-0.3, 2.0), (0.5, -1.0)];
+        std::array::from_fn(|i| Point3::new(xy[i].0, xy[i].1, z[i]))
+    }
+
     #[test]
     fn circumcenter_is_equidistant_and_coplanar() {
-        let (a, b, c) = (
-            Point3::new(1.0, 0.2, 0.0),
-            Point3::new(-0.3, 2.0, 1.0),
-            Point3::new(0.5, -1.0, 2.0),
-        );
+        let [a, b, c] = triangle([0.0, 1.0, 2.0]);
         let o = triangle_circumcenter(a, b, c);
         let (ra, rb, rc) = (o.distance(a), o.distance(b), o.distance(c));
         assert!((ra - rb).abs() < 1e-12 && (ra - rc).abs() < 1e-12);
@@ -266,11 +268,7 @@ mod tests {
 
     #[test]
     fn dual_parameter_gives_the_circumcentre_of_the_cell() {
-        let (a, b, c) = (
-            Point3::new(1.0, 0.2, 0.0),
-            Point3::new(-0.3, 2.0, 0.1),
-            Point3::new(0.5, -1.0, 0.2),
-        );
+        let [a, b, c] = triangle([0.0, 0.1, 0.2]);
         let center = triangle_circumcenter(a, b, c);
         let axis = (b - a).cross(c - a).normalize();
         for apex in [
@@ -349,11 +347,7 @@ mod tests {
 
     #[test]
     fn weighted_circumcenter_has_equal_powers() {
-        let p = [
-            Point3::new(1.0, 0.2, 0.0),
-            Point3::new(-0.3, 2.0, 1.0),
-            Point3::new(0.5, -1.0, 2.0),
-        ];
+        let p = triangle([0.0, 1.0, 2.0]);
         let w = [0.3, 0.0, 1.1];
         let (c, r2) = weighted_triangle_circumcenter(p, w);
         for i in 0..3 {

@@ -875,6 +875,16 @@ mod tests {
     }
 
     /// Every rule of a protection, checked by brute force.
+    /// A regular `n`-gon inscribed in the unit circle around `(x, 0, 0)` in the plane z = 0.
+    fn circle(n: usize, x: f64) -> Vec<[f64; 3]> {
+        (0..n)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / n as f64;
+                [x + t.cos(), t.sin(), 0.0]
+            })
+            .collect()
+    }
+
     fn assert_protects(p: &Protection, curves: &[FeatureCurve], max_radius: f64) {
         let mut linked = std::collections::BTreeSet::new();
         for chain in &p.chains {
@@ -942,12 +952,7 @@ mod tests {
 
     #[test]
     fn closed_circle_gets_a_closed_chain() {
-        let pts: Vec<[f64; 3]> = (0..256)
-            .map(|k| {
-                let t = std::f64::consts::TAU * k as f64 / 256.0;
-                [t.cos(), t.sin(), 0.0]
-            })
-            .collect();
+        let pts = circle(256, 0.0);
         let curves = [
             curve(1, &pts, true),
             curve(
@@ -967,12 +972,7 @@ mod tests {
     fn every_bend_of_a_polyline_is_a_ball_centre() {
         // A coarse closed polygon, an open zigzag with a collinear vertex (not a bend), and
         // ball sizes both above and below the segment lengths.
-        let hexagon: Vec<[f64; 3]> = (0..6)
-            .map(|k| {
-                let t = std::f64::consts::TAU * k as f64 / 6.0;
-                [3.0 + t.cos(), t.sin(), 0.0]
-            })
-            .collect();
+        let hexagon = circle(6, 3.0);
         let zigzag = [
             [0.0, 0.0, 0.0],
             [0.5, 0.4, 0.0],
@@ -1021,12 +1021,7 @@ mod tests {
     #[test]
     fn vertices_within_the_bend_tolerance_are_not_centres() {
         let n = 2000;
-        let circle: Vec<[f64; 3]> = (0..n)
-            .map(|k| {
-                let t = std::f64::consts::TAU * k as f64 / n as f64;
-                [t.cos(), t.sin(), 0.0]
-            })
-            .collect();
+        let circle = circle(n, 0.0);
         // An open L, finely tessellated, with a right-angle bend at (4, 0, 0).
         let ell: Vec<[f64; 3]> = (0..=1000)
             .map(|k| {

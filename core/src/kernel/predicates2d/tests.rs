@@ -11,16 +11,22 @@ use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
 use std::cmp::Ordering;
 
-/// The in-circle sign in exact integer arithmetic: every coordinate scaled by the same power of
-/// two, then the 3×3 lifted determinant of the differences to `d`.
-fn incircle_oracle(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Ordering {
-    let unit = [a, b, c, d]
+/// The smallest binary exponent of the coordinates of `points`: every coordinate is a whole
+/// multiple of that power of two, so [`scaled`] by it they are all integers.
+fn common_unit(points: &[DVec2]) -> i32 {
+    points
         .iter()
         .flat_map(|p| [p.x, p.y])
         .filter(|&x| x != 0.0)
         .map(|x| dyadic(x).1)
         .min()
-        .unwrap_or(0);
+        .unwrap_or(0)
+}
+
+/// The in-circle sign in exact integer arithmetic: every coordinate scaled by the same power of
+/// two, then the 3×3 lifted determinant of the differences to `d`.
+fn incircle_oracle(a: DVec2, b: DVec2, c: DVec2, d: DVec2) -> Ordering {
+    let unit = common_unit(&[a, b, c, d]);
     let big = |p: DVec2| [scaled(p.x, unit), scaled(p.y, unit)];
     let dd = big(d);
     let row = |p: DVec2| {
@@ -152,13 +158,7 @@ fn the_double_double_stage_decides_nearly_cocircular_points_rightly() {
 
 /// `(a - p) · (b - p)` in exact integer arithmetic.
 fn dot_oracle(p: DVec2, a: DVec2, b: DVec2) -> Ordering {
-    let unit = [p, a, b]
-        .iter()
-        .flat_map(|q| [q.x, q.y])
-        .filter(|&x| x != 0.0)
-        .map(|x| dyadic(x).1)
-        .min()
-        .unwrap_or(0);
+    let unit = common_unit(&[p, a, b]);
     let s = |x: f64| scaled(x, unit);
     let dot = (s(a.x) - s(p.x)) * (s(b.x) - s(p.x)) + (s(a.y) - s(p.y)) * (s(b.y) - s(p.y));
     dot.sign().cmp(&num_bigint::Sign::NoSign)

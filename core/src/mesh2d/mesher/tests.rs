@@ -1,6 +1,7 @@
 use super::{Mesh, MeshError, MeshOptions, mesh};
 use crate::mesh2d::pslg::{Pslg, Region};
 use crate::mesh2d::quality::{min_angle_deg, signed_area};
+use crate::mesh2d::tests::sub_segment_chain;
 use crate::random::XorShift;
 use glam::DVec2;
 
@@ -62,17 +63,10 @@ fn has_edge(m: &Mesh, a: u32, b: u32) -> bool {
 /// Every input segment is a chain of output sub-segments, each an edge of a domain triangle.
 fn assert_segments_conform(input: &Pslg, m: &Mesh) {
     for (s, &[a, b]) in input.segments.iter().enumerate() {
-        let subs: Vec<[u32; 2]> = (0..m.segments.len())
-            .filter(|&k| m.segment_origins[k] == s as u32)
-            .map(|k| m.segments[k])
-            .collect();
-        let mut at = a;
-        for _ in 0..subs.len() {
-            let next = subs.iter().find(|e| e[0] == at).map(|e| e[1]);
-            at = next.expect("sub-segments chain along the segment");
-        }
-        assert_eq!(at, b);
-        for &[x, y] in &subs {
+        let chain = sub_segment_chain(&m.segments, &m.segment_origins, s, a);
+        assert_eq!(chain.last(), Some(&b));
+        for w in chain.windows(2) {
+            let (x, y) = (w[0], w[1]);
             assert!(has_edge(m, x, y), "sub-segment {x}-{y} is not a mesh edge");
         }
     }
@@ -85,19 +79,26 @@ fn assert_triangles_valid(m: &Mesh) {
     }
 }
 
+/// Meshes `input` with these bounds, checking the triangles and that the segments conform.
+fn mesh_checked(input: &Pslg, min_angle_deg: f64, max_area: Option<f64>) -> Mesh {
+    let opts = MeshOptions {
+        min_angle_deg,
+        max_area,
+        ..MeshOptions::default()
+    };
+    let m = mesh(input, &opts).expect("meshes");
+    assert_triangles_valid(&m);
+    assert_segments_conform(input, &m);
+    m
+}
+
 #[test]
 fn square_with_hole_meets_the_angle_bound() {
     let input = Pslg {
         holes: vec![v(5.0, 5.0)],
         ..loops(&[square(0.0, 10.0), square(4.0, 6.0)])
     };
-    let opts = MeshOptions {
-        min_angle_deg: 30.0,
-        ..MeshOptions::default()
-    };
-    let m = mesh(&input, &opts).expect("meshes");
-    assert_triangles_valid(&m);
-    assert_segments_conform(&input, &m);
+    let m = mesh_checked(&input, 30.0, None);
     for t in &m.triangles {
         let p = t.map(|i| m.points[i as usize]);
         assert!(min_angle_deg(p[0], p[1], p[2]) >= 30.0 - 1e-9, "{p:?}");
@@ -108,7 +109,7 @@ fn square_with_hole_meets_the_angle_bound() {
     assert!((area(&m) - 96.0).abs() < 1e-9);
     assert_eq!(&m.points[..8], &input.points[..]);
     // Deterministic.
-    assert_eq!(mesh(&input, &opts).expect("meshes"), m);
+    assert_eq!(mesh_checked(&input, 30.0, None), m);
 }
 
 #[test]
@@ -130,14 +131,7 @@ fn area_bound_and_regions() {
             max_area: None,
         },
     ];
-    let opts = MeshOptions {
-        min_angle_deg: 25.0,
-        max_area: Some(0.5),
-        ..MeshOptions::default()
-    };
-    let m = mesh(&input, &opts).expect("meshes");
-    assert_triangles_valid(&m);
-    assert_segments_conform(&input, &m);
+    let m = mesh_checked(&input, 25.0, Some(0.5));
     assert!((area(&m) - 16.0).abs() < 1e-9);
     for (t, &attr) in m.triangles.iter().zip(&m.triangle_attributes) {
         let p = t.map(|i| m.points[i as usize]);
@@ -151,14 +145,7 @@ fn area_bound_and_regions() {
 #[test]
 fn star_with_sharp_spikes_terminates_and_is_good_away_from_tips() {
     let input = loops(&[star(5, 10.0)]);
-    let opts = MeshOptions {
-        min_angle_deg: 30.0,
-        max_area: Some(0.5),
-        ..MeshOptions::default()
-    };
-    let m = mesh(&input, &opts).expect("meshes");
-    assert_triangles_valid(&m);
-    assert_segments_conform(&input, &m);
+    let m = mesh_checked(&input, 30.0, Some(0.5));
     // The spikes: triangles (inner vertex, tip, inner vertex) around each 10° angle.
     let n = input.points.len();
     let spikes: Vec<[DVec2; 3]> = (0..n)

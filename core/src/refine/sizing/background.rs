@@ -1,6 +1,6 @@
 //! A background tetrahedral mesh with a size at every node.
 
-use super::{SizingError, SizingField, check_value, show};
+use super::{SizingError, SizingField, check_count, check_value, show};
 use crate::kernel::Point3;
 use rstar::RTree;
 use rstar::primitives::GeomWithData;
@@ -49,13 +49,7 @@ impl BackgroundMesh {
         tets: Vec<[u32; 4]>,
         values: Vec<f64>,
     ) -> Result<BackgroundMesh, SizingError> {
-        if values.len() != positions.len() {
-            return Err(SizingError(format!(
-                "{} values for {} nodes",
-                values.len(),
-                positions.len()
-            )));
-        }
+        check_count(values.len(), positions.len(), "nodes")?;
         if tets.is_empty() {
             return Err(SizingError("no tetrahedra".into()));
         }

@@ -1,6 +1,6 @@
 //! Sizes at scattered points.
 
-use super::{SizingError, SizingField, check_value, show};
+use super::{SizingError, SizingField, check_count, check_value, show};
 use crate::kernel::Point3;
 use rstar::RTree;
 use rstar::primitives::GeomWithData;
@@ -22,13 +22,7 @@ impl PointSizes {
     /// Sizes `values[i]` at `points[i]`; refuses no point, mismatched counts, a non-finite point
     /// and a value that is not finite and positive (naming the sample).
     pub fn new(points: &[Point3], values: &[f64]) -> Result<PointSizes, SizingError> {
-        if points.len() != values.len() {
-            return Err(SizingError(format!(
-                "{} values for {} points",
-                values.len(),
-                points.len()
-            )));
-        }
+        check_count(values.len(), points.len(), "points")?;
         if points.is_empty() {
             return Err(SizingError("no sample point".into()));
         }

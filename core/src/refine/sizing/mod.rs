@@ -63,6 +63,15 @@ pub(crate) fn check_value(v: f64, at: impl FnOnce() -> String) -> Result<(), Siz
     }
 }
 
+/// Checks that there is one value per node or point (`n` of them, called `what`).
+pub(crate) fn check_count(values: usize, n: usize, what: &str) -> Result<(), SizingError> {
+    if values == n {
+        Ok(())
+    } else {
+        Err(SizingError(format!("{values} values for {n} {what}")))
+    }
+}
+
 /// A field whose values cannot be checked in advance (a closure, an expression): a value that is
 /// not finite and positive counts as no bound, and the first one met is kept for
 /// [`Checked::first_bad`], so the caller can refuse the mesh with the point and the value.

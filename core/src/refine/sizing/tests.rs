@@ -22,18 +22,20 @@ fn random_points(n: usize, lo: f64, hi: f64, seed: u64) -> Vec<Point3> {
         .collect()
 }
 
-/// Six tets filling the unit cube (Kuhn's subdivision along the main diagonal).
+/// Six tets filling the unit cube (Kuhn's subdivision along the main diagonal): one per order
+/// of the axes, walking from corner 0 to corner 7 along the first axis, then the second.
 fn cube_tets() -> (Vec<Point3>, Vec<[u32; 4]>) {
     let corner = |i: u32| Point3::new(f64::from(i & 1), f64::from((i >> 1) & 1), f64::from(i >> 2));
     let positions = (0..8).map(corner).collect();
-    let tets = vec![
-        [0, 1, 3, 7],
-        [0, 1, 5, 7],
-        [0, 2, 3, 7],
-        [0, 2, 6, 7],
-        [0, 4, 5, 7],
-        [0, 4, 6, 7],
-    ];
+    let axes = [1, 2, 4];
+    let tets = axes
+        .iter()
+        .flat_map(|&a| {
+            axes.iter()
+                .filter(move |&&b| b != a)
+                .map(move |&b| [0, a, a | b, 7])
+        })
+        .collect();
     (positions, tets)
 }
 
