@@ -49,26 +49,18 @@ struct Region {
 }
 
 /// Relabel cells until the boundary of the labelled cells is a 2-manifold at every vertex, or
-/// `max_moves` regions were moved.
+/// `max_moves` regions were moved. `pinched` must hold every vertex where it is not (the vertices
+/// of the non-manifold edges and the non-manifold vertices): the walk starts there and follows
+/// the moves, instead of looking at every boundary vertex.
 pub(crate) fn relabel_to_manifold<T: Triangulation<Point = Point3>>(
     tr: &T,
     cells: &mut CellLevel<'_>,
+    pinched: &[VertexId],
     on_surface: &dyn Fn(VertexId) -> bool,
     max_moves: usize,
 ) -> Relabelling {
     let mut result = Relabelling::default();
-    let mut todo: BTreeSet<u32> = BTreeSet::new();
-    for c in tr.finite_cells() {
-        if cells.subdomain(c) == OUTSIDE {
-            continue;
-        }
-        for i in 0..4 {
-            let n = tr.neighbor(c, i);
-            if tr.is_infinite_cell(n) || cells.subdomain(n) == OUTSIDE {
-                todo.extend(facet_of(tr, c, i).map(|v| v.0));
-            }
-        }
-    }
+    let mut todo: BTreeSet<u32> = pinched.iter().map(|v| v.0).collect();
     let mut around = Vec::new();
     let mut moved = vec![false; tr.cell_capacity()];
     let mut moves = 0;
@@ -353,11 +345,6 @@ fn majority_label(cells: &CellLevel<'_>, regions: &[Region]) -> SubdomainId {
         }
     }
     best.1
-}
-
-/// The three vertices of the facet of `c` opposite its vertex `i`.
-fn facet_of<T: Triangulation<Point = Point3>>(tr: &T, c: CellId, i: usize) -> [VertexId; 3] {
-    super::geometry::facet_vertices(&cell_vertices(tr, c), i)
 }
 
 #[cfg(test)]

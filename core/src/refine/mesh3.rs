@@ -448,6 +448,7 @@ fn relabel<T: Triangulation<Point = Point3>>(refined: &mut Refined<'_, T>, optio
         cells,
         result,
         validity,
+        stuck,
         ..
     } = refined;
     if result.is_err() || !options.validity.manifold {
@@ -455,7 +456,7 @@ fn relabel<T: Triangulation<Point = Point3>>(refined: &mut Refined<'_, T>, optio
     }
     if !validity.manifold {
         let on_surface = |v| surface.is_on_surface(v);
-        let relabelling = relabel_to_manifold(tr, cells, &on_surface, tr.num_vertices());
+        let relabelling = relabel_to_manifold(tr, cells, stuck, &on_surface, tr.num_vertices());
         *validity = find_defects(tr, cells, &options.validity, false).validity();
         validity.relabelling = relabelling;
     }

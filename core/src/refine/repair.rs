@@ -41,7 +41,7 @@ impl Default for ValidityOptions {
         ValidityOptions {
             manifold: true,
             input_euler: None,
-            max_rounds: 8,
+            max_rounds: 4,
             max_vertex_growth: 1.5,
         }
     }
