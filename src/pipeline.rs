@@ -23,7 +23,16 @@ use delamesh_formats::{PolygonMesh, WriteOptions, read_polygons, read_surface, w
 use delamesh_image_label::ImageOptions;
 use delamesh_polyhedral::{refuse_defects, surface_defects};
 use std::path::Path;
-use std::time::Instant;
+use std::time::{Duration, Instant};
+
+/// The times of a domain built from an input read in `read`, its oracle from `t` on.
+fn oracle_times(read: Duration, t: Instant) -> Times {
+    Times {
+        read,
+        oracle: t.elapsed(),
+        ..Times::default()
+    }
+}
 
 /// A progress callback: called now and then during refinement.
 pub type ProgressFn<'p> = dyn FnMut(&Progress) + 'p;
@@ -101,17 +110,17 @@ impl<'p> Mesher<'p> {
     /// Meshes the inside of the closed surface in the file `path` (any format the formats crate
     /// reads).
     pub fn mesh_file(&mut self, path: &Path) -> Result<Meshed, Error> {
-        self.settings.validate()?;
         if is_image_path(path) {
             return self.mesh_image_file(path);
         }
         if self.settings.subdivision.is_some() {
             return self.mesh_control_mesh_file(path);
         }
-        let started = Instant::now();
-        let surface = read_surface(path, None)?.mesh;
-        let read = started.elapsed();
-        self.mesh_surface_from(path.display().to_string(), surface, started, read)
+        self.read_then_mesh(
+            path,
+            |p| Ok(read_surface(p, None)?.mesh),
+            Self::mesh_surface_from,
+        )
     }
 
     /// Meshes the inside of a closed surface given in memory; `name` names it in errors and in the
@@ -139,11 +148,7 @@ impl<'p> Mesher<'p> {
     /// Meshes the labels of the 3D image in the file `path` (`.inr`, `.nii`, `.vti`, `.nrrd`,
     /// `.nhdr`, each optionally `.gz`), one subdomain per label.
     pub fn mesh_image_file(&mut self, path: &Path) -> Result<Meshed, Error> {
-        self.settings.validate()?;
-        let started = Instant::now();
-        let image = read_image(path)?;
-        let read = started.elapsed();
-        self.mesh_image_from(path.display().to_string(), image, started, read)
+        self.read_then_mesh(path, |p| Ok(read_image(p)?), Self::mesh_image_from)
     }
 
     /// Meshes the labels of a 3D image held in memory (voxels x fastest, then y, then z), one
@@ -154,12 +159,27 @@ impl<'p> Mesher<'p> {
         self.mesh_image_from(name.to_string(), image, started, Default::default())
     }
 
+    /// Validates the settings, reads the file `path` with `read` and meshes what it holds with
+    /// `mesh`, given its name, the start time and the reading time.
+    fn read_then_mesh<T>(
+        &mut self,
+        path: &Path,
+        read: impl FnOnce(&Path) -> Result<T, Error>,
+        mesh: impl FnOnce(&mut Self, String, T, Instant, Duration) -> Result<Meshed, Error>,
+    ) -> Result<Meshed, Error> {
+        self.settings.validate()?;
+        let started = Instant::now();
+        let input = read(path)?;
+        let read = started.elapsed();
+        mesh(self, path.display().to_string(), input, started, read)
+    }
+
     fn mesh_image_from(
         &mut self,
         name: String,
         image: Image,
         started: Instant,
-        read: std::time::Duration,
+        read: Duration,
     ) -> Result<Meshed, Error> {
         let t = Instant::now();
         // `--no-features` also leaves an image's triple lines and border curves unprotected.
@@ -169,23 +189,18 @@ impl<'p> Mesher<'p> {
         };
         let domain = Domain::from_image(&name, &image, &options)?;
         drop(image);
-        let times = Times {
-            read,
-            oracle: t.elapsed(),
-            ..Times::default()
-        };
-        self.mesh_domain(name, domain, None, started, times)
+        self.mesh_domain(name, domain, None, started, oracle_times(read, t))
     }
 
     /// Meshes the inside of the limit surface of the subdivision control mesh in the file `path`
     /// (OBJ, OFF or PLY polygons), with [`MeshSettings::subdivision`]'s options (default ones
     /// when unset); `--features` polylines add creases.
     pub fn mesh_control_mesh_file(&mut self, path: &Path) -> Result<Meshed, Error> {
-        self.settings.validate()?;
-        let started = Instant::now();
-        let (mesh, _warnings) = read_polygons(path, None)?;
-        let read = started.elapsed();
-        self.mesh_control_mesh_from(path.display().to_string(), &mesh, started, read)
+        self.read_then_mesh(
+            path,
+            |p| Ok(read_polygons(p, None)?.0),
+            |m, name, mesh, started, read| m.mesh_control_mesh_from(name, &mesh, started, read),
+        )
     }
 
     /// [`Mesher::mesh_control_mesh_file`] of a control mesh in memory; `name` names it in errors.
@@ -200,18 +215,13 @@ impl<'p> Mesher<'p> {
         name: String,
         mesh: &PolygonMesh,
         started: Instant,
-        read: std::time::Duration,
+        read: Duration,
     ) -> Result<Meshed, Error> {
         let t = Instant::now();
         let options = self.settings.subdivision.clone().unwrap_or_default();
         let polylines = self.settings.features.polylines.as_deref();
         let domain = Domain::from_control_mesh(&name, mesh, &options, polylines)?;
-        let times = Times {
-            read,
-            oracle: t.elapsed(),
-            ..Times::default()
-        };
-        self.mesh_domain(name, domain, None, started, times)
+        self.mesh_domain(name, domain, None, started, oracle_times(read, t))
     }
 
     /// Meshes the domain an oracle of your own describes (see [`Oracle`](delamesh_core::Oracle));
@@ -232,7 +242,7 @@ impl<'p> Mesher<'p> {
         name: String,
         surface: SurfaceMesh,
         started: Instant,
-        read: std::time::Duration,
+        read: Duration,
     ) -> Result<Meshed, Error> {
         if self.settings.preserve_surface {
             return self.mesh_preserving(name, surface, started, read);
@@ -244,12 +254,7 @@ impl<'p> Mesher<'p> {
             &self.settings.features,
             self.settings.strict,
         )?;
-        let times = Times {
-            read,
-            oracle: t.elapsed(),
-            ..Times::default()
-        };
-        self.mesh_domain(name, domain, Some(surface), started, times)
+        self.mesh_domain(name, domain, Some(surface), started, oracle_times(read, t))
     }
 
     /// `--preserve-surface`: the surface, refused unless it bounds a volume as given, kept in a
@@ -259,7 +264,7 @@ impl<'p> Mesher<'p> {
         name: String,
         mut surface: SurfaceMesh,
         started: Instant,
-        read: std::time::Duration,
+        read: Duration,
     ) -> Result<Meshed, Error> {
         let t = Instant::now();
         let unmeshable = |problem: String| Error::Unmeshable {
@@ -274,11 +279,7 @@ impl<'p> Mesher<'p> {
             ..FeatureSettings::default()
         };
         let domain = Domain::from_surface(&name, &surface, &smooth, true)?;
-        let mut times = Times {
-            read,
-            oracle: t.elapsed(),
-            ..Times::default()
-        };
+        let mut times = oracle_times(read, t);
         let t = Instant::now();
         let patches = surface.oracle_patches();
         let options = PreserveOptions {

@@ -26,33 +26,29 @@ pub struct BuiltIn {
     create: fn(&str) -> Result<Domain, String>,
 }
 
+/// A [`BuiltIn`] whose `create` is `$oracle::from_config` wrapped in `Domain::$variant`.
+macro_rules! built_in {
+    ($name:literal, $kind:literal, $oracle:ident => $variant:ident, $description:literal) => {
+        BuiltIn {
+            name: $name,
+            kind: $kind,
+            description: $description,
+            create: |config| $oracle::from_config(config).map(Domain::$variant),
+        }
+    };
+}
+
 /// The plugins linked into this library; their configuration strings are those of their C-ABI
 /// libraries.
 pub const BUILT_IN: &[BuiltIn] = &[
-    BuiltIn {
-        name: "polyhedral",
-        kind: "surface-mesh",
-        description: "the inside of a closed triangle surface (config: its path)",
-        create: |config| PolyhedralOracle::from_config(config).map(Domain::Smooth),
-    },
-    BuiltIn {
-        name: "piecewise-smooth",
-        kind: "surface-mesh",
-        description: "the same, keeping sharp edges and corners (config: path, feature-angle=, features=)",
-        create: |config| PiecewiseSmoothOracle::from_config(config).map(Domain::PiecewiseSmooth),
-    },
-    BuiltIn {
-        name: "subdivision",
-        kind: "subdivision-surface",
-        description: "the inside of the limit surface of a Loop or Catmull-Clark control mesh (config: path, scheme=, crease-angle=, group-creases=, features=)",
-        create: |config| SubdivisionOracle::from_config(config).map(Domain::Subdivision),
-    },
-    BuiltIn {
-        name: "image-label",
-        kind: "image",
-        description: "the labels of a segmented 3D image (config: path, background=, isovalue=, interpolation=, features=)",
-        create: |config| ImageLabelOracle::from_config(config).map(Domain::Image),
-    },
+    built_in!("polyhedral", "surface-mesh", PolyhedralOracle => Smooth,
+        "the inside of a closed triangle surface (config: its path)"),
+    built_in!("piecewise-smooth", "surface-mesh", PiecewiseSmoothOracle => PiecewiseSmooth,
+        "the same, keeping sharp edges and corners (config: path, feature-angle=, features=)"),
+    built_in!("subdivision", "subdivision-surface", SubdivisionOracle => Subdivision,
+        "the inside of the limit surface of a Loop or Catmull-Clark control mesh (config: path, scheme=, crease-angle=, group-creases=, features=)"),
+    built_in!("image-label", "image", ImageLabelOracle => Image,
+        "the labels of a segmented 3D image (config: path, background=, isovalue=, interpolation=, features=)"),
 ];
 
 /// Loads the plugin `spec` (path or name), creates its oracle from `config` and self-checks it, so

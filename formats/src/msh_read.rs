@@ -594,18 +594,25 @@ mod tests {
                 s.extend(format!("{}\n", words.join(" ")).bytes());
             }
         };
+        // The header of the one block of volume entity 1: `kind` (parametric 0 for nodes, the
+        // element type for elements), then `n` members.
+        let block = |s: &mut Vec<u8>, kind: i32, n: u64| {
+            if binary {
+                [3i32, 1, kind]
+                    .iter()
+                    .for_each(|x| s.extend(x.to_le_bytes()));
+                s.extend(n.to_le_bytes());
+            } else {
+                s.extend(format!("3 1 {kind} {n}\n").bytes());
+            }
+        };
         if binary {
             s.extend(1i32.to_le_bytes());
             s.push(b'\n');
         }
         s.extend(b"$EndMeshFormat\n$Entities\n0 0 0 1\n1 0 0 0 1 1 1 0 0\n$EndEntities\n$Nodes\n");
         sizes(&mut s, &[1, 5, 10, 50]);
-        if binary {
-            [3i32, 1, 0].iter().for_each(|x| s.extend(x.to_le_bytes()));
-            s.extend(5u64.to_le_bytes());
-        } else {
-            s.extend(b"3 1 0 5\n");
-        }
+        block(&mut s, 0, 5);
         for t in TAGS {
             sizes(&mut s, &[t]);
         }
@@ -618,12 +625,7 @@ mod tests {
         }
         s.extend(b"\n$EndNodes\n$Elements\n");
         sizes(&mut s, &[1, 2, 1, 2]);
-        if binary {
-            [3i32, 1, 4].iter().for_each(|x| s.extend(x.to_le_bytes()));
-            s.extend(2u64.to_le_bytes());
-        } else {
-            s.extend(b"3 1 4 2\n");
-        }
+        block(&mut s, 4, 2);
         for (e, t) in TETS.iter().enumerate() {
             sizes(&mut s, &[e as u64 + 1, t[0], t[1], t[2], t[3]]);
         }

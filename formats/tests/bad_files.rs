@@ -3,7 +3,7 @@
 
 mod common;
 
-use delamesh_formats::{Format, WriteOptions, read, read_bytes, write_tet_mesh_to};
+use delamesh_formats::{Format, read, read_bytes};
 use std::path::{Path, PathBuf};
 
 /// Every file of the corpus, with a fragment its error message must contain.
@@ -136,19 +136,8 @@ fn every_truncation_of_the_sample_models_is_handled() {
         let format = Format::from_path(Path::new(name)).unwrap();
         truncations(&bytes, format);
     }
-    for (format, ascii) in [
-        (Format::Vtu, false),
-        (Format::Vtu, true),
-        (Format::Vtk, false),
-        (Format::Vtk, true),
-    ] {
-        let mut bytes = Vec::new();
-        let options = WriteOptions {
-            ascii,
-            ..WriteOptions::default()
-        };
-        write_tet_mesh_to(&mut bytes, &common::cube_tets(), format, &options).unwrap();
-        truncations(&bytes, format);
+    for (format, ascii) in common::VTK_VARIANTS {
+        truncations(&common::cube_tets_bytes(format, ascii), format);
     }
 }
 

@@ -3,11 +3,10 @@
 
 mod common;
 
-use common::{cube_surface, cube_tets};
+use common::{cube_surface, cube_tets, cube_tets_bytes};
 use delamesh_core::mesh::{PatchId, SurfaceMesh, TetMesh};
 use delamesh_formats::{
-    AnyMesh, Format, WriteOptions, read, read_bytes, read_surface, write_surface_to,
-    write_tet_mesh, write_tet_mesh_to,
+    AnyMesh, Format, WriteOptions, read, read_bytes, read_surface, write_surface_to, write_tet_mesh,
 };
 
 fn surface_bytes(m: &SurfaceMesh, f: Format) -> Vec<u8> {
@@ -45,11 +44,24 @@ fn same_geometry(a: &SurfaceMesh, b: &SurfaceMesh) {
 }
 
 #[test]
-fn off_round_trip_is_exact() {
-    let m = cube_surface(false);
-    let back = read_surface_back(&surface_bytes(&m, Format::Off), Format::Off);
-    assert_eq!(bits(&back), bits(&m));
-    assert_eq!(back.triangles, m.triangles);
+fn off_ply_and_medit_round_trips_are_exact() {
+    // OFF keeps the triangles, MEDIT (a volume format, read back as its boundary) the patches,
+    // PLY both.
+    for (f, triangles, patches) in [
+        (Format::Off, true, false),
+        (Format::Ply, true, true),
+        (Format::Medit, false, true),
+    ] {
+        let m = cube_surface(false);
+        let back = read_surface_back(&surface_bytes(&m, f), f);
+        assert_eq!(bits(&back), bits(&m), "{f}");
+        if triangles {
+            assert_eq!(back.triangles, m.triangles, "{f}");
+        }
+        if patches {
+            assert_eq!(back.patches, m.patches, "{f}");
+        }
+    }
 }
 
 #[test]
@@ -71,8 +83,7 @@ fn stl_round_trip_welds_the_soup_closed() {
 #[test]
 fn medit_round_trip_keeps_every_label() {
     let m = cube_tets();
-    let mut out = Vec::new();
-    write_tet_mesh_to(&mut out, &m, Format::Medit, &WriteOptions::default()).unwrap();
+    let out = cube_tets_bytes(Format::Medit, false);
     let AnyMesh::Volume(back) = read_bytes(&out, Format::Medit, None).unwrap().mesh else {
         panic!("MEDIT holds volumes")
     };
@@ -83,14 +94,6 @@ fn medit_round_trip_keeps_every_label() {
             ..m
         }
     );
-}
-
-#[test]
-fn surface_to_volume_format_keeps_patches() {
-    let m = cube_surface(false);
-    let back = read_surface_back(&surface_bytes(&m, Format::Medit), Format::Medit);
-    assert_eq!(bits(&back), bits(&m));
-    assert_eq!(back.patches, m.patches);
 }
 
 #[test]
@@ -120,19 +123,8 @@ fn atomic_write_replaces_whole_files_and_leaves_nothing_on_failure() {
 #[test]
 fn vtu_and_legacy_vtk_round_trips_are_exact_with_cell_data() {
     let m = cube_tets();
-    for (format, ascii) in [
-        (Format::Vtu, false),
-        (Format::Vtu, true),
-        (Format::Vtk, false),
-        (Format::Vtk, true),
-    ] {
-        let mut out = Vec::new();
-        let opts = WriteOptions {
-            ascii,
-            ..WriteOptions::default()
-        };
-        write_tet_mesh_to(&mut out, &m, format, &opts).unwrap();
-        let read = read_bytes(&out, format, None)
+    for (format, ascii) in common::VTK_VARIANTS {
+        let read = read_bytes(&cube_tets_bytes(format, ascii), format, None)
             .unwrap_or_else(|e| panic!("{format} ascii={ascii}: {e}"));
         let AnyMesh::Volume(back) = read.mesh else {
             panic!("{format} holds volumes")
@@ -148,15 +140,6 @@ fn test_mesh_is_positively_oriented() {
     assert!((0..m.tets.len()).all(|t| m.tet_volume(t) > 0.0));
     let total: f64 = (0..m.tets.len()).map(|t| m.tet_volume(t)).sum();
     assert!((total - cube_surface(false).topology().signed_volume).abs() < 1e-12);
-}
-
-#[test]
-fn ply_round_trip_is_exact_with_patches() {
-    let m = cube_surface(false);
-    let back = read_surface_back(&surface_bytes(&m, Format::Ply), Format::Ply);
-    assert_eq!(bits(&back), bits(&m));
-    assert_eq!(back.triangles, m.triangles);
-    assert_eq!(back.patches, m.patches);
 }
 
 #[test]

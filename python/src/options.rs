@@ -18,287 +18,84 @@ pub struct Opt {
     set: fn(&mut MeshSettings, &Bound<'_, PyAny>) -> Result<(), String>,
 }
 
+/// An [`Opt`] for the keyword `$name` whose `set` runs `$set` (which may return an error early).
+macro_rules! opt {
+    ($name:ident, |$s:ident, $v:ident| $set:expr) => {
+        Opt {
+            name: stringify!($name),
+            set: |$s, $v| {
+                $set;
+                Ok(())
+            },
+        }
+    };
+}
+
 /// The keyword options, in the order of `delamesh mesh --help`.
+#[rustfmt::skip]
 pub const OPTIONS: &[Opt] = &[
-    Opt {
-        name: "edge_size",
-        set: |s, v| {
-            s.edge_size = Some(number(v)?);
-            Ok(())
-        },
-    },
-    Opt {
-        name: "edge_min_size",
-        set: |s, v| {
-            s.edge_min_size = Some(number(v)?);
-            Ok(())
-        },
-    },
-    Opt {
-        name: "facet_angle",
-        set: |s, v| {
-            s.facet_angle = Some(number(v)?);
-            Ok(())
-        },
-    },
-    Opt {
-        name: "facet_size",
-        set: |s, v| {
-            s.facet_size = Some(number(v)?);
-            Ok(())
-        },
-    },
-    Opt {
-        name: "facet_distance",
-        set: |s, v| {
-            s.facet_distance = Some(number(v)?);
-            Ok(())
-        },
-    },
-    Opt {
-        name: "cell_radius_edge_ratio",
-        set: |s, v| {
-            s.cell_radius_edge_ratio = Some(number(v)?);
-            Ok(())
-        },
-    },
-    Opt {
-        name: "cell_size",
-        set: |s, v| {
-            s.cell_size = Some(number(v)?);
-            Ok(())
-        },
-    },
-    Opt {
-        name: "max_vertices",
-        set: |s, v| {
-            s.max_vertices = Some(count(v)?);
-            Ok(())
-        },
-    },
-    Opt {
-        name: "time_limit",
-        set: |s, v| {
-            s.time_limit = Some(seconds(v)?);
-            Ok(())
-        },
-    },
-    Opt {
-        name: "keep_partial",
-        set: |s, v| {
-            s.keep_partial = flag(v)?;
-            Ok(())
-        },
-    },
-    Opt {
-        name: "non_manifold",
-        set: |s, v| {
-            s.non_manifold = flag(v)?;
-            Ok(())
-        },
-    },
-    Opt {
-        name: "feature_angle",
-        set: |s, v| {
-            s.features.angle_deg = number(v)?;
-            Ok(())
-        },
-    },
-    Opt {
-        name: "features",
-        set: |s, v| {
-            s.features.polylines = Some(v.extract().map_err(|_| "expected a path".to_string())?);
-            Ok(())
-        },
-    },
-    Opt {
-        name: "no_features",
-        set: |s, v| {
-            s.features.enabled = !flag(v)?;
-            Ok(())
-        },
-    },
-    Opt {
-        name: "strict",
-        set: |s, v| {
-            s.strict = flag(v)?;
-            Ok(())
-        },
-    },
-    Opt {
-        name: "background",
-        set: |s, v| {
-            s.image.options.background = label(v)?;
-            Ok(())
-        },
-    },
-    Opt {
-        name: "isovalue",
-        set: |s, v| {
-            s.image.options.isovalue = Some(number(v)?);
-            Ok(())
-        },
-    },
-    Opt {
-        name: "cell_size_per_label",
-        set: |s, v| {
-            s.image.cell_size_per_label = per_label(v)?;
-            Ok(())
-        },
-    },
-    Opt {
-        name: "label_interpolation",
-        set: |s, v| {
-            s.image.options.interpolation = interpolation(v)?;
-            Ok(())
-        },
-    },
-    Opt {
-        name: "no_perturb",
-        set: |s, v| {
-            s.optimize.perturb = !flag(v)?;
-            Ok(())
-        },
-    },
-    Opt {
-        name: "no_exude",
-        set: |s, v| {
-            s.optimize.exude = !flag(v)?;
-            Ok(())
-        },
-    },
-    Opt {
-        name: "perturb",
-        set: |s, v| {
-            s.optimize.perturb = flag(v)?;
-            Ok(())
-        },
-    },
-    Opt {
-        name: "exude",
-        set: |s, v| {
-            s.optimize.exude = flag(v)?;
-            Ok(())
-        },
-    },
-    Opt {
-        name: "odt",
-        set: |s, v| {
-            s.optimize.odt = flag(v)?;
-            Ok(())
-        },
-    },
-    Opt {
-        name: "lloyd",
-        set: |s, v| {
-            s.optimize.lloyd = flag(v)?;
-            Ok(())
-        },
-    },
-    Opt {
-        name: "optimize_time",
-        set: |s, v| {
-            s.optimize.time_limit = Some(seconds(v)?);
-            Ok(())
-        },
-    },
-    Opt {
-        name: "sizing",
-        set: |s, v| {
-            s.sizing.field = Some(match crate::sizing::source(v)? {
-                Some(source) => source,
-                None => SizeSource::file(path(v)?),
-            });
-            Ok(())
-        },
-    },
+    opt!(edge_size, |s, v| s.edge_size = Some(number(v)?)),
+    opt!(edge_min_size, |s, v| s.edge_min_size = Some(number(v)?)),
+    opt!(facet_angle, |s, v| s.facet_angle = Some(number(v)?)),
+    opt!(facet_size, |s, v| s.facet_size = Some(number(v)?)),
+    opt!(facet_distance, |s, v| s.facet_distance = Some(number(v)?)),
+    opt!(cell_radius_edge_ratio, |s, v| s.cell_radius_edge_ratio = Some(number(v)?)),
+    opt!(cell_size, |s, v| s.cell_size = Some(number(v)?)),
+    opt!(max_vertices, |s, v| s.max_vertices = Some(count(v)?)),
+    opt!(time_limit, |s, v| s.time_limit = Some(seconds(v)?)),
+    opt!(keep_partial, |s, v| s.keep_partial = flag(v)?),
+    opt!(non_manifold, |s, v| s.non_manifold = flag(v)?),
+    opt!(feature_angle, |s, v| s.features.angle_deg = number(v)?),
+    opt!(features, |s, v| s.features.polylines =
+        Some(v.extract().map_err(|_| "expected a path".to_string())?)),
+    opt!(no_features, |s, v| s.features.enabled = !flag(v)?),
+    opt!(strict, |s, v| s.strict = flag(v)?),
+    opt!(background, |s, v| s.image.options.background = label(v)?),
+    opt!(isovalue, |s, v| s.image.options.isovalue = Some(number(v)?)),
+    opt!(cell_size_per_label, |s, v| s.image.cell_size_per_label = per_label(v)?),
+    opt!(label_interpolation, |s, v| s.image.options.interpolation = interpolation(v)?),
+    opt!(no_perturb, |s, v| s.optimize.perturb = !flag(v)?),
+    opt!(no_exude, |s, v| s.optimize.exude = !flag(v)?),
+    opt!(perturb, |s, v| s.optimize.perturb = flag(v)?),
+    opt!(exude, |s, v| s.optimize.exude = flag(v)?),
+    opt!(odt, |s, v| s.optimize.odt = flag(v)?),
+    opt!(lloyd, |s, v| s.optimize.lloyd = flag(v)?),
+    opt!(optimize_time, |s, v| s.optimize.time_limit = Some(seconds(v)?)),
+    opt!(sizing, |s, v| {
+        s.sizing.field = Some(match crate::sizing::source(v)? {
+            Some(source) => source,
+            None => SizeSource::file(path(v)?),
+        });
+    }),
     // After `sizing` in this table: options are applied in table order, whatever the keyword
     // order.
-    Opt {
-        name: "sizing_field",
-        set: |s, v| match &mut s.sizing.field {
-            Some(SizeSource::File { field, .. }) => {
-                *field = Some(text(v)?);
-                Ok(())
-            }
-            _ => Err("needs sizing= a background mesh file".into()),
-        },
-    },
-    Opt {
-        name: "sizing_expr",
-        set: |s, v| {
-            s.sizing.field = Some(SizeSource::Expression(text(v)?));
-            Ok(())
-        },
-    },
-    Opt {
-        name: "size_per_subdomain",
-        set: |s, v| {
-            s.sizing.per_subdomain = per_label(v)?;
-            Ok(())
-        },
-    },
-    Opt {
-        name: "size_per_patch",
-        set: |s, v| {
-            s.sizing.per_patch = per_label(v)?;
-            Ok(())
-        },
-    },
-    Opt {
-        name: "size_gradation",
-        set: |s, v| {
-            s.sizing.gradation = Some(number(v)?);
-            Ok(())
-        },
-    },
-    Opt {
-        name: "distance_field",
-        set: |s, v| {
-            s.sizing.distance = Some(SizeSource::file(path(v)?));
-            Ok(())
-        },
-    },
-    Opt {
-        name: "distance_expr",
-        set: |s, v| {
-            s.sizing.distance = Some(SizeSource::Expression(text(v)?));
-            Ok(())
-        },
-    },
-    Opt {
-        name: "subdivision",
-        set: |s, v| {
-            let scheme = match text(v)?.as_str() {
-                "auto" => None,
-                other => Some(other.parse::<Scheme>()?),
-            };
-            let enabled = s.features.enabled;
-            let sub = s.subdivision.get_or_insert_with(Default::default);
-            sub.scheme = scheme;
-            // As on the command line: `no_features` also turns the group creases off.
-            sub.group_creases = enabled;
-            Ok(())
-        },
-    },
+    opt!(sizing_field, |s, v| match &mut s.sizing.field {
+        Some(SizeSource::File { field, .. }) => *field = Some(text(v)?),
+        _ => return Err("needs sizing= a background mesh file".into()),
+    }),
+    opt!(sizing_expr, |s, v| s.sizing.field = Some(SizeSource::Expression(text(v)?))),
+    opt!(size_per_subdomain, |s, v| s.sizing.per_subdomain = per_label(v)?),
+    opt!(size_per_patch, |s, v| s.sizing.per_patch = per_label(v)?),
+    opt!(size_gradation, |s, v| s.sizing.gradation = Some(number(v)?)),
+    opt!(distance_field, |s, v| s.sizing.distance = Some(SizeSource::file(path(v)?))),
+    opt!(distance_expr, |s, v| s.sizing.distance = Some(SizeSource::Expression(text(v)?))),
+    opt!(subdivision, |s, v| {
+        let scheme = match text(v)?.as_str() {
+            "auto" => None,
+            other => Some(other.parse::<Scheme>()?),
+        };
+        let enabled = s.features.enabled;
+        let sub = s.subdivision.get_or_insert_with(Default::default);
+        sub.scheme = scheme;
+        // As on the command line: `no_features` also turns the group creases off.
+        sub.group_creases = enabled;
+    }),
     // After `subdivision` in this table (see `sizing_field`).
-    Opt {
-        name: "crease_angle",
-        set: |s, v| match &mut s.subdivision {
-            Some(sub) => {
-                sub.crease_angle_deg = Some(number(v)?);
-                Ok(())
-            }
-            None => Err("needs subdivision=".into()),
-        },
-    },
-    Opt {
-        name: "preserve_surface",
-        set: |s, v| {
-            s.preserve_surface = flag(v)?;
-            Ok(())
-        },
-    },
+    opt!(crease_angle, |s, v| match &mut s.subdivision {
+        Some(sub) => sub.crease_angle_deg = Some(number(v)?),
+        None => return Err("needs subdivision=".into()),
+    }),
+    opt!(preserve_surface, |s, v| s.preserve_surface = flag(v)?),
 ];
 
 fn path(v: &Bound<'_, PyAny>) -> Result<std::path::PathBuf, String> {

@@ -4,6 +4,7 @@
 #![allow(dead_code)]
 
 use delamesh_core::mesh::{CellField, CurveId, PatchId, SubdomainId, SurfaceMesh, TetMesh};
+use delamesh_formats::{Format, WriteOptions, write_tet_mesh_to};
 use glam::DVec3;
 
 /// An outward-oriented box of 12 triangles with one patch per side pair, its corners with
@@ -74,4 +75,23 @@ pub fn cube_tets() -> TetMesh {
         },
     ];
     m
+}
+
+/// The VTK writers, each binary and ASCII.
+pub const VTK_VARIANTS: [(Format, bool); 4] = [
+    (Format::Vtu, false),
+    (Format::Vtu, true),
+    (Format::Vtk, false),
+    (Format::Vtk, true),
+];
+
+/// [`cube_tets`] written as `format`, in ASCII if `ascii`.
+pub fn cube_tets_bytes(format: Format, ascii: bool) -> Vec<u8> {
+    let mut out = Vec::new();
+    let options = WriteOptions {
+        ascii,
+        ..WriteOptions::default()
+    };
+    write_tet_mesh_to(&mut out, &cube_tets(), format, &options).unwrap();
+    out
 }

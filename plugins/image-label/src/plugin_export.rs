@@ -9,44 +9,37 @@
 
 use crate::{ImageLabelOracle, ImageOptions, Interpolation};
 use delamesh_core::plugin::PluginOracle;
-use std::path::Path;
+use delamesh_piecewise_smooth::read_config;
+
+/// What the first line names, and the `key=value` lines known.
+const INPUT: &str = "a 3D image";
+const EXPECTED: &str =
+    "background=L, isovalue=V, interpolation=nearest|trilinear or features=on|off";
 
 impl PluginOracle for ImageLabelOracle {
     fn from_config(config: &str) -> Result<Self, String> {
-        let mut lines = config.lines().map(str::trim).filter(|l| !l.is_empty());
-        let path = Path::new(lines.next().unwrap_or_default());
-        if path.as_os_str().is_empty() {
-            return Err("the configuration must start with the path of a 3D image".into());
-        }
         let mut options = ImageOptions::default();
-        for line in lines {
-            let number = |v: &str| {
-                v.parse::<f64>()
-                    .map_err(|_| format!("{line:?}: not a number"))
-            };
-            match line.split_once('=').map(|(k, v)| (k.trim(), v.trim())) {
-                Some(("background", v)) => {
+        let path = read_config(config, INPUT, EXPECTED, |line, kv| {
+            match kv {
+                ("background", v) => {
                     options.background = v
                         .parse()
                         .map_err(|_| format!("{line:?}: not a label (non-negative integer)"))?;
                 }
-                Some(("isovalue", v)) => options.isovalue = Some(number(v)?),
-                Some(("interpolation", "nearest")) => {
-                    options.interpolation = Interpolation::Nearest
+                ("isovalue", v) => {
+                    let v = v.parse::<f64>();
+                    options.isovalue = Some(v.map_err(|_| format!("{line:?}: not a number"))?);
                 }
-                Some(("interpolation", "trilinear")) => {
+                ("interpolation", "nearest") => options.interpolation = Interpolation::Nearest,
+                ("interpolation", "trilinear") => {
                     options.interpolation = Interpolation::Trilinear;
                 }
-                Some(("features", "on")) => options.features = true,
-                Some(("features", "off")) => options.features = false,
-                _ => {
-                    return Err(format!(
-                        "unknown configuration line {line:?} (expected background=L, isovalue=V, \
-                         interpolation=nearest|trilinear or features=on|off)"
-                    ));
-                }
+                ("features", "on") => options.features = true,
+                ("features", "off") => options.features = false,
+                _ => return Ok(false),
             }
-        }
+            Ok(true)
+        })?;
         let image = delamesh_formats::image::read_image(path).map_err(|e| e.to_string())?;
         ImageLabelOracle::new(&image, &options).map_err(|e| format!("{}: {e}", path.display()))
     }

@@ -137,6 +137,17 @@ fn assert_volume(v: f64, exact: f64, area: f64, distance: f64, voxel: f64) {
     );
 }
 
+/// [`assert_volume`] for a ball of radius `r`.
+fn assert_ball_volume(v: f64, r: f64, distance: f64, voxel: f64) {
+    assert_volume(
+        v,
+        4.0 / 3.0 * PI * r.powi(3),
+        4.0 * PI * r * r,
+        distance,
+        voxel,
+    );
+}
+
 #[test]
 fn a_ball_is_meshed_inside_its_voxels_with_its_volume() {
     let (c0, r) = (DVec3::splat(12.0), 8.0);
@@ -155,13 +166,7 @@ fn a_ball_is_meshed_inside_its_voxels_with_its_volume() {
         1.5,
     );
     let v = volumes(&c);
-    assert_volume(
-        v[&1],
-        4.0 / 3.0 * PI * r.powi(3),
-        4.0 * PI * r * r,
-        distance,
-        1.0,
-    );
+    assert_ball_volume(v[&1], r, distance, 1.0);
     assert_closed_interfaces(&c, &oracle, &[([0, 1], 2)]);
 }
 
@@ -207,13 +212,7 @@ fn an_anisotropic_voxel_size_is_honoured() {
     let c = mesh(&oracle, criteria(2.0, distance));
     assert_tets_in_their_voxels(&c, spacing, label, |p| ((p - c0).length() - r).abs(), 1.25);
     let v = volumes(&c);
-    assert_volume(
-        v[&1],
-        4.0 / 3.0 * PI * r.powi(3),
-        4.0 * PI * r * r,
-        distance,
-        1.25,
-    );
+    assert_ball_volume(v[&1], r, distance, 1.25);
     assert_closed_interfaces(&c, &oracle, &[([0, 1], 2)]);
 }
 
@@ -411,6 +410,30 @@ fn distance_to_feature_edges(c: &MeshComplex, p: DVec3) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// Every segment is followed by mesh edges: 21 points along it lie within `tol` of one.
+fn assert_segments_on_feature_edges(c: &MeshComplex, segments: &[[DVec3; 2]], tol: f64) {
+    for s in segments {
+        for k in 0..=20 {
+            let p = s[0].lerp(s[1], f64::from(k) / 20.0);
+            assert!(
+                distance_to_feature_edges(c, p) <= tol,
+                "{p} off the mesh edges"
+            );
+        }
+    }
+}
+
+/// Each label's volume is within the relative tolerance `rel` of the wanted one.
+fn assert_volumes_near(v: &BTreeMap<u32, f64>, want: &[(u32, f64)], rel: f64) {
+    for &(l, want) in want {
+        assert!(
+            (v[&l] - want).abs() <= rel * want,
+            "label {l}: {} vs {want}",
+            v[&l]
+        );
+    }
+}
+
 /// The distance from `p` to the segment `[a, b]`.
 fn to_segment(p: DVec3, a: DVec3, b: DVec3) -> f64 {
     delamesh_core::refine::curves::point_segment_distance(p, a, b)
@@ -472,15 +495,7 @@ fn triple_lines_of_three_touching_boxes_are_mesh_edges() {
             assert!(to_triple(c.points[v as usize]) <= 0.75);
         }
     }
-    for s in &triple {
-        for k in 0..=20 {
-            let p = s[0].lerp(s[1], f64::from(k) / 20.0);
-            assert!(
-                distance_to_feature_edges(&c, p) <= 0.75,
-                "{p} off the mesh edges"
-            );
-        }
-    }
+    assert_segments_on_feature_edges(&c, &triple, 0.75);
     assert_closed_regions(&c, &[1, 2, 3], 2);
     let dist = |p: DVec3| {
         let mut d = (p.z - 7.5).abs().min((p.x - 9.5).abs());
@@ -494,17 +509,15 @@ fn triple_lines_of_three_touching_boxes_are_mesh_edges() {
     // off, by about the facet distance across each.
     let v = volumes(&c);
     let exact = |dx: f64, dz: f64| dx * 17.0 * dz;
-    for (l, want) in [
-        (1, exact(8.0, 11.0)),
-        (2, exact(9.0, 11.0)),
-        (3, exact(17.0, 6.0)),
-    ] {
-        assert!(
-            (v[&l] - want).abs() <= 0.05 * want,
-            "label {l}: {} vs {want}",
-            v[&l]
-        );
-    }
+    assert_volumes_near(
+        &v,
+        &[
+            (1, exact(8.0, 11.0)),
+            (2, exact(9.0, 11.0)),
+            (3, exact(17.0, 6.0)),
+        ],
+        0.05,
+    );
 }
 
 #[test]
@@ -528,26 +541,12 @@ fn labels_filling_the_image_keep_its_box_edges_and_border_curves() {
         lines.push([v(7.5, a, 0.0), v(7.5, a, m)]);
         lines.push([v(7.5, 0.0, a), v(7.5, m, a)]);
     }
-    for s in &lines {
-        for k in 0..=20 {
-            let p = s[0].lerp(s[1], f64::from(k) / 20.0);
-            assert!(
-                distance_to_feature_edges(&c, p) <= 0.5,
-                "{p} off the mesh edges"
-            );
-        }
-    }
+    assert_segments_on_feature_edges(&c, &lines, 0.5);
     assert_closed_regions(&c, &[1, 2], 2);
     // With its edges followed, the box is meshed exactly but for the interface's rounding.
     let v = volumes(&c);
     let area = m * m;
-    for (l, want) in [(1, 7.5 * area), (2, (m - 7.5) * area)] {
-        assert!(
-            (v[&l] - want).abs() <= 0.01 * want,
-            "label {l}: {} vs {want}",
-            v[&l]
-        );
-    }
+    assert_volumes_near(&v, &[(1, 7.5 * area), (2, (m - 7.5) * area)], 0.01);
 }
 
 #[test]

@@ -11,34 +11,58 @@ use crate::{FeatureOptions, PiecewiseSmoothOracle, read_polylines};
 use delamesh_core::plugin::PluginOracle;
 use std::path::Path;
 
+/// Reads a plugin configuration: the path of `what` on its first non-blank line, then `key=value`
+/// lines, each handed to `apply` with the whole line, which returns `Ok(false)` for a key it does
+/// not know: an error naming the `expected` lines. Shared by the plugins built on this crate.
+pub fn read_config<'a>(
+    config: &'a str,
+    what: &str,
+    expected: &str,
+    mut apply: impl FnMut(&str, (&'a str, &'a str)) -> Result<bool, String>,
+) -> Result<&'a Path, String> {
+    let mut lines = config.lines().map(str::trim).filter(|l| !l.is_empty());
+    let path = Path::new(lines.next().unwrap_or_default());
+    if path.as_os_str().is_empty() {
+        return Err(format!(
+            "the configuration must start with the path of {what}"
+        ));
+    }
+    for line in lines {
+        let known = match line.split_once('=') {
+            Some((k, v)) => apply(line, (k.trim(), v.trim()))?,
+            None => false,
+        };
+        if !known {
+            return Err(format!(
+                "unknown configuration line {line:?} (expected {expected})"
+            ));
+        }
+    }
+    Ok(path)
+}
+
+/// What the first line names, and the `key=value` lines known.
+const INPUT: &str = "a closed surface file";
+const EXPECTED: &str = "feature-angle=DEG or features=FILE";
+
 impl PluginOracle for PiecewiseSmoothOracle {
     fn from_config(config: &str) -> Result<Self, String> {
-        let mut lines = config.lines().map(str::trim).filter(|l| !l.is_empty());
-        let path = Path::new(lines.next().unwrap_or_default());
-        if path.as_os_str().is_empty() {
-            return Err(
-                "the configuration must start with the path of a closed surface file".into(),
-            );
-        }
         let mut options = FeatureOptions::default();
         let mut polylines = Vec::new();
-        for line in lines {
-            match line.split_once('=').map(|(k, v)| (k.trim(), v.trim())) {
-                Some(("feature-angle", v)) => {
+        let path = read_config(config, INPUT, EXPECTED, |_, kv| {
+            match kv {
+                ("feature-angle", v) => {
                     options.angle_deg = v
                         .parse()
                         .map_err(|_| format!("feature-angle: {v:?} is not a number"))?;
                 }
-                Some(("features", v)) => {
+                ("features", v) => {
                     polylines = read_polylines(Path::new(v)).map_err(|e| e.to_string())?;
                 }
-                _ => {
-                    return Err(format!(
-                        "unknown configuration line {line:?} (expected feature-angle=DEG or features=FILE)"
-                    ));
-                }
+                _ => return Ok(false),
             }
-        }
+            Ok(true)
+        })?;
         let surface = delamesh_formats::read_surface(path, None)
             .map_err(|e| e.to_string())?
             .mesh;

@@ -49,6 +49,15 @@ fn check_consistency(f: &Features) {
     assert_eq!(used, (1..=f.num_patches).collect::<Vec<_>>());
 }
 
+/// [`check_consistency`], and the numbers of curves, corners and patches.
+fn check_counts(f: &Features, curves: usize, corners: usize, patches: u32) {
+    check_consistency(f);
+    assert_eq!(
+        (f.curves.len(), f.corners.len(), f.num_patches),
+        (curves, corners, patches)
+    );
+}
+
 fn bits(p: DVec3) -> [u64; 3] {
     p.to_array().map(f64::to_bits)
 }
@@ -80,10 +89,7 @@ fn prisms_have_three_curves_and_two_corners_per_polygon_vertex() {
     // Facets turning by 72° (> 60°) make the side edges sharp too.
     for (sides, height) in [(3, 1.0), (4, 0.5), (5, 2.0)] {
         let f = extract(&cylinder(1.0, height, sides));
-        check_consistency(&f);
-        assert_eq!(f.curves.len(), 3 * sides, "{sides}");
-        assert_eq!(f.corners.len(), 2 * sides);
-        assert_eq!(f.num_patches as usize, sides + 2);
+        check_counts(&f, 3 * sides, 2 * sides, sides as u32 + 2);
     }
 }
 
@@ -118,10 +124,7 @@ fn cylinder_has_two_closed_circles_no_corner_three_patches() {
 #[test]
 fn l_bracket_is_a_prism_over_a_hexagon() {
     let f = extract(&l_bracket());
-    check_consistency(&f);
-    assert_eq!(f.curves.len(), 18);
-    assert_eq!(f.corners.len(), 12);
-    assert_eq!(f.num_patches, 8);
+    check_counts(&f, 18, 12, 8);
     // The concave edge is a feature too.
     let concave = [DVec3::new(1.0, 1.0, 0.0), DVec3::new(1.0, 1.0, 1.0)];
     assert!(
@@ -136,12 +139,9 @@ fn l_bracket_is_a_prism_over_a_hexagon() {
 #[test]
 fn box_with_hole_has_curves_around_the_hole() {
     let f = extract(&box_with_hole());
-    check_consistency(&f);
-    // Outer box: 12 curves and 8 corners; the hole: 4 walls' edges and two square rims.
-    assert_eq!(f.curves.len(), 24);
-    assert_eq!(f.corners.len(), 16);
+    // Outer box: 12 curves and 8 corners; the hole: 4 walls' edges and two square rims. Patches:
     // 4 outer sides, 4 hole walls, the top and bottom rings.
-    assert_eq!(f.num_patches, 10);
+    check_counts(&f, 24, 16, 10);
     let on_hole = |p: &DVec3| (p.x == 1.0 || p.x == 2.0) && (p.y == 1.0 || p.y == 2.0);
     let hole_curves = f
         .curves
@@ -160,10 +160,7 @@ fn box_with_hole_has_curves_around_the_hole() {
 fn wedges_keep_their_sharp_edge() {
     for angle in [20.0, 5.0] {
         let f = extract(&wedge(angle, 1.0, 0.5));
-        check_consistency(&f);
-        assert_eq!(f.curves.len(), 9, "{angle}");
-        assert_eq!(f.corners.len(), 6);
-        assert_eq!(f.num_patches, 5);
+        check_counts(&f, 9, 6, 5);
         let edge = [DVec3::ZERO, DVec3::new(0.0, 0.0, 0.5)];
         let sharp = f
             .curves
@@ -177,13 +174,10 @@ fn wedges_keep_their_sharp_edge() {
 #[test]
 fn two_boxes_share_an_interface_patch() {
     let f = extract(&two_boxes());
-    check_consistency(&f);
     assert_eq!(f.shared_faces.len(), 2);
-    // The union's 12 edges, the 4 along x cut in two by the interface, plus its 4 edges.
-    assert_eq!(f.curves.len(), 20);
-    assert_eq!(f.corners.len(), 12);
-    // 5 outer faces per box and the interface.
-    assert_eq!(f.num_patches, 11);
+    // Curves: the union's 12 edges, the 4 along x cut in two by the interface, plus its 4 edges.
+    // Patches: 5 outer faces per box and the interface.
+    check_counts(&f, 20, 12, 11);
     let interface = f.triangle_patches[f.shared_faces[0][0] as usize];
     for &[a, b] in &f.shared_faces {
         assert_eq!(f.triangle_patches[a as usize], interface);
@@ -230,11 +224,8 @@ fn user_polylines_follow_surface_edges_and_split_patches() {
         points: vec![DVec3::new(1.0, 0.0, 1.0), DVec3::new(1.0, 2.0, 1.0 + 1e-9)],
     };
     let f = Features::extract(&block, &FeatureOptions::default(), &[line]).unwrap();
-    check_consistency(&f);
-    assert_eq!(f.num_patches, 7);
     // The polyline's ends were on box edges: each edge is cut in two there.
-    assert_eq!(f.curves.len(), 12 + 2 + 1);
-    assert_eq!(f.corners.len(), 10);
+    check_counts(&f, 12 + 2 + 1, 10, 7);
     let user = f
         .curves
         .iter()

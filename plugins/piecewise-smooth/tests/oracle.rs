@@ -1,7 +1,7 @@
 //! The piecewise-smooth oracle: patches of hits, features through the `Oracle` trait, subdomains.
 
 use delamesh_core::mesh::SurfaceMesh;
-use delamesh_core::oracle::{OUTSIDE, Oracle};
+use delamesh_core::oracle::{OUTSIDE, Oracle, SurfaceHit};
 use delamesh_piecewise_smooth::models::{cylinder, two_boxes};
 use delamesh_piecewise_smooth::{FeatureOptions, PiecewiseSmoothOracle};
 use delamesh_polyhedral::PolyhedralOracle;
@@ -9,6 +9,13 @@ use glam::DVec3;
 
 fn oracle(s: &SurfaceMesh) -> PiecewiseSmoothOracle {
     PiecewiseSmoothOracle::from_surface(s, &FeatureOptions::default(), &[]).expect("valid")
+}
+
+/// The surface hits along the segment from `a` to `b`.
+fn segment_hits(o: &impl Oracle, a: DVec3, b: DVec3) -> Vec<SurfaceHit> {
+    let mut hits = Vec::new();
+    o.segment_hits(a, b, &mut hits);
+    hits
 }
 
 #[test]
@@ -95,22 +102,12 @@ fn two_boxes_are_two_subdomains_across_one_interface_hit() {
     assert!((o.polyhedral().domain_volume() - 2.0).abs() < 1e-12);
     let f = o.features();
     let interface = f.triangle_patches[f.shared_faces[0][0] as usize];
-    let mut hits = Vec::new();
-    o.segment_hits(
-        DVec3::new(0.5, 0.4, 0.3),
-        DVec3::new(1.5, 0.45, 0.35),
-        &mut hits,
-    );
+    let mut hits = segment_hits(&o, DVec3::new(0.5, 0.4, 0.3), DVec3::new(1.5, 0.45, 0.35));
     assert_eq!(hits.len(), 1);
     assert_eq!(hits[0].patch, interface);
     assert_eq!(hits[0].point.x, 1.0);
     // Through both boxes: in, interface, out, with three different patches.
-    hits.clear();
-    o.segment_hits(
-        DVec3::new(-0.5, 0.4, 0.3),
-        DVec3::new(2.5, 0.45, 0.35),
-        &mut hits,
-    );
+    hits = segment_hits(&o, DVec3::new(-0.5, 0.4, 0.3), DVec3::new(2.5, 0.45, 0.35));
     assert_eq!(hits.len(), 3);
     assert_eq!(hits[1].patch, interface);
     assert!(hits[0].patch != hits[2].patch && hits[0].patch != interface);

@@ -193,16 +193,16 @@ impl FlatRegion {
         }
     }
 
-    /// Calls `found(t)` for the triangles of the region that cross triangle `g`, `ids` of `g`.
+    /// Calls `found(t)` for the triangles of the region that cross triangle `i`.
     fn crossings(
         &self,
-        ids: &[u32; 3],
-        g: &[DVec3; 3],
+        i: usize,
         triangles: &[[u32; 3]],
         geometry: &[[DVec3; 3]],
         work: &mut usize,
         mut found: impl FnMut(usize),
     ) {
+        let (ids, g) = (&triangles[i], &geometry[i]);
         *work += 1;
         if !self.may_cross(g) {
             return;
@@ -272,14 +272,7 @@ fn crossing_pairs(
         let mut near = Vec::new();
         small_tree.for_each_near_box(r.min, r.max, |j| near.push(small[j as usize] as usize));
         for i in near {
-            r.crossings(
-                &triangles[i],
-                &geometry[i],
-                triangles,
-                geometry,
-                &mut c.work,
-                |t| push(i, t),
-            );
+            r.crossings(i, triangles, geometry, &mut c.work, |t| push(i, t));
         }
     }
     // Large regions near each other, found through a tree whose "triangles" span their boxes.
@@ -291,14 +284,7 @@ fn crossing_pairs(
             if b as usize > a {
                 for &i in &r.triangles {
                     let i = i as usize;
-                    other.crossings(
-                        &triangles[i],
-                        &geometry[i],
-                        triangles,
-                        geometry,
-                        &mut c.work,
-                        |t| push(i, t),
-                    );
+                    other.crossings(i, triangles, geometry, &mut c.work, |t| push(i, t));
                 }
             }
         });

@@ -1,6 +1,6 @@
 //! Properties of the polyhedral oracle on simple closed surfaces.
 
-use delamesh_core::oracle::{OUTSIDE, Oracle};
+use delamesh_core::oracle::{OUTSIDE, Oracle, SurfaceHit};
 use delamesh_polyhedral::{PolyhedralError, PolyhedralOptions, PolyhedralOracle};
 use glam::DVec3;
 
@@ -13,6 +13,13 @@ fn cube(offset: DVec3, scale: f64, inward: bool) -> (Vec<DVec3>, Vec<[u32; 3]>) 
         .map(|[a, b, c]| if inward { [a, c, b] } else { [a, b, c] })
         .collect();
     (m.positions, tris)
+}
+
+/// The surface hits along the segment from `a` to `b`.
+fn segment_hits(o: &impl Oracle, a: DVec3, b: DVec3) -> Vec<SurfaceHit> {
+    let mut hits = Vec::new();
+    o.segment_hits(a, b, &mut hits);
+    hits
 }
 
 fn merge(
@@ -82,23 +89,13 @@ fn nested_cubes_give_two_subdomains_or_a_hollow() {
 fn segment_hits_are_sorted_with_patches() {
     let (p, t) = cube(DVec3::ZERO, 1.0, false);
     let o = PolyhedralOracle::new(&p, &t, None).expect("valid cube");
-    let mut hits = Vec::new();
-    o.segment_hits(
-        DVec3::new(-1.0, 0.3, 0.4),
-        DVec3::new(2.0, 0.3, 0.4),
-        &mut hits,
-    );
+    let mut hits = segment_hits(&o, DVec3::new(-1.0, 0.3, 0.4), DVec3::new(2.0, 0.3, 0.4));
     assert_eq!(hits.len(), 2);
     assert!((hits[0].point.x - 0.0).abs() < 1e-12 && (hits[1].point.x - 1.0).abs() < 1e-12);
     assert!(hits[0].t < hits[1].t);
     assert!(hits.iter().all(|h| h.patch.0 == 1));
     // Through an edge shared by two triangles (the face diagonal): reported once.
-    hits.clear();
-    o.segment_hits(
-        DVec3::new(0.5, 0.5, -1.0),
-        DVec3::new(0.5, 0.5, 0.5),
-        &mut hits,
-    );
+    hits = segment_hits(&o, DVec3::new(0.5, 0.5, -1.0), DVec3::new(0.5, 0.5, 0.5));
     assert_eq!(hits.len(), 1);
     hits.clear();
     o.ray_hits(DVec3::splat(0.5), DVec3::new(0.0, 0.0, 2.0), &mut hits);
@@ -203,12 +200,7 @@ fn boxes_sharing_a_face_are_two_subdomains_not_a_self_intersection() {
     assert_eq!(o.subdomain(DVec3::new(2.5, 0.5, 0.5)), OUTSIDE);
     assert!((o.domain_volume() - 2.0).abs() < 1e-12);
     // Crossing the common face meets it once.
-    let mut hits = Vec::new();
-    o.segment_hits(
-        DVec3::new(0.5, 0.3, 0.4),
-        DVec3::new(1.5, 0.3, 0.4),
-        &mut hits,
-    );
+    let hits = segment_hits(&o, DVec3::new(0.5, 0.3, 0.4), DVec3::new(1.5, 0.3, 0.4));
     assert_eq!(hits.len(), 1);
     assert_eq!(hits[0].point.x, 1.0);
 

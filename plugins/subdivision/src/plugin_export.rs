@@ -6,21 +6,22 @@
 
 use crate::{SubdivisionOptions, SubdivisionOracle};
 use delamesh_core::plugin::PluginOracle;
+use delamesh_piecewise_smooth::{read_config, read_polylines};
 use std::path::Path;
+
+/// What the first line names, and the `key=value` lines known.
+const INPUT: &str = "a control mesh";
+const EXPECTED: &str =
+    "scheme=loop|catmull-clark, crease-angle=DEG, group-creases=yes|no or features=FILE";
 
 impl PluginOracle for SubdivisionOracle {
     fn from_config(config: &str) -> Result<Self, String> {
-        let mut lines = config.lines().map(str::trim).filter(|l| !l.is_empty());
-        let path = Path::new(lines.next().unwrap_or_default());
-        if path.as_os_str().is_empty() {
-            return Err("the configuration must start with the path of a control mesh".into());
-        }
         let mut options = SubdivisionOptions::default();
         let mut polylines = Vec::new();
-        for line in lines {
-            match line.split_once('=').map(|(k, v)| (k.trim(), v.trim())) {
-                Some(("scheme", v)) => options.scheme = Some(v.parse()?),
-                Some(("crease-angle", v)) => {
+        let path = read_config(config, INPUT, EXPECTED, |line, kv| {
+            match kv {
+                ("scheme", v) => options.scheme = Some(v.parse()?),
+                ("crease-angle", v) => {
                     let deg = v
                         .parse::<f64>()
                         .ok()
@@ -28,20 +29,15 @@ impl PluginOracle for SubdivisionOracle {
                         .ok_or_else(|| format!("{line:?}: not an angle in degrees (0 to 180)"))?;
                     options.crease_angle_deg = Some(deg);
                 }
-                Some(("group-creases", "no")) => options.group_creases = false,
-                Some(("group-creases", "yes")) => options.group_creases = true,
-                Some(("features", v)) => {
-                    polylines = delamesh_piecewise_smooth::read_polylines(Path::new(v))
-                        .map_err(|e| e.to_string())?;
+                ("group-creases", "no") => options.group_creases = false,
+                ("group-creases", "yes") => options.group_creases = true,
+                ("features", v) => {
+                    polylines = read_polylines(Path::new(v)).map_err(|e| e.to_string())?;
                 }
-                _ => {
-                    return Err(format!(
-                        "unknown configuration line {line:?} (expected scheme=loop|catmull-clark, \
-                         crease-angle=DEG, group-creases=yes|no or features=FILE)"
-                    ));
-                }
+                _ => return Ok(false),
             }
-        }
+            Ok(true)
+        })?;
         let (mesh, _warnings) =
             delamesh_formats::read_polygons(path, None).map_err(|e| e.to_string())?;
         SubdivisionOracle::new(&mesh, &options, &polylines)
