@@ -273,3 +273,33 @@ fn random_star_shaped_polygons_mesh_and_conform() {
         );
     }
 }
+
+/// A notched outline (a slot cut down from the top edge, its pocket outside the domain) with a
+/// square hole right beside the slot: both stay empty, and the rest is covered exactly.
+#[test]
+fn a_notch_with_a_hole_beside_it_meshes() {
+    let outline = vec![
+        v(0.0, 0.0),
+        v(4.0, 0.0),
+        v(4.0, 3.0),
+        v(2.2, 3.0),
+        v(2.2, 1.0),
+        v(1.8, 1.0),
+        v(1.8, 3.0),
+        v(0.0, 3.0),
+    ];
+    let hole = vec![v(2.4, 1.5), v(3.0, 1.5), v(3.0, 2.1), v(2.4, 2.1)];
+    let input = Pslg {
+        holes: vec![v(2.7, 1.8)],
+        ..loops(&[outline, hole])
+    };
+    let m = mesh_checked(&input, 25.0, None);
+    let expected = 12.0 - 0.4 * 2.0 - 0.6 * 0.6;
+    assert!((area(&m) - expected).abs() < 1e-9, "area {}", area(&m));
+    for t in &m.triangles {
+        let c = t.iter().map(|&i| m.points[i as usize]).sum::<DVec2>() / 3.0;
+        let in_slot = c.x > 1.8 && c.x < 2.2 && c.y > 1.0;
+        let in_hole = c.x > 2.4 && c.x < 3.0 && c.y > 1.5 && c.y < 2.1;
+        assert!(!in_slot && !in_hole, "a triangle at {c:?}");
+    }
+}
