@@ -4,8 +4,8 @@
 # and tested against the command line. Installs the Python clients if they are missing.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-if ! python3 -c "import numpy, meshio, vtk, pymeshlab, pytest" 2>/dev/null; then
-  echo "installing the Python clients of tests/clients (VTK, meshio, pymeshlab, pytest)" >&2
+if ! python3 -c "import numpy, meshio, vtk, pymeshlab, pytest, nibabel, pyvista" 2>/dev/null; then
+  echo "installing the Python clients of tests/clients (VTK, meshio, pymeshlab, pytest, nibabel, pyvista)" >&2
   python3 -m pip install --quiet --disable-pip-version-check -r tests/clients/requirements.txt
 fi
 # No incremental cache: a one-off build does not reuse it, and it doubles the size of target/.
