@@ -219,8 +219,8 @@ pub struct RefinementReport {
     pub dropped: usize,
     /// Rounds of validity repairs after the criteria were met.
     pub repair_rounds: usize,
-    /// Times the sharp features were protected again with smaller balls where the boundary
-    /// stayed non-manifold (the other counts are those of the last attempt).
+    /// Times the sharp features were protected again with smaller balls before the attempt kept
+    /// (the other counts are those of that attempt).
     pub reprotections: usize,
 }
 

@@ -189,8 +189,8 @@ pub struct RefineStats {
     /// Rounds of validity repairs after the criteria were met (flat cells, non-manifold spots,
     /// topology differences), each followed by refinement to the criteria again.
     pub repair_rounds: usize,
-    /// Times the sharp features were protected again with smaller balls where the boundary
-    /// stayed non-manifold (the counts are those of the last attempt).
+    /// Times the sharp features were protected again with smaller balls before the attempt kept
+    /// (see `mesh_with_features`; the other counts are those of that attempt).
     pub reprotections: usize,
     /// Insertions per level, in priority order.
     pub insertions: Vec<usize>,

@@ -191,45 +191,58 @@ pub fn mesh_with_features<T: Triangulation<Point = Point3> + Clone>(
     let mut best_so_far: Option<Refined<'_, T>> = None;
     loop {
         let attempt_start = Instant::now();
-        let edge_size = shrunk_near(&options.criteria.edge_size, &spots);
-        let protection = protect(curves, corners, &edge_size, &limits)?;
-        let mut surface = SurfaceLevel::new(oracle, options.criteria.facet.clone())
-            .check_patches()
-            .min_radius(floor);
-        let cells = CellLevel::new(oracle, options.criteria.cell.clone())
-            .outside_box()
-            .min_radius(floor);
-        let mut tr = tr.clone();
-        let mut vertices = Vec::with_capacity(protection.balls.len());
-        for b in &protection.balls {
-            let v = insert_ball(&mut tr, b.center, b.radius * b.radius)
-                .map_err(MeshError::InitialPoint)?;
-            if let Some(v) = v {
-                surface.mark_on_patch(v, PatchId(0));
+        // A retry that cannot be protected (more balls than allowed, the time limit) falls back
+        // on the attempt before it.
+        let attempt_outcome = (|| -> Result<Refined<'_, T>, MeshError> {
+            let edge_size = shrunk_near(&options.criteria.edge_size, &spots);
+            let protection = protect(curves, corners, &edge_size, &limits)?;
+            let mut surface = SurfaceLevel::new(oracle, options.criteria.facet.clone())
+                .check_patches()
+                .min_radius(floor);
+            let cells = CellLevel::new(oracle, options.criteria.cell.clone())
+                .outside_box()
+                .min_radius(floor);
+            let mut tr = tr.clone();
+            let mut vertices = Vec::with_capacity(protection.balls.len());
+            for b in &protection.balls {
+                let v = insert_ball(&mut tr, b.center, b.radius * b.radius)
+                    .map_err(MeshError::InitialPoint)?;
+                if let Some(v) = v {
+                    surface.mark_on_patch(v, PatchId(0));
+                }
+                vertices.push(v);
             }
-            vertices.push(v);
-        }
-        let curve_level = CurveLevel::new(protection, vertices);
-        for p in oracle.initial_points() {
-            if curve_level.in_a_ball(p.point) {
-                continue;
+            let curve_level = CurveLevel::new(protection, vertices);
+            for p in oracle.initial_points() {
+                if curve_level.in_a_ball(p.point) {
+                    continue;
+                }
+                if let InsertOutcome::Inserted(v) =
+                    tr.insert(p.point).map_err(MeshError::InitialPoint)?
+                {
+                    surface.mark_on_patch(v, p.patch);
+                }
             }
-            if let InsertOutcome::Inserted(v) =
-                tr.insert(p.point).map_err(MeshError::InitialPoint)?
-            {
-                surface.mark_on_patch(v, p.patch);
+            let initial_points = attempt_start.elapsed();
+            Ok(refine_with_repairs(
+                tr,
+                surface,
+                cells,
+                Some(curve_level),
+                &options,
+                initial_points,
+                progress,
+            ))
+        })();
+        let mut refined = match attempt_outcome {
+            Ok(refined) => refined,
+            Err(e) => {
+                return match best_so_far {
+                    Some(best) => collect_and_optimize(oracle, best, &options),
+                    None => Err(e),
+                };
             }
-        }
-        let initial_points = attempt_start.elapsed();
-        let mut refined = refine_with_repairs(
-            tr,
-            surface,
-            cells,
-            Some(curve_level),
-            &options,
-            initial_points,
-            progress,
-        );
+        };
         relabel(&mut refined, &options);
         refined.times.initial_points += attempt_start.duration_since(start);
         if let Ok(stats) = refined.result.as_mut() {
