@@ -24,14 +24,15 @@ const MAX_SWEEPS: usize = 3;
 const MAX_BOUND_DEG: f64 = 14.0;
 
 /// Pumps the vertices of the cells below `bound` degrees (at most [`MAX_BOUND_DEG`]), worst
-/// first, until a sweep improves nothing or the deadline passes. Returns the number of weight
-/// changes kept.
+/// first, until a sweep improves nothing or the deadline passes; once the worst cell is stuck,
+/// only the slivers below 10° (the perturbation's rule). Returns the number of weight changes
+/// kept.
 pub(super) fn exude(ws: &mut Workspace<'_>, bound: f64, deadline: &Deadline) -> usize {
     ws.sweep_slivers(
         bound.min(MAX_BOUND_DEG),
         deadline,
         MAX_SWEEPS,
-        false,
+        Some(0.0),
         |ws, c| {
             let cell = ws.rt.cell(c);
             cell.iter().any(|&v| pump(ws, v))

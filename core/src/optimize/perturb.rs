@@ -8,8 +8,8 @@
 //! boundary facets cannot be moved away without changing the surface: it is peeled off instead
 //! (see [`Workspace::peel`]), which flips the surface edge under it.
 
-use super::Deadline;
 use super::state::{Workspace, min_dihedral};
+use super::{Deadline, SLIVER_DEG};
 use crate::complex::VertexDimension;
 use crate::kernel::Point3;
 use crate::oracle::{PatchId, SurfaceHit};
@@ -27,28 +27,38 @@ const RANDOM_TRIES: usize = 2;
 /// Sweeps over the slivers at most.
 const MAX_SWEEPS: usize = 6;
 
-/// The bounds (degrees) the perturbation works up to before `bound`, as CGAL's perturber raises
-/// its own: the worst cells first get every move (a cell at 15° no longer takes the move that a
-/// 3° neighbour needed), then the bound rises and the cells a step refused are tried again.
-const SCHEDULE_DEG: [f64; 2] = [10.0, 14.0];
+/// The first bound (degrees) of the perturbation and the step by which it rises to `bound`, as
+/// CGAL's perturber raises its own: the worst cells first get every move (a cell at 15° no
+/// longer takes the move that a 3° neighbour needed), then the bound rises and the cells a step
+/// refused are tried again with their neighbours.
+const FIRST_BOUND_DEG: f64 = 10.0;
+const BOUND_STEP_DEG: f64 = 1.0;
+/// Once the worst cell of a sweep is stuck, the sweep still works on the cells up to this much
+/// (degrees) above it, whose moves can free it (see [`Workspace::sweep_slivers`]).
+const FLOOR_MARGIN_DEG: f64 = 2.0;
 
-/// Perturbs the vertices of the cells below each bound of [`SCHEDULE_DEG`] under `bound` and then
-/// `bound` degrees, worst first, until a sweep improves nothing or the deadline passes (the last
-/// bound also stops once the worst cell is stuck, but for the slivers below 10°). Returns the
+/// Perturbs the vertices of the cells below a bound rising from [`FIRST_BOUND_DEG`] to `bound`,
+/// worst first, until a sweep improves nothing or the deadline passes. Each bound stops once its
+/// worst cell is stuck, but for the slivers below 10°, and the perturbation ends at the first
+/// bound that did not raise the smallest angle, once that is above 10°: past that point it would
+/// only reshape cells that are no slivers, which took most of the phase's time. Returns the
 /// number of moves kept.
 pub(super) fn perturb(ws: &mut Workspace<'_>, bound: f64, deadline: &Deadline) -> usize {
     let mut rng = XorShift::new(0x9E37_79B9_7F4A_7C15);
-    let bounds = SCHEDULE_DEG.into_iter().filter(|&b| b < bound);
-    bounds
-        .chain(std::iter::once(bound))
-        .map(|b| {
-            // The last bound stops at a stuck floor: past it, it would only reshape cells that
-            // are no slivers, which took most of the phase's time.
-            ws.sweep_slivers(b, deadline, MAX_SWEEPS, b == bound, |ws, c| {
-                ws.peel(c) || perturb_cell(ws, c, &mut rng)
-            })
-        })
-        .sum()
+    let mut kept = 0;
+    let mut floor = ws.min_dihedral();
+    let mut b = FIRST_BOUND_DEG.min(bound);
+    loop {
+        kept += ws.sweep_slivers(b, deadline, MAX_SWEEPS, Some(FLOOR_MARGIN_DEG), |ws, c| {
+            ws.peel(c) || perturb_cell(ws, c, &mut rng)
+        });
+        let now = ws.min_dihedral();
+        if b >= bound || deadline.passed() || (now <= floor && now >= SLIVER_DEG) {
+            return kept;
+        }
+        floor = now;
+        b = (b + BOUND_STEP_DEG).min(bound);
+    }
 }
 
 /// Where a vertex of a sliver may go: anywhere (inside a subdomain), along its patch (a

@@ -18,7 +18,7 @@ use crate::refine::criteria::{MeshCriteria, Sizing};
 use crate::refine::curves::Polyline;
 use crate::refine::{facet_vertices, triangle_circumcenter};
 use crate::triangulation::{CellId, MoveReport, Regular3, Triangulation, VertexId};
-use std::collections::HashMap;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 /// Why the optimisers cannot start from a complex (they then leave it as it is).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
@@ -51,7 +51,7 @@ pub(super) struct Change {
     old_point: Point3,
     old_weight: f64,
     /// Subdomains of the destroyed cells, by sorted vertices (to restore them on undo).
-    saved: HashMap<[u32; 4], SubdomainId>,
+    saved: FxHashMap<[u32; 4], SubdomainId>,
     /// Smallest dihedral angle of the destroyed cells inside the domain.
     pub before: f64,
     /// Smallest dihedral angle of the created cells inside the domain.
@@ -63,14 +63,17 @@ pub(super) struct Workspace<'o> {
     pub rt: Regular3,
     /// Subdomain of each cell slot ([`OUTSIDE`] for infinite cells and cells outside).
     label: Vec<SubdomainId>,
-    boundary: HashMap<FacetKey, BoundaryFacet>,
+    /// [`min_dihedral_cos`] of each finite cell slot, updated with every move: a sweep reads
+    /// every cell's, which recomputed took a seventh of the phase.
+    cos: Vec<f64>,
+    boundary: FxHashMap<FacetKey, BoundaryFacet>,
     /// Dimension of each triangulation vertex.
     pub dimension: Vec<VertexDimension>,
     /// Feature edges (sorted triangulation vertex pairs): peeling may not flip them.
-    feature_edges: std::collections::HashSet<[u32; 2]>,
+    feature_edges: FxHashSet<[u32; 2]>,
     /// Boundary facets made by peeling: a cell under one is not peeled, so the surface moves
     /// by one flat layer at most (peels would otherwise erode it step by step).
-    peeled: std::collections::HashSet<FacetKey>,
+    peeled: FxHashSet<FacetKey>,
     /// The domain, for the optimisers that re-project surface vertices.
     pub oracle: &'o dyn crate::oracle::Oracle,
     /// The facet-distance criterion of refinement, which boundary facets changed by the
@@ -86,7 +89,7 @@ pub(super) struct Workspace<'o> {
     /// The feature curves of the domain, and the one each curve vertex inside a curve (two
     /// feature edges on it) moves along.
     curves: Vec<Polyline>,
-    curve_of: HashMap<u32, CurveVertex>,
+    curve_of: FxHashMap<u32, CurveVertex>,
     /// How far a feature edge may leave its curve ([`MeshCriteria::bend_tolerance`]), as
     /// protection placed them.
     bend_tolerance: f64,
@@ -117,9 +120,9 @@ fn curve_vertices(
     vertex_of: &[VertexId],
     dimension: &[VertexDimension],
     oracle: &dyn crate::oracle::Oracle,
-) -> (Vec<Polyline>, HashMap<u32, CurveVertex>) {
+) -> (Vec<Polyline>, FxHashMap<u32, CurveVertex>) {
     let mut curves = Vec::new();
-    let mut index = HashMap::new();
+    let mut index = FxHashMap::default();
     for c in oracle.feature_curves() {
         if let Some(p) = Polyline::new(&c.points, c.closed) {
             index.insert(c.id, curves.len());
@@ -127,7 +130,7 @@ fn curve_vertices(
         }
     }
     // Per vertex: the other ends of its feature edges, and the curve if all are on one.
-    let mut seen: HashMap<u32, (Vec<VertexId>, Option<usize>)> = HashMap::new();
+    let mut seen: FxHashMap<u32, (Vec<VertexId>, Option<usize>)> = FxHashMap::default();
     for (e, &id) in complex
         .feature_edges
         .iter()
@@ -236,13 +239,24 @@ pub(super) fn positive(mut q: [VertexId; 4]) -> [VertexId; 4] {
     q
 }
 
-/// Smallest dihedral angle (degrees) of the tetrahedron; 0 when flat or inverted. The angle at
-/// the edge shared by the faces opposite `k` and `l` is π minus the angle between their outward
-/// normals, so the smallest is the arccosine of the largest `-n_k·n_l`: one arccosine and no
-/// allocation (the optimisers evaluate it for every cell of every move they try).
+/// Smallest dihedral angle (degrees) of the tetrahedron; 0 when flat or inverted.
 pub(super) fn min_dihedral(p: &[Point3; 4]) -> f64 {
+    degrees(min_dihedral_cos(p))
+}
+
+/// The angle (degrees) of a cosine from [`min_dihedral_cos`].
+fn degrees(cos: f64) -> f64 {
+    cos.clamp(-1.0, 1.0).acos().to_degrees().max(0.0)
+}
+
+/// Cosine of the smallest dihedral angle of the tetrahedron; 1 when flat or inverted. The angle
+/// at the edge shared by the faces opposite `k` and `l` is π minus the angle between their
+/// outward normals, so the smallest is the arccosine of the largest `-n_k·n_l`: no arccosine
+/// and no allocation (the optimisers evaluate it for every cell of every move they try, and
+/// for every cell of the mesh at each sweep, where comparing cosines spares the arccosines).
+fn min_dihedral_cos(p: &[Point3; 4]) -> f64 {
     if tet_volume(p) <= 0.0 {
-        return 0.0;
+        return 1.0;
     }
     const OTHERS: [[usize; 3]; 4] = [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]];
     let normal = |k: usize| {
@@ -258,7 +272,7 @@ pub(super) fn min_dihedral(p: &[Point3; 4]) -> f64 {
             largest = largest.max(-n[k].dot(n[l]));
         }
     }
-    largest.clamp(-1.0, 1.0).acos().to_degrees().max(0.0)
+    largest
 }
 
 impl<'o> Workspace<'o> {
@@ -301,7 +315,8 @@ impl<'o> Workspace<'o> {
                 return Err(WorkspaceError::Vertices);
             }
         }
-        let mut cell_of: HashMap<[u32; 4], CellId> = HashMap::with_capacity(rt.num_cells());
+        let mut cell_of: FxHashMap<[u32; 4], CellId> =
+            FxHashMap::with_capacity_and_hasher(rt.num_cells(), Default::default());
         for c in rt.finite_cells() {
             cell_of.insert(quad_key(rt.cell(c)), c);
         }
@@ -311,7 +326,8 @@ impl<'o> Workspace<'o> {
             let c = cell_of.get(&key).ok_or(WorkspaceError::NotRegular)?;
             label[c.0 as usize] = sub;
         }
-        let mut boundary = HashMap::with_capacity(complex.facets.len());
+        let mut boundary =
+            FxHashMap::with_capacity_and_hasher(complex.facets.len(), Default::default());
         for (k, f) in complex.facets.iter().enumerate() {
             let mut key = f.map(|i| vertex_of[i as usize].0);
             key.sort_unstable();
@@ -336,15 +352,20 @@ impl<'o> Workspace<'o> {
             })
             .collect();
         let (curves, curve_of) = curve_vertices(complex, &vertex_of, &dimension, oracle);
+        let mut cos = vec![1.0; rt.cell_capacity()];
+        for c in rt.finite_cells() {
+            cos[c.0 as usize] = min_dihedral_cos(&positive(rt.cell(c)).map(|v| rt.point(v)));
+        }
         let ws = Workspace {
             curves,
             curve_of,
             rt,
             label,
+            cos,
             boundary,
             dimension,
             feature_edges,
-            peeled: std::collections::HashSet::new(),
+            peeled: FxHashSet::default(),
             oracle,
             facet_distance: criteria.facet.distance.clone(),
             cell_size: criteria.cell.size.clone(),
@@ -470,7 +491,25 @@ impl<'o> Workspace<'o> {
 
     /// Smallest dihedral angle of finite cell `c`.
     pub fn cell_min_dihedral(&self, c: CellId) -> f64 {
-        min_dihedral(&self.points(c))
+        degrees(self.cell_cos(c))
+    }
+
+    /// [`min_dihedral_cos`] of finite cell `c`.
+    fn cell_cos(&self, c: CellId) -> f64 {
+        self.cos.get(c.0 as usize).copied().unwrap_or(1.0)
+    }
+
+    /// Brings [`Self::cos`] up to date with the cells the last move created.
+    fn refresh_cos(&mut self) {
+        if self.cos.len() < self.rt.cell_capacity() {
+            self.cos.resize(self.rt.cell_capacity(), 1.0);
+        }
+        for k in 0..self.report.created.len() {
+            let c = self.report.created[k];
+            if !self.rt.is_infinite_cell(c) {
+                self.cos[c.0 as usize] = min_dihedral_cos(&self.points(c));
+            }
+        }
     }
 
     /// Moves `v` to `p` with weight `w`. `Some` when the triangulation accepted the move and the
@@ -478,7 +517,9 @@ impl<'o> Workspace<'o> {
     pub fn try_move(&mut self, v: VertexId, p: Point3, w: f64) -> Option<Change> {
         let old_point = self.rt.point(v);
         let old_weight = self.rt.weight(v);
-        let moved = self.rt.move_vertex(v, p, w, &mut self.report).ok()?;
+        let moved = self.rt.move_vertex(v, p, w, &mut self.report);
+        self.refresh_cos();
+        let moved = moved.ok()?;
         let saved = self.saved_labels();
         if !moved {
             self.restore(&saved);
@@ -519,6 +560,7 @@ impl<'o> Workspace<'o> {
                 &mut self.report,
             )
             .unwrap_or(false);
+        self.refresh_cos();
         if back {
             self.restore(&change.saved);
         } else {
@@ -530,7 +572,7 @@ impl<'o> Workspace<'o> {
     }
 
     /// The subdomains of the cells the last move destroyed, read before any is overwritten.
-    fn saved_labels(&self) -> HashMap<[u32; 4], SubdomainId> {
+    fn saved_labels(&self) -> FxHashMap<[u32; 4], SubdomainId> {
         self.report
             .removed
             .iter()
@@ -539,7 +581,7 @@ impl<'o> Workspace<'o> {
     }
 
     /// Labels the created cells of the last move from `saved` (cells rebuilt as they were).
-    fn restore(&mut self, saved: &HashMap<[u32; 4], SubdomainId>) {
+    fn restore(&mut self, saved: &FxHashMap<[u32; 4], SubdomainId>) {
         self.grow_labels();
         for k in 0..self.report.created.len() {
             let c = self.report.created[k];
@@ -562,7 +604,7 @@ impl<'o> Workspace<'o> {
     /// the domain, `v` at `old`.
     fn removed_quality(
         &self,
-        saved: &HashMap<[u32; 4], SubdomainId>,
+        saved: &FxHashMap<[u32; 4], SubdomainId>,
         v: VertexId,
         old: Point3,
     ) -> (f64, f64) {
@@ -603,7 +645,7 @@ impl<'o> Workspace<'o> {
     fn relabel(&mut self, max_excess: f64) -> Option<f64> {
         self.grow_labels();
         let created = &self.report.created;
-        let index: HashMap<u32, usize> =
+        let index: FxHashMap<u32, usize> =
             created.iter().enumerate().map(|(k, c)| (c.0, k)).collect();
         let mut new_label: Vec<Option<SubdomainId>> = vec![None; created.len()];
         let mut stack = Vec::new();
@@ -850,13 +892,14 @@ impl<'o> Workspace<'o> {
     /// The inside cells whose smallest dihedral angle is below `bound`, worst first (ties by
     /// sorted vertices, so the order does not depend on cell slots).
     pub fn slivers(&self, bound: f64) -> Vec<(f64, CellId, [VertexId; 4])> {
+        let cos_bound = bound.to_radians().cos();
         let mut s: Vec<(f64, [u32; 4], CellId)> = self
             .rt
             .finite_cells()
             .filter(|&c| self.inside(c))
             .filter_map(|c| {
-                let a = self.cell_min_dihedral(c);
-                (a < bound).then(|| (a, quad_key(self.rt.cell(c)), c))
+                let cos = self.cell_cos(c);
+                (cos > cos_bound).then(|| (degrees(cos), quad_key(self.rt.cell(c)), c))
             })
             .collect();
         s.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
@@ -868,19 +911,21 @@ impl<'o> Workspace<'o> {
     /// Sweeps over the slivers below `bound` degrees, worst first, trying `improve` on each
     /// (perturbation and exudation differ only in that step), until a sweep improves nothing,
     /// `max_sweeps` are done or the deadline passes. A cell `improve` could not help is not tried
-    /// again while it exists. With `stop_at_floor`, a sweep whose worst cell could not be helped
-    /// goes on only over the cells below [`SLIVER_DEG`]: the smallest angle cannot rise any more
-    /// in it. Returns the number of improvements kept.
+    /// again while it exists. With `floor_margin` = `Some(m)`, a sweep whose worst cell could not
+    /// be helped goes on only over the cells below [`SLIVER_DEG`] or `m` degrees above that worst
+    /// one: the smallest angle cannot rise any more in it, and only moves near the floor (of the
+    /// worst cell's neighbours) can free it in the next sweep. Returns the number of improvements
+    /// kept.
     pub fn sweep_slivers(
         &mut self,
         bound: f64,
         deadline: &super::Deadline,
         max_sweeps: usize,
-        stop_at_floor: bool,
+        floor_margin: Option<f64>,
         mut improve: impl FnMut(&mut Self, CellId) -> bool,
     ) -> usize {
         let mut kept = 0;
-        let mut stuck = std::collections::HashSet::new();
+        let mut stuck = FxHashSet::default();
         for _ in 0..max_sweeps {
             let mut improved = 0;
             let slivers = self.slivers(bound);
@@ -892,7 +937,7 @@ impl<'o> Workspace<'o> {
                 if deadline.passed() {
                     return kept + improved;
                 }
-                if stop_at_floor && floor_fixed && angle >= SLIVER_DEG {
+                if floor_fixed && floor_margin.is_some_and(|m| angle >= SLIVER_DEG.max(worst + m)) {
                     break;
                 }
                 let gone = !self.rt.is_live(c) || self.rt.cell(c) != cell;
@@ -909,6 +954,16 @@ impl<'o> Workspace<'o> {
             }
         }
         kept
+    }
+
+    /// Smallest dihedral angle of the mesh (180 without a cell).
+    pub fn min_dihedral(&self) -> f64 {
+        self.rt
+            .finite_cells()
+            .filter(|&c| self.inside(c))
+            .map(|c| self.cell_cos(c))
+            .reduce(f64::max)
+            .map_or(180.0, degrees)
     }
 
     /// Smallest dihedral angle of every tetrahedron of the mesh, in cell order.

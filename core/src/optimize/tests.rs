@@ -174,7 +174,7 @@ fn surface_vertices_on_the_hull_of_the_mesh_can_move() {
 }
 
 /// With the floor fixed (the worst cell cannot be helped), a sweep tries only the cells below
-/// 10° after it; without, every cell under the bound.
+/// 10° or the margin above the worst cell after it; without a margin, every cell under the bound.
 #[test]
 fn a_sweep_stops_at_a_stuck_floor_only_when_asked() {
     let mesh = refined();
@@ -187,12 +187,18 @@ fn a_sweep_stops_at_a_stuck_floor_only_when_asked() {
         all > slivers + 1,
         "{all} cells under 40°, {slivers} under 10°"
     );
-    for (stop, expected) in [(false, all), (true, slivers.max(1))] {
+    let worst = ws.slivers(40.0)[0].0;
+    let near = under(&ws, (worst + 15.0).max(10.0));
+    assert!(
+        near > slivers.max(1) && near < all,
+        "{near} cells near the floor"
+    );
+    for (margin, expected) in [(None, all), (Some(0.0), slivers.max(1)), (Some(15.0), near)] {
         let mut tried = 0;
-        let kept = ws.sweep_slivers(40.0, &deadline, 1, stop, |_, _| {
+        let kept = ws.sweep_slivers(40.0, &deadline, 1, margin, |_, _| {
             tried += 1;
             false
         });
-        assert_eq!((kept, tried), (0, expected), "stop at floor: {stop}");
+        assert_eq!((kept, tried), (0, expected), "floor margin: {margin:?}");
     }
 }

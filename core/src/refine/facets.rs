@@ -18,8 +18,8 @@ use super::queue::RefineQueue;
 use crate::kernel::Point3;
 use crate::oracle::{Aabb, Oracle, PatchId, SurfaceHit};
 use crate::triangulation::{CellId, ConflictZone, InsertReport, Triangulation, VertexId};
+use rustc_hash::FxHashSet;
 use std::cell::RefCell;
-use std::collections::HashSet;
 use std::rc::Rc;
 
 /// An empty ball centred on the boundary, through the vertices of a restricted facet.
@@ -111,7 +111,7 @@ pub struct SurfaceLevel<'o> {
     /// Centres (as bits) of the surface balls whose refinement point was refused forever (inside
     /// a protecting ball, crowding a vertex): such a ball refuses no point of a lower level
     /// either, or the cell proposing it would bounce on it until dropped.
-    stuck: HashSet<[u64; 3]>,
+    stuck: FxHashSet<[u64; 3]>,
     /// Patch of the ball whose centre was last proposed.
     proposed_patch: PatchId,
 }
@@ -129,7 +129,7 @@ impl<'o> SurfaceLevel<'o> {
             vertex_patch: None,
             queue: RefineQueue::default(),
             min_radius2: 0.0,
-            stuck: HashSet::new(),
+            stuck: FxHashSet::default(),
             created_mark: Vec::new(),
             stamp: 0,
             hits: Vec::new(),

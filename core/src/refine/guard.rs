@@ -15,7 +15,7 @@ use super::protect::{Feature, Protection};
 use crate::kernel::Point3;
 use crate::oracle::CurveId;
 use crate::triangulation::{InsertReport, Triangulation, VertexId};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// The protecting balls of a domain, with their vertices in the triangulation.
 pub struct CurveLevel {
@@ -24,7 +24,7 @@ pub struct CurveLevel {
     vertices: Vec<Option<VertexId>>,
     /// Balls by grid cell (cell side = the largest diameter): a point is in a ball of its own
     /// cell or of a neighbouring one. Only looked up, never iterated, so order cannot leak.
-    grid: HashMap<[i64; 3], Vec<u32>>,
+    grid: FxHashMap<[i64; 3], Vec<u32>>,
     cell_size: f64,
 }
 
@@ -38,7 +38,7 @@ impl CurveLevel {
         let mut level = CurveLevel {
             protection,
             vertices,
-            grid: HashMap::new(),
+            grid: FxHashMap::default(),
             cell_size,
         };
         for (i, b) in level.protection.balls.iter().enumerate() {

@@ -1007,7 +1007,7 @@ impl<K: ConflictKernel> Triangulation for Triangulation3<K> {
         let Some(start) = start else {
             return;
         };
-        let mut seen = std::collections::HashSet::new();
+        let mut seen = rustc_hash::FxHashSet::default();
         seen.insert(start);
         out.push(CellId(start));
         let mut k = 0;

@@ -2,7 +2,7 @@
 //! the parts of a parallel build, and the buffers they reuse so that insertion does not allocate.
 
 use super::{CellRecord, NO_CELL, SIDE_EDGE};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// Per-cell state of a cavity search: unvisited, in conflict, or tested and outside.
 pub(super) trait CavityMarks {
@@ -49,7 +49,7 @@ impl CavityMarks for ByteMarks<'_> {
 
 /// Marks in a map, for read-only queries that cannot touch the triangulation's stamp array.
 #[derive(Default)]
-pub(super) struct HashMarks(HashMap<u32, bool>);
+pub(super) struct HashMarks(FxHashMap<u32, bool>);
 
 impl CavityMarks for HashMarks {
     fn get(&self, c: u32) -> Option<bool> {

@@ -13,7 +13,7 @@ use super::regular::validate_weight;
 use super::{ConflictKernel, INFINITE, NO_CELL, Triangulation3, pack, validate_point};
 use crate::kernel::{Point3, Sign, WeightedPoint3, orient3d};
 use crate::triangulation::{CellId, InsertReport, Triangulation, TriangulationError, VertexId};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap;
 
 /// The net change of one [`Triangulation3::move_vertex`], refused moves included (a refused move
 /// rebuilds the same cells, usually in other slots).
@@ -240,7 +240,8 @@ impl<K: ConflictKernel> Triangulation3<K> {
     fn plan_fill(&self, v: u32) -> Option<Vec<FillCell>> {
         let mut star = Vec::new();
         self.incident_cells(VertexId(v), &mut star);
-        let mut outside: HashMap<[u32; 3], u32> = HashMap::with_capacity(star.len());
+        let mut outside: FxHashMap<[u32; 3], u32> =
+            FxHashMap::with_capacity_and_hasher(star.len(), Default::default());
         let mut link = Vec::with_capacity(star.len());
         for &c in &star {
             let r = self.cells[c.0 as usize];
@@ -277,7 +278,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
         if boundary.len() != star.len() {
             return None;
         }
-        let position: HashMap<u32, usize> =
+        let position: FxHashMap<u32, usize> =
             cavity.iter().enumerate().map(|(k, &c)| (c, k)).collect();
         let mut fill = Vec::with_capacity(cavity.len());
         for &c in &cavity {
