@@ -530,19 +530,13 @@ impl TetMesh {
             }
         }
         faces.sort_unstable();
-        let mut out = Vec::new();
-        let mut i = 0;
-        while i < faces.len() {
-            let mut j = i + 1;
-            while j < faces.len() && faces[j].0 == faces[i].0 {
-                j += 1;
-            }
-            if j - i == 1 {
-                out.push(faces[i].1);
-            }
-            i = j;
-        }
-        out
+        faces
+            .chunk_by(|x, y| x.0 == y.0)
+            .filter_map(|run| match run {
+                [(_, f)] => Some(*f),
+                _ => None,
+            })
+            .collect()
     }
 }
 
