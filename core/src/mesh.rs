@@ -267,17 +267,27 @@ fn check_indices<const N: usize>(
     cells: &[[u32; N]],
     count: usize,
 ) -> Result<(), MeshError> {
-    for (index, cell) in cells.iter().enumerate() {
-        if let Some(&vertex) = cell.iter().find(|&&v| v as usize >= count) {
-            return Err(MeshError::IndexOutOfRange {
-                element,
-                index,
-                vertex,
-                count,
-            });
-        }
+    match first_out_of_range(cells, count) {
+        Some((index, vertex)) => Err(MeshError::IndexOutOfRange {
+            element,
+            index,
+            vertex,
+            count,
+        }),
+        None => Ok(()),
     }
-    Ok(())
+}
+
+/// The first cell naming a vertex `>= count`, as `(cell, vertex)`: the bounds check every reader
+/// of indexed cells makes before it looks positions up.
+pub fn first_out_of_range<const N: usize>(
+    cells: &[[u32; N]],
+    count: usize,
+) -> Option<(usize, u32)> {
+    cells
+        .iter()
+        .enumerate()
+        .find_map(|(i, cell)| cell.iter().find(|&&v| v as usize >= count).map(|&v| (i, v)))
 }
 
 fn check_len(what: &str, got: usize, expected: usize, per: &'static str) -> Result<(), MeshError> {
