@@ -8,7 +8,8 @@ mod topology;
 mod weld;
 
 pub use topology::{
-    Topology, component_euler_characteristics, non_manifold_elements, surface_topology,
+    Topology, component_euler_characteristics, count_phrases, non_manifold_elements,
+    surface_topology,
 };
 pub use weld::{weld_exact, weld_exact_indices};
 
