@@ -8,7 +8,8 @@ mod topology;
 mod weld;
 
 pub use topology::{
-    Topology, component_euler_characteristics, non_manifold_elements, surface_topology,
+    Topology, component_euler_characteristics, count_phrases, non_manifold_elements,
+    surface_topology,
 };
 pub use weld::{weld_exact, weld_exact_indices};
 
@@ -267,17 +268,27 @@ fn check_indices<const N: usize>(
     cells: &[[u32; N]],
     count: usize,
 ) -> Result<(), MeshError> {
-    for (index, cell) in cells.iter().enumerate() {
-        if let Some(&vertex) = cell.iter().find(|&&v| v as usize >= count) {
-            return Err(MeshError::IndexOutOfRange {
-                element,
-                index,
-                vertex,
-                count,
-            });
-        }
+    match first_out_of_range(cells, count) {
+        Some((index, vertex)) => Err(MeshError::IndexOutOfRange {
+            element,
+            index,
+            vertex,
+            count,
+        }),
+        None => Ok(()),
     }
-    Ok(())
+}
+
+/// The first cell naming a vertex `>= count`, as `(cell, vertex)`: the bounds check every reader
+/// of indexed cells makes before it looks positions up.
+pub fn first_out_of_range<const N: usize>(
+    cells: &[[u32; N]],
+    count: usize,
+) -> Option<(usize, u32)> {
+    cells
+        .iter()
+        .enumerate()
+        .find_map(|(i, cell)| cell.iter().find(|&&v| v as usize >= count).map(|&v| (i, v)))
 }
 
 fn check_len(what: &str, got: usize, expected: usize, per: &'static str) -> Result<(), MeshError> {
@@ -530,19 +541,13 @@ impl TetMesh {
             }
         }
         faces.sort_unstable();
-        let mut out = Vec::new();
-        let mut i = 0;
-        while i < faces.len() {
-            let mut j = i + 1;
-            while j < faces.len() && faces[j].0 == faces[i].0 {
-                j += 1;
-            }
-            if j - i == 1 {
-                out.push(faces[i].1);
-            }
-            i = j;
-        }
-        out
+        faces
+            .chunk_by(|x, y| x.0 == y.0)
+            .filter_map(|run| match run {
+                [(_, f)] => Some(*f),
+                _ => None,
+            })
+            .collect()
     }
 }
 

@@ -6,7 +6,6 @@ use anyhow::{Context, Result};
 use delamesh_core::mesh::PatchId;
 use delamesh_core::mesh2d::{Algorithm, ConformOptions, conform};
 use delamesh_core::triangulation::Triangulation;
-use delamesh_formats::WriteOptions;
 use std::path::PathBuf;
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -63,14 +62,14 @@ pub fn run(args: &Args) -> Result<()> {
         .map(|c| t.cell(c).map(|v| index[v.0 as usize]))
         .collect();
     let patches = vec![PatchId(0); triangles.len()];
-    let mesh = super::mesh2d::planar_mesh(
+    super::mesh2d::write_planar_mesh(
+        &args.output,
         &out.points,
         &triangles,
         &patches,
         &out.segments,
         &out.segment_origins,
-    );
-    delamesh_formats::write_tet_mesh(&args.output, &mesh, &WriteOptions::default())?;
+    )?;
     outln!(
         "{} points ({} added), {} constraint edges, {} steps, {} triangles -> {}",
         out.points.len(),

@@ -6,7 +6,7 @@ use delamesh_core::mesh::{CurveId, PatchId, TetMesh};
 use delamesh_core::mesh2d::Point2;
 use delamesh_core::mesh2d::mesher::{MeshOptions, mesh};
 use delamesh_formats::WriteOptions;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(clap::Args)]
 pub struct Args {
@@ -45,14 +45,14 @@ pub fn run(args: &Args) -> Result<()> {
     let m = mesh(&pslg, &options).with_context(|| format!("meshing {}", args.input.display()))?;
     let elapsed = start.elapsed();
     let worst = m.smallest_angle_deg();
-    let out = planar_mesh(
+    write_planar_mesh(
+        &args.output,
         &m.points,
         &m.triangles,
         &patches(&m.triangle_attributes),
         &m.segments,
         &m.segment_origins,
-    );
-    delamesh_formats::write_tet_mesh(&args.output, &out, &WriteOptions::default())?;
+    )?;
     outln!(
         "{} vertices, {} triangles, {} sub-segments, smallest angle {:.2}°, {:.6} s -> {}",
         m.points.len(),
@@ -96,20 +96,24 @@ fn patches(attributes: &[f64]) -> Vec<PatchId> {
         .collect()
 }
 
-/// A planar triangle mesh in the z = 0 plane, as the writers' mesh model (triangles and lines).
-pub fn planar_mesh(
+/// Writes a planar triangle mesh to `output` in the z = 0 plane, as the writers' mesh model
+/// (triangles and lines): what `mesh2d` and `conform2d` both produce.
+pub fn write_planar_mesh(
+    output: &Path,
     points: &[Point2],
     triangles: &[[u32; 3]],
     patches: &[PatchId],
     segments: &[[u32; 2]],
     segment_origins: &[u32],
-) -> TetMesh {
-    TetMesh {
+) -> Result<()> {
+    let mesh = TetMesh {
         positions: points.iter().map(|p| p.extend(0.0)).collect(),
         boundary: triangles.to_vec(),
         boundary_patches: patches.to_vec(),
         feature_edges: segments.to_vec(),
         feature_curves: segment_origins.iter().map(|&s| CurveId(s)).collect(),
         ..TetMesh::default()
-    }
+    };
+    delamesh_formats::write_tet_mesh(output, &mesh, &WriteOptions::default())?;
+    Ok(())
 }

@@ -3,6 +3,7 @@
 
 use super::PreserveError;
 use crate::kernel::{Point2, Point3, Sign, orient2d};
+use crate::mesh::first_out_of_range;
 use crate::oracle::PatchId;
 use crate::triangulation::VertexId;
 
@@ -111,17 +112,16 @@ impl Constraints {
         if patches.len() != triangles.len() {
             return Err(PreserveError::PatchCount(patches.len(), triangles.len()));
         }
-        for (t, tri) in triangles.iter().enumerate() {
-            if let Some(&index) = tri.iter().find(|&&v| v as usize >= points.len()) {
-                return Err(PreserveError::IndexOutOfRange {
-                    triangle: t,
-                    index,
-                    count: points.len(),
-                });
-            }
-            if is_degenerate(tri.map(|v| points[v as usize])) {
-                return Err(PreserveError::DegenerateTriangle(t));
-            }
+        if let Some((triangle, index)) = first_out_of_range(triangles, points.len()) {
+            return Err(PreserveError::IndexOutOfRange {
+                triangle,
+                index,
+                count: points.len(),
+            });
+        }
+        let degenerate = |tri: &[u32; 3]| is_degenerate(tri.map(|v| points[v as usize]));
+        if let Some(t) = triangles.iter().position(degenerate) {
+            return Err(PreserveError::DegenerateTriangle(t));
         }
         let mut keys: Vec<[u32; 2]> = triangles
             .iter()

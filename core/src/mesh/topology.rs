@@ -49,7 +49,7 @@ impl Topology {
 
     /// Human-readable list of what keeps the surface from being watertight (empty when it is).
     pub fn defects(&self) -> Vec<String> {
-        [
+        count_phrases([
             (self.boundary_edges, "boundary edges (holes)"),
             (
                 self.non_manifold_edges,
@@ -60,12 +60,18 @@ impl Topology {
                 self.misoriented_edges,
                 "edges where neighbouring triangles disagree on orientation",
             ),
-        ]
+        ])
+    }
+}
+
+/// `"{n} {what}"` for each count that is not zero: how reports list defects or repairs, leaving
+/// out the kinds that did not occur.
+pub fn count_phrases<'a>(counts: impl IntoIterator<Item = (usize, &'a str)>) -> Vec<String> {
+    counts
         .into_iter()
         .filter(|(n, _)| *n > 0)
         .map(|(n, what)| format!("{n} {what}"))
         .collect()
-    }
 }
 
 /// Exact test: three points are collinear iff all three coordinate-plane projections are.

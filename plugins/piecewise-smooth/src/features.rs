@@ -322,24 +322,17 @@ fn shared_faces(triangles: &[[u32; 3]]) -> Vec<[u32; 2]> {
         })
         .collect();
     keyed.sort_unstable();
-    let mut out = Vec::new();
-    let mut i = 0;
-    while i < keyed.len() {
-        let mut j = i + 1;
-        while j < keyed.len() && keyed[j].0 == keyed[i].0 {
-            j += 1;
-        }
-        if j - i == 2 {
-            let (a, b) = (keyed[i].1, keyed[i + 1].1);
-            let [x, y, z] = triangles[a as usize];
-            let reversed = [[x, z, y], [z, y, x], [y, x, z]];
-            if reversed.contains(&triangles[b as usize]) {
-                out.push([a, b]);
+    keyed
+        .chunk_by(|x, y| x.0 == y.0)
+        .filter_map(|run| match *run {
+            [(_, a), (_, b)] => {
+                let [x, y, z] = triangles[a as usize];
+                let reversed = [[x, z, y], [z, y, x], [y, x, z]];
+                reversed.contains(&triangles[b as usize]).then_some([a, b])
             }
-        }
-        i = j;
-    }
-    out
+            _ => None,
+        })
+        .collect()
 }
 
 /// Marks the edges of the user polylines as features; returns the vertices at the ends of open

@@ -5,7 +5,7 @@ use crate::predicates::{Crossing, orient, segment_crossing};
 use crate::repair::{Repairs, repair};
 use crate::tree::TriangleTree;
 use crate::validate::{SurfaceDefects, crossed_triangles, surface_defects_in};
-use delamesh_core::mesh::component_euler_characteristics;
+use delamesh_core::mesh::{component_euler_characteristics, first_out_of_range};
 use delamesh_core::oracle::{
     Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
 };
@@ -58,14 +58,12 @@ fn check_input(
     if let Some(i) = points.iter().position(|p| !p.is_finite()) {
         return Err(PolyhedralError::NonFinite(i));
     }
-    for (t, tri) in triangles.iter().enumerate() {
-        if let Some(&index) = tri.iter().find(|&&v| v as usize >= points.len()) {
-            return Err(PolyhedralError::IndexOutOfRange {
-                triangle: t,
-                index,
-                count: points.len(),
-            });
-        }
+    if let Some((triangle, index)) = first_out_of_range(triangles, points.len()) {
+        return Err(PolyhedralError::IndexOutOfRange {
+            triangle,
+            index,
+            count: points.len(),
+        });
     }
     if let Some(p) = patches
         && p.len() != triangles.len()

@@ -9,6 +9,7 @@
 //! whose uses cancel alone, and never need the surface to be a manifold.
 
 use crate::predicates::orient2d_all_zero;
+use delamesh_core::mesh::count_phrases;
 use delamesh_core::union_find::UnionFind;
 use glam::DVec3;
 use std::collections::HashMap;
@@ -47,7 +48,7 @@ impl Repairs {
 
     /// One phrase per repair, for warnings and reports.
     pub fn describe(&self) -> Vec<String> {
-        [
+        count_phrases([
             (self.degenerate_dropped, "zero-area triangles dropped"),
             (self.duplicates_dropped, "duplicate triangles dropped"),
             (self.flipped, "triangles re-oriented"),
@@ -60,11 +61,7 @@ impl Repairs {
                 self.crossing_triangles,
                 "self-intersecting triangles (inside by winding number)",
             ),
-        ]
-        .into_iter()
-        .filter(|(n, _)| *n > 0)
-        .map(|(n, what)| format!("{n} {what}"))
-        .collect()
+        ])
     }
 }
 
