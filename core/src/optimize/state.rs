@@ -52,6 +52,8 @@ pub(super) struct Change {
     old_weight: f64,
     /// Subdomains of the destroyed cells, by sorted vertices (to restore them on undo).
     saved: FxHashMap<[u32; 4], SubdomainId>,
+    /// The cells the move destroyed and created (to put the old ones back on undo).
+    moved: MoveReport,
     /// Smallest dihedral angle of the destroyed cells inside the domain.
     pub before: f64,
     /// Smallest dihedral angle of the created cells inside the domain.
@@ -526,12 +528,14 @@ impl<'o> Workspace<'o> {
             return None;
         }
         let (before, size_excess) = self.removed_quality(&saved, v, old_point);
+        let moved = self.report.clone();
         match self.relabel(size_excess.max(1.0)) {
             Some(after) => Some(Change {
                 vertex: v,
                 old_point,
                 old_weight,
                 saved,
+                moved,
                 before,
                 after,
             }),
@@ -541,6 +545,7 @@ impl<'o> Workspace<'o> {
                     old_point,
                     old_weight,
                     saved,
+                    moved,
                     before,
                     after: 0.0,
                 });
@@ -550,7 +555,19 @@ impl<'o> Workspace<'o> {
     }
 
     /// Puts the moved vertex back where it was, with the labels it had.
-    pub fn undo(&mut self, change: Change) {
+    pub fn undo(&mut self, mut change: Change) {
+        // The old cells straight back; moving the vertex back is the fallback.
+        if self.rt.undo_move(
+            change.vertex,
+            change.old_point,
+            change.old_weight,
+            &mut change.moved,
+        ) {
+            self.report = change.moved;
+            self.refresh_cos();
+            self.restore(&change.saved);
+            return;
+        }
         let back = self
             .rt
             .move_vertex_back(

@@ -77,6 +77,107 @@ impl<K: ConflictKernel> Triangulation3<K> {
         self.relocate(v, p, w, report, false)
     }
 
+    /// Undoes the move of `v` that `report` records (a [`Self::move_vertex`] that returned
+    /// `Ok(true)`, with nothing changed since), `v` going back to `p` with weight `w`: the cells
+    /// the move destroyed are put back as they were, linked to the cells around them by their
+    /// facets, without a predicate or a search (an optimiser undoes most of its trial moves, and
+    /// rebuilding the old star by [`Self::move_vertex_back`] cost as much as the move). `report`
+    /// then records the undo. Returns false, with nothing changed, when `report` does not fit the
+    /// triangulation (the caller then moves the vertex back instead).
+    pub fn undo_move(&mut self, v: VertexId, p: Point3, w: f64, report: &mut MoveReport) -> bool {
+        let index = v.0 as usize;
+        if index >= self.points.len() || self.lower.is_some() || report.created.is_empty() {
+            return false;
+        }
+        let created: Vec<u32> = report.created.iter().map(|c| c.0).collect();
+        let mut members = created.clone();
+        members.sort_unstable();
+        if created
+            .iter()
+            .any(|&c| c as usize >= self.cells.len() || !self.live(c))
+        {
+            return false;
+        }
+        let sorted = |q: [u32; 4], i: usize| {
+            let mut f = [q[(i + 1) % 4], q[(i + 2) % 4], q[(i + 3) % 4]];
+            f.sort_unstable();
+            f
+        };
+        // The facets of the changed region's boundary: the cell outside each, seen from inside.
+        let mut outside: FxHashMap<[u32; 3], u32> =
+            FxHashMap::with_capacity_and_hasher(2 * created.len(), Default::default());
+        for &c in &created {
+            let r = self.cells[c as usize];
+            for i in 0..4 {
+                let nb = r.n[i] >> 2;
+                if members.binary_search(&nb).is_err()
+                    && outside.insert(sorted(r.v, i), r.n[i]).is_some()
+                {
+                    return false;
+                }
+            }
+        }
+        // Each facet of the old cells is on that boundary or shared by two of them.
+        let old: Vec<[u32; 4]> = report.removed.iter().map(|(_, q)| q.map(|x| x.0)).collect();
+        let mut inner: FxHashMap<[u32; 3], usize> =
+            FxHashMap::with_capacity_and_hasher(2 * old.len(), Default::default());
+        let mut on_boundary = 0;
+        for q in &old {
+            for i in 0..4 {
+                let f = sorted(*q, i);
+                if outside.contains_key(&f) {
+                    on_boundary += 1;
+                } else {
+                    *inner.entry(f).or_default() += 1;
+                }
+            }
+        }
+        if on_boundary != outside.len() || inner.values().any(|&n| n != 2) {
+            return false;
+        }
+        let finite = |q: &[u32; 4]| usize::from(!q.contains(&INFINITE));
+        let mut undo = MoveReport::default();
+        for &c in &created {
+            let q = self.cells[c as usize].v;
+            self.num_finite -= finite(&q);
+            undo.removed.push((CellId(c), q.map(VertexId)));
+            self.free_cell(c);
+        }
+        self.points[index] = p;
+        self.filter.include(p);
+        self.kernel.set_weight(v.0, w);
+        self.kernel.unhide(v.0);
+        let ids: Vec<u32> = old.iter().map(|&q| self.alloc_cell(q)).collect();
+        let mut open: FxHashMap<[u32; 3], u32> =
+            FxHashMap::with_capacity_and_hasher(old.len() * 2, Default::default());
+        for (k, q) in old.iter().enumerate() {
+            let c = ids[k];
+            for i in 0..4 {
+                let f = sorted(*q, i);
+                let link = match outside.get(&f) {
+                    Some(&out) => out,
+                    None => match open.remove(&f) {
+                        Some(other) => other,
+                        None => {
+                            open.insert(f, pack(c, i));
+                            continue;
+                        }
+                    },
+                };
+                self.cells[c as usize].n[i] = link;
+                self.cells[(link >> 2) as usize].n[(link & 3) as usize] = pack(c, i);
+            }
+            self.num_finite += finite(q);
+        }
+        for &c in &ids {
+            self.touch_vertices(c);
+        }
+        self.last = ids[0];
+        undo.created = ids.into_iter().map(CellId).collect();
+        *report = undo;
+        true
+    }
+
     fn relocate(
         &mut self,
         v: VertexId,
@@ -482,6 +583,50 @@ mod tests {
             }
         }
         assert!(undone > 100, "{undone} moves undone");
+    }
+
+    #[test]
+    fn undoing_a_move_restores_the_cells_without_a_search() {
+        let mut rng = XorShift::new(0x1357_9bdf_2468_ace0);
+        let pts = cube_points(300, &mut rng);
+        let mut rt = regular(&pts, std::iter::repeat_with(|| 0.001 * rng.next_f64()));
+        let mut report = MoveReport::default();
+        let mut undone = 0;
+        for k in 0..200 {
+            let v = VertexId((k * 7 % 300) as u32);
+            let (p, w) = (rt.point(v), rt.weight(v));
+            let reach = if k % 2 == 0 { 0.002 } else { 0.1 };
+            let delta = Point3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) - 0.5;
+            let before = cell_sets(&rt);
+            let cells = rt.num_finite_cells();
+            if rt
+                .move_vertex(v, p + reach * delta, 0.5 * w, &mut report)
+                .unwrap()
+            {
+                let moved = report.created.len();
+                assert!(rt.undo_move(v, p, w, &mut report));
+                assert_eq!(report.removed.len(), moved);
+                assert_eq!((rt.point(v), rt.weight(v)), (p, w));
+                assert_eq!(cell_sets(&rt), before);
+                assert_eq!(rt.num_finite_cells(), cells);
+                assert_eq!(check_regular3(&rt), Ok(()));
+                undone += 1;
+            }
+        }
+        assert!(undone > 100, "{undone} moves undone");
+        // A report that does not fit changes nothing.
+        let before = cell_sets(&rt);
+        let v = VertexId(5);
+        let (p, w) = (rt.point(v), rt.weight(v));
+        let mut empty = MoveReport::default();
+        assert!(!rt.undo_move(v, p, w, &mut empty));
+        let mut half = MoveReport {
+            removed: Vec::new(),
+            created: vec![CellId(0)],
+        };
+        assert!(!rt.undo_move(v, p, w, &mut half));
+        assert_eq!(cell_sets(&rt), before);
+        assert_eq!(check_regular3(&rt), Ok(()));
     }
 
     #[test]
