@@ -557,43 +557,21 @@ mod tests {
         assert_eq!(cell_sets(&rt), cell_sets(&fresh));
     }
 
-    #[test]
-    fn moving_back_restores_the_cells_of_small_and_large_moves() {
-        let mut rng = XorShift::new(0x2468_ace0_1357_9bdf);
+    /// Moves 200 vertices of a random regular triangulation by small moves (which keep the
+    /// star's cells) and large ones (which change them), undoes each by `undo`, and checks that
+    /// the cells, their count, the vertex and regularity are as before.
+    fn check_undo(
+        seed: u64,
+        stride: usize,
+        mut undo: impl FnMut(&mut Regular3, VertexId, Point3, f64, &mut MoveReport) -> bool,
+    ) -> Regular3 {
+        let mut rng = XorShift::new(seed);
         let pts = cube_points(300, &mut rng);
         let mut rt = regular(&pts, std::iter::repeat_with(|| 0.001 * rng.next_f64()));
         let mut report = MoveReport::default();
         let mut undone = 0;
         for k in 0..200 {
-            let v = VertexId((k * 11 % 300) as u32);
-            let (p, w) = (rt.point(v), rt.weight(v));
-            // Small moves keep the star's cells, large ones change them.
-            let reach = if k % 2 == 0 { 0.002 } else { 0.1 };
-            let delta = Point3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) - 0.5;
-            let before = cell_sets(&rt);
-            if rt
-                .move_vertex(v, p + reach * delta, w, &mut report)
-                .unwrap()
-            {
-                assert_eq!(check_regular3(&rt), Ok(()));
-                assert!(rt.move_vertex_back(v, p, w, &mut report).unwrap());
-                assert_eq!(cell_sets(&rt), before);
-                assert_eq!(check_regular3(&rt), Ok(()));
-                undone += 1;
-            }
-        }
-        assert!(undone > 100, "{undone} moves undone");
-    }
-
-    #[test]
-    fn undoing_a_move_restores_the_cells_without_a_search() {
-        let mut rng = XorShift::new(0x1357_9bdf_2468_ace0);
-        let pts = cube_points(300, &mut rng);
-        let mut rt = regular(&pts, std::iter::repeat_with(|| 0.001 * rng.next_f64()));
-        let mut report = MoveReport::default();
-        let mut undone = 0;
-        for k in 0..200 {
-            let v = VertexId((k * 7 % 300) as u32);
+            let v = VertexId((k * stride % 300) as u32);
             let (p, w) = (rt.point(v), rt.weight(v));
             let reach = if k % 2 == 0 { 0.002 } else { 0.1 };
             let delta = Point3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) - 0.5;
@@ -603,9 +581,8 @@ mod tests {
                 .move_vertex(v, p + reach * delta, 0.5 * w, &mut report)
                 .unwrap()
             {
-                let moved = report.created.len();
-                assert!(rt.undo_move(v, p, w, &mut report));
-                assert_eq!(report.removed.len(), moved);
+                assert_eq!(check_regular3(&rt), Ok(()));
+                assert!(undo(&mut rt, v, p, w, &mut report));
                 assert_eq!((rt.point(v), rt.weight(v)), (p, w));
                 assert_eq!(cell_sets(&rt), before);
                 assert_eq!(rt.num_finite_cells(), cells);
@@ -614,6 +591,24 @@ mod tests {
             }
         }
         assert!(undone > 100, "{undone} moves undone");
+        rt
+    }
+
+    #[test]
+    fn moving_back_restores_the_cells_of_small_and_large_moves() {
+        check_undo(0x2468_ace0_1357_9bdf, 11, |rt, v, p, w, report| {
+            rt.move_vertex_back(v, p, w, report).unwrap()
+        });
+    }
+
+    #[test]
+    fn undoing_a_move_restores_the_cells_without_a_search() {
+        let mut rt = check_undo(0x1357_9bdf_2468_ace0, 7, |rt, v, p, w, report| {
+            let moved = report.created.len();
+            let done = rt.undo_move(v, p, w, report);
+            assert_eq!(report.removed.len(), moved);
+            done
+        });
         // A report that does not fit changes nothing.
         let before = cell_sets(&rt);
         let v = VertexId(5);
