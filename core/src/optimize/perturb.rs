@@ -24,6 +24,10 @@ use crate::triangulation::{CellId, Triangulation, VertexId};
 const STEPS: [f64; 3] = [0.25, 0.1, 0.04];
 /// Pseudo-random directions tried when the gradient does not help (with the middle step).
 const RANDOM_TRIES: usize = 2;
+/// Pseudo-random directions tried in the last sweep, over the cells the perturbation left at
+/// the floor (with the middle step): moves along the gradient of such a cell's own angle were refused for what they do to its neighbours, and a few more directions
+/// cost little on so few cells.
+const STUCK_RANDOM_TRIES: usize = 8;
 /// Sweeps over the slivers at most.
 const MAX_SWEEPS: usize = 6;
 
@@ -39,9 +43,10 @@ const FLOOR_MARGIN_DEG: f64 = 2.0;
 
 /// Perturbs the vertices of the cells below a bound rising from [`FIRST_BOUND_DEG`] to `bound`,
 /// worst first, until a sweep improves nothing or the deadline passes. Each bound stops once its
-/// worst cell is stuck, but for the slivers below 10°, and the perturbation ends at the first
-/// bound that did not raise the smallest angle, once that is above 10°: past that point it would
-/// only reshape cells that are no slivers, which took most of the phase's time. Returns the
+/// worst cell is stuck, but for the slivers below 10°, and the rise ends at the first bound that
+/// did not raise the smallest angle, once that is above 10°: past that point it would only
+/// reshape cells that are no slivers, which took most of the phase's time. A last sweep then
+/// gives the cells at the floor [`STUCK_RANDOM_TRIES`] random directions each. Returns the
 /// number of moves kept.
 pub(super) fn perturb(ws: &mut Workspace<'_>, bound: f64, deadline: &Deadline) -> usize {
     let mut rng = XorShift::new(0x9E37_79B9_7F4A_7C15);
@@ -50,15 +55,18 @@ pub(super) fn perturb(ws: &mut Workspace<'_>, bound: f64, deadline: &Deadline) -
     let mut b = FIRST_BOUND_DEG.min(bound);
     loop {
         kept += ws.sweep_slivers(b, deadline, MAX_SWEEPS, Some(FLOOR_MARGIN_DEG), |ws, c| {
-            ws.peel(c) || perturb_cell(ws, c, &mut rng)
+            ws.peel(c) || perturb_cell(ws, c, RANDOM_TRIES, &mut rng)
         });
         let now = ws.min_dihedral();
         if b >= bound || deadline.passed() || (now <= floor && now >= SLIVER_DEG) {
-            return kept;
+            break;
         }
         floor = now;
         b = (b + BOUND_STEP_DEG).min(bound);
     }
+    kept + ws.sweep_slivers(b, deadline, MAX_SWEEPS, Some(FLOOR_MARGIN_DEG), |ws, c| {
+        perturb_cell(ws, c, STUCK_RANDOM_TRIES, &mut rng)
+    })
 }
 
 /// Where a vertex of a sliver may go: anywhere (inside a subdomain), along its patch (a
@@ -137,8 +145,14 @@ impl<'a> Slide<'a> {
     }
 }
 
-/// Tries to improve sliver `c` by moving one of its vertices.
-fn perturb_cell(ws: &mut Workspace<'_>, c: CellId, rng: &mut XorShift) -> bool {
+/// Tries to improve sliver `c` by moving one of its vertices (along the gradient of its angle,
+/// then in `random_tries` pseudo-random directions).
+fn perturb_cell(
+    ws: &mut Workspace<'_>,
+    c: CellId,
+    random_tries: usize,
+    rng: &mut XorShift,
+) -> bool {
     let cell = ws.rt.cell(c);
     for k in 0..4 {
         let v = cell[k];
@@ -175,12 +189,12 @@ fn perturb_cell(ws: &mut Workspace<'_>, c: CellId, rng: &mut XorShift) -> bool {
                     Freedom::Surface(n, _) => d - *n * d.dot(*n),
                     _ => d,
                 };
-                let mut tries = Vec::with_capacity(STEPS.len() + RANDOM_TRIES);
+                let mut tries = Vec::with_capacity(STEPS.len() + random_tries);
                 let g = tangent(gradient(angle_at, p, 1e-4 * reach));
                 if g.length() > 0.0 {
                     tries.extend(STEPS.map(|s| p + g.normalize() * (s * reach)));
                 }
-                for _ in 0..RANDOM_TRIES {
+                for _ in 0..random_tries {
                     let d = tangent(random_unit(rng));
                     if d.length() > 1e-3 {
                         tries.push(p + d.normalize() * (STEPS[1] * reach));
