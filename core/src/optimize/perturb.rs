@@ -24,9 +24,9 @@ use crate::triangulation::{CellId, Triangulation, VertexId};
 const STEPS: [f64; 3] = [0.25, 0.1, 0.04];
 /// Pseudo-random directions tried when the gradient does not help (with the middle step).
 const RANDOM_TRIES: usize = 2;
-/// Pseudo-random directions tried in the last sweep, over the cells the perturbation left at
-/// the floor (with the middle step): moves along the gradient of such a cell's own angle were refused for what they do to its neighbours, and a few more directions
-/// cost little on so few cells.
+/// Pseudo-random directions tried in the last sweep (with the middle step), which ends at the
+/// stuck floor as the others do: moves along the gradient of the cells left there were refused
+/// for what they do to their neighbours, and a few more directions cost little on so few cells.
 const STUCK_RANDOM_TRIES: usize = 8;
 /// Sweeps over the slivers at most.
 const MAX_SWEEPS: usize = 6;
@@ -45,9 +45,9 @@ const FLOOR_MARGIN_DEG: f64 = 2.0;
 /// worst first, until a sweep improves nothing or the deadline passes. Each bound stops once its
 /// worst cell is stuck, but for the slivers below 10°, and the rise ends at the first bound that
 /// did not raise the smallest angle, once that is above 10°: past that point it would only
-/// reshape cells that are no slivers, which took most of the phase's time. A last sweep then
-/// gives the cells at the floor [`STUCK_RANDOM_TRIES`] random directions each. Returns the
-/// number of moves kept.
+/// reshape cells that are no slivers, which took most of the phase's time. A last sweep at the
+/// final bound then tries [`STUCK_RANDOM_TRIES`] random directions per vertex instead of
+/// [`RANDOM_TRIES`]. Returns the number of moves kept.
 pub(super) fn perturb(ws: &mut Workspace<'_>, bound: f64, deadline: &Deadline) -> usize {
     let mut rng = XorShift::new(0x9E37_79B9_7F4A_7C15);
     let mut kept = 0;

@@ -74,14 +74,22 @@ fn every_step_keeps_the_triangulation_regular_and_the_mesh_valid() {
     let c = criteria();
     let mut ws = Workspace::new(&mesh, &[], &UnitBall, &c).expect("taken over");
     let deadline = Deadline::default();
+    // After each step the triangulation is regular and the cached angle of every cell is its
+    // angle, recomputed.
+    let check = |ws: &Workspace<'_>| {
+        assert_eq!(check_regular3(&ws.rt), Ok(()));
+        for c in ws.rt.finite_cells() {
+            assert_eq!(ws.cell_min_dihedral(c), min_dihedral(&ws.points(c)));
+        }
+    };
     smooth::smooth(&mut ws, smooth::Smoother::Odt, 3, &deadline);
-    assert_eq!(check_regular3(&ws.rt), Ok(()));
+    check(&ws);
     smooth::smooth(&mut ws, smooth::Smoother::Lloyd, 3, &deadline);
-    assert_eq!(check_regular3(&ws.rt), Ok(()));
-    perturb::perturb(&mut ws, 20.0, &deadline);
-    assert_eq!(check_regular3(&ws.rt), Ok(()));
+    check(&ws);
+    assert!(perturb::perturb(&mut ws, 20.0, &deadline) > 0);
+    check(&ws);
     exude::exude(&mut ws, 20.0, &deadline);
-    assert_eq!(check_regular3(&ws.rt), Ok(()));
+    check(&ws);
     let after = ws.into_complex(mesh.clone());
     assert_valid_ball(&after, refined_volume);
     assert!(
