@@ -97,6 +97,17 @@ pub trait Oracle: Send + Sync {
         Vec::new()
     }
 
+    /// The point of feature curve `curve` nearest to `p`, a point of its polyline or near it:
+    /// where the mesher puts a vertex on a curve (protecting ball centres, the optimiser's moves
+    /// along it), so a domain whose polylines sample a smooth curve (a subdivision crease) gets
+    /// its vertices on the curve itself. The default keeps `p`: for polyhedral and image domains
+    /// the polyline is the curve. Plugins loaded through the C ABI answer with the default
+    /// (version 1 of the table has no entry for it; see PLUGINS.md).
+    fn project_to_curve(&self, curve: CurveId, p: Point3) -> Point3 {
+        let _ = curve;
+        p
+    }
+
     /// 0D features (corners) the mesh must contain as vertices. Smooth domains have none.
     fn corners(&self) -> Vec<Point3> {
         Vec::new()

@@ -12,7 +12,7 @@ use super::state::{Workspace, min_dihedral};
 use super::{Deadline, SLIVER_DEG};
 use crate::complex::VertexDimension;
 use crate::kernel::Point3;
-use crate::oracle::{PatchId, SurfaceHit};
+use crate::oracle::{CurveId, Oracle, PatchId, SurfaceHit};
 use crate::random::XorShift;
 use crate::refine::curves::Polyline;
 use crate::refine::protect::SHARP_TURN;
@@ -74,14 +74,19 @@ pub(super) fn perturb(ws: &mut Workspace<'_>, bound: f64, deadline: &Deadline) -
 enum Freedom<'a> {
     Volume,
     Surface(Point3, PatchId),
-    Curve(&'a Polyline, [VertexId; 2]),
+    Curve(CurveId, &'a Polyline, [VertexId; 2]),
 }
 
 /// A curve vertex sliding along its curve between its two neighbours there, so that its two
 /// feature edges keep following the curve as protection made them (within the bend tolerance,
-/// every vertex the curve must keep still a mesh vertex; see [`Polyline::chord_follows`]).
+/// every vertex the curve must keep still a mesh vertex; see [`Polyline::chord_follows`]). It
+/// slides along the polyline, and each place it may go is put on the curve itself by the oracle,
+/// as protection put the ball centres.
 struct Slide<'a> {
     curve: &'a Polyline,
+    /// The curve's id and its domain, which maps a point of the polyline onto the curve.
+    id: CurveId,
+    oracle: &'a dyn Oracle,
     /// Arc length of the neighbour the parameter `t` starts from.
     start: f64,
     /// Arc length from that neighbour to the other one, through the vertex.
@@ -94,7 +99,13 @@ struct Slide<'a> {
 impl<'a> Slide<'a> {
     /// The slide of the vertex at `p` between `ends`; `None` where it must stay (on a vertex the
     /// curve keeps, or not between its neighbours).
-    fn new(curve: &'a Polyline, p: Point3, ends: [Point3; 2], tolerance: f64) -> Option<Self> {
+    fn new(
+        (id, curve): (CurveId, &'a Polyline),
+        oracle: &'a dyn Oracle,
+        p: Point3,
+        ends: [Point3; 2],
+        tolerance: f64,
+    ) -> Option<Self> {
         let eps = 1e-9 * curve.length();
         let s = curve.project(p).s;
         if curve
@@ -119,6 +130,8 @@ impl<'a> Slide<'a> {
         };
         (at > eps && span - at > eps).then_some(Slide {
             curve,
+            id,
+            oracle,
             start,
             span,
             at,
@@ -131,8 +144,9 @@ impl<'a> Slide<'a> {
         self.curve.point_at(self.start + self.at + d)
     }
 
-    /// The point at signed arc length `d` from the vertex, if the vertex may go there: strictly
-    /// between its neighbours, and both new feature edges following the curve.
+    /// The point of the curve at signed arc length `d` along the polyline from the vertex, if the
+    /// vertex may go there: strictly between its neighbours, and both new feature edges
+    /// following the curve.
     fn to(&self, d: f64) -> Option<Point3> {
         let t = self.at + d;
         let eps = 1e-9 * self.curve.length();
@@ -141,7 +155,7 @@ impl<'a> Slide<'a> {
             && self.span - t > eps
             && c.chord_follows(self.start, t, self.tolerance, SHARP_TURN)
             && c.chord_follows(self.start + t, self.span - t, self.tolerance, SHARP_TURN))
-        .then(|| self.point(d))
+        .then(|| self.oracle.project_to_curve(self.id, self.point(d)))
     }
 }
 
@@ -178,7 +192,7 @@ fn perturb_cell(
                 None => continue,
             },
             VertexDimension::Curve => match ws.curve(v) {
-                Some((curve, ends)) => Freedom::Curve(curve, ends),
+                Some((id, curve, ends)) => Freedom::Curve(id, curve, ends),
                 None => continue,
             },
             VertexDimension::Corner => continue,
@@ -208,9 +222,11 @@ fn perturb_cell(
                     _ => tries,
                 }
             }
-            Freedom::Curve(curve, ends) => {
+            Freedom::Curve(id, curve, ends) => {
                 let ends = ends.map(|u| ws.rt.point(u));
-                let Some(slide) = Slide::new(curve, p, ends, ws.bend_tolerance()) else {
+                let Some(slide) =
+                    Slide::new((*id, *curve), ws.oracle, p, ends, ws.bend_tolerance())
+                else {
                     continue;
                 };
                 // Along the curve, the way the angle grows first, then the other way.

@@ -12,7 +12,7 @@
 use super::SLIVER_DEG;
 use crate::complex::{MeshComplex, VertexDimension};
 use crate::kernel::Point3;
-use crate::oracle::{OUTSIDE, PatchId, SubdomainId};
+use crate::oracle::{CurveId, OUTSIDE, PatchId, SubdomainId};
 use crate::quality::tet_volume;
 use crate::refine::criteria::{MeshCriteria, Sizing};
 use crate::refine::curves::Polyline;
@@ -90,7 +90,7 @@ pub(super) struct Workspace<'o> {
     vertex_of: Vec<VertexId>,
     /// The feature curves of the domain, and the one each curve vertex inside a curve (two
     /// feature edges on it) moves along.
-    curves: Vec<Polyline>,
+    curves: Vec<(CurveId, Polyline)>,
     curve_of: FxHashMap<u32, CurveVertex>,
     /// How far a feature edge may leave its curve ([`MeshCriteria::bend_tolerance`]), as
     /// protection placed them.
@@ -122,13 +122,13 @@ fn curve_vertices(
     vertex_of: &[VertexId],
     dimension: &[VertexDimension],
     oracle: &dyn crate::oracle::Oracle,
-) -> (Vec<Polyline>, FxHashMap<u32, CurveVertex>) {
+) -> (Vec<(CurveId, Polyline)>, FxHashMap<u32, CurveVertex>) {
     let mut curves = Vec::new();
     let mut index = FxHashMap::default();
     for c in oracle.feature_curves() {
         if let Some(p) = Polyline::new(&c.points, c.closed) {
             index.insert(c.id, curves.len());
-            curves.push(p);
+            curves.push((c.id, p));
         }
     }
     // Per vertex: the other ends of its feature edges, and the curve if all are on one.
@@ -388,13 +388,14 @@ impl<'o> Workspace<'o> {
         Ok(ws)
     }
 
-    /// The feature curve vertex `v` may move along, and its two neighbours along it: it is a
-    /// curve vertex with exactly two feature edges, both on that curve (an end or a junction of
-    /// curves stays).
-    pub fn curve(&self, v: VertexId) -> Option<(&Polyline, [VertexId; 2])> {
-        self.curve_of
-            .get(&v.0)
-            .map(|cv| (&self.curves[cv.curve], cv.neighbours))
+    /// The feature curve vertex `v` may move along (its id and polyline), and its two
+    /// neighbours along it: it is a curve vertex with exactly two feature edges, both on that
+    /// curve (an end or a junction of curves stays).
+    pub fn curve(&self, v: VertexId) -> Option<(CurveId, &Polyline, [VertexId; 2])> {
+        self.curve_of.get(&v.0).map(|cv| {
+            let (id, line) = &self.curves[cv.curve];
+            (*id, line, cv.neighbours)
+        })
     }
 
     /// How far a feature edge may leave its curve (see [`MeshCriteria::bend_tolerance`]).

@@ -195,7 +195,9 @@ pub fn mesh_with_features<T: Triangulation<Point = Point3> + Clone>(
         // on the attempt before it.
         let attempt_outcome = (|| -> Result<Refined<'_, T>, MeshError> {
             let edge_size = shrunk_near(&options.criteria.edge_size, &spots);
-            let protection = protect(curves, corners, &edge_size, &limits)?;
+            let protection = protect(curves, corners, &edge_size, &limits, &|c, p| {
+                oracle.project_to_curve(c, p)
+            })?;
             let mut surface = SurfaceLevel::new(oracle, options.criteria.facet.clone())
                 .check_patches()
                 .min_radius(floor);

@@ -240,15 +240,22 @@ impl Piece {
     }
 }
 
+/// Maps a point of a curve's polyline onto the curve itself (the domain's
+/// [`Oracle::project_to_curve`](crate::oracle::Oracle::project_to_curve)).
+pub type OntoCurve<'a> = dyn Fn(CurveId, Point3) -> Point3 + 'a;
+
 /// Place protecting balls on `curves` and `corners`. `edge_size` bounds the radii (evaluated at
 /// the centre with the curve id as label; corners use label 0); `limits` bounds the work: no
 /// radius below `limits.min_radius` (features closer than that are protected at that size
-/// rather than refused), at most `limits.max_balls` balls, no round past the deadline.
+/// rather than refused), at most `limits.max_balls` balls, no round past the deadline. Centres
+/// are placed along the polylines and moved onto the curves by `onto_curve`, before the rules
+/// are checked, so the rules hold for the balls as inserted.
 pub fn protect(
     curves: &[FeatureCurve],
     corners: &[Point3],
     edge_size: &Sizing,
     limits: &ProtectLimits,
+    onto_curve: &OntoCurve<'_>,
 ) -> Result<Protection, ProtectError> {
     let mut corners: Vec<Point3> = corners.to_vec();
     if let Some(index) = corners.iter().position(|p| !p.is_finite()) {
@@ -296,7 +303,7 @@ pub fn protect(
             corners: &corners,
             grid: &grid,
         };
-        let protection = populate(&features, &corner_limit, edge_size, limits)?;
+        let protection = populate(&features, &corner_limit, edge_size, limits, onto_curve)?;
         let mut shrunk = false;
         for (ball, radius) in violations(&protection, &pieces) {
             // A ball already at the smallest radius stays as it is (CGAL's special balls).
@@ -492,12 +499,14 @@ fn piece_radius(
     r.min(FEATURE_FRACTION * distance_to_other_features(features, i, p, corner_radius, cap))
 }
 
-/// Balls for the current limits: corners first, then each piece's chain.
+/// Balls for the current limits: corners first, then each piece's chain, centred on the curves
+/// (`onto_curve`).
 fn populate(
     features: &Features<'_>,
     corner_limit: &[f64],
     edge_size: &Sizing,
     limits: &ProtectLimits,
+    onto_curve: &OntoCurve<'_>,
 ) -> Result<Protection, ProtectError> {
     let Features {
         pieces, corners, ..
@@ -581,7 +590,7 @@ fn populate(
             chain.push(protection.balls.len());
             chain_s.push(s);
             protection.balls.push(ProtectingBall {
-                center: piece.line.point_at(s),
+                center: onto_curve(piece.curve, piece.line.point_at(s)),
                 radius: radius(s).min(GAP_FRACTION * gap).max(limits.min_radius),
                 feature: Feature::Curve(piece.curve),
             });
@@ -847,6 +856,11 @@ fn covers(a: &ProtectingBall, b: &ProtectingBall, arc: &[Point3]) -> bool {
 mod tests {
     use super::*;
 
+    /// The curves are the polylines themselves.
+    fn on_polyline(_: CurveId, p: Point3) -> Point3 {
+        p
+    }
+
     fn curve(id: u32, points: &[[f64; 3]], closed: bool) -> FeatureCurve {
         FeatureCurve {
             id: CurveId(id),
@@ -886,7 +900,6 @@ mod tests {
     }
 
     fn assert_protects(p: &Protection, curves: &[FeatureCurve], max_radius: f64) {
-        let mut linked = std::collections::BTreeSet::new();
         for chain in &p.chains {
             let line = curves
                 .iter()
@@ -899,6 +912,15 @@ mod tests {
                     "centre off its curve"
                 );
             }
+        }
+        assert_rules(p, curves, max_radius);
+    }
+
+    /// The rules of a protection whatever its centres: links overlap, other pairs are
+    /// disjoint, the polylines are covered.
+    fn assert_rules(p: &Protection, curves: &[FeatureCurve], max_radius: f64) {
+        let mut linked = std::collections::BTreeSet::new();
+        for chain in &p.chains {
             for (a, b) in chain.links() {
                 let (ba, bb) = (p.balls[a], p.balls[b]);
                 assert!(
@@ -935,8 +957,14 @@ mod tests {
     #[test]
     fn cube_edges_are_chains_between_exact_corners() {
         let (curves, corners) = cube();
-        let p =
-            protect(&curves, &corners, &Sizing::Constant(0.2), &limits(1e-6)).expect("protects");
+        let p = protect(
+            &curves,
+            &corners,
+            &Sizing::Constant(0.2),
+            &limits(1e-6),
+            &on_polyline,
+        )
+        .expect("protects");
         assert_eq!(p.corners, corners);
         for (k, &c) in corners.iter().enumerate() {
             assert_eq!(p.balls[k].center, c);
@@ -961,11 +989,45 @@ mod tests {
                 true,
             ),
         ];
-        let p = protect(&curves, &[], &Sizing::Constant(0.1), &limits(1e-6)).expect("protects");
+        let p = protect(
+            &curves,
+            &[],
+            &Sizing::Constant(0.1),
+            &limits(1e-6),
+            &on_polyline,
+        )
+        .expect("protects");
         assert!(p.corners.is_empty());
         assert_eq!(p.chains.len(), 2);
         assert!(p.chains.iter().all(|c| c.closed && c.balls.len() >= 3));
         assert_protects(&p, &curves, 0.1);
+    }
+
+    /// A polyline sampling a circle, whose domain maps points onto the circle: the curve balls
+    /// are centred on the circle itself, off the chords, and the rules hold for those centres.
+    #[test]
+    fn centres_are_moved_onto_the_curve_the_polyline_samples() {
+        let curves = [curve(1, &circle(32, 0.0), true)];
+        let onto_circle = |_: CurveId, p: Point3| Point3::new(p.x, p.y, 0.0).normalize();
+        let p = protect(
+            &curves,
+            &[],
+            &Sizing::Constant(0.1),
+            &limits(1e-6),
+            &onto_circle,
+        )
+        .expect("protects");
+        let line = Polyline::new(&curves[0].points, true).expect("valid");
+        let mut off_chords = 0;
+        for b in &p.balls {
+            assert!((b.center.length() - 1.0).abs() < 1e-15, "{} off", b.center);
+            // A chord's middle is 1 − cos(π/32) ≈ 4.8e-3 inside the circle.
+            if line.project(b.center).distance > 1e-4 {
+                off_chords += 1;
+            }
+        }
+        assert!(off_chords > p.balls.len() / 2, "{off_chords} moved");
+        assert_rules(&p, &curves, 0.1);
     }
 
     #[test]
@@ -983,8 +1045,14 @@ mod tests {
         ];
         let curves = [curve(1, &hexagon, true), curve(2, &zigzag, false)];
         for size in [0.5, 0.05] {
-            let p =
-                protect(&curves, &[], &Sizing::Constant(size), &limits(1e-9)).expect("protects");
+            let p = protect(
+                &curves,
+                &[],
+                &Sizing::Constant(size),
+                &limits(1e-9),
+                &on_polyline,
+            )
+            .expect("protects");
             assert_protects(&p, &curves, size);
             let is_centre = |q: [f64; 3]| {
                 let q = Point3::from_array(q);
@@ -1006,11 +1074,17 @@ mod tests {
             }
         }
         assert!(
-            !protect(&curves, &[], &Sizing::Constant(0.5), &limits(1e-9))
-                .expect("protects")
-                .balls
-                .iter()
-                .any(|b| b.center == Point3::new(1.25, 0.0, 0.0)),
+            !protect(
+                &curves,
+                &[],
+                &Sizing::Constant(0.5),
+                &limits(1e-9),
+                &on_polyline
+            )
+            .expect("protects")
+            .balls
+            .iter()
+            .any(|b| b.center == Point3::new(1.25, 0.0, 0.0)),
             "a collinear vertex is not a bend"
         );
     }
@@ -1036,8 +1110,14 @@ mod tests {
         let curves = [curve(1, &circle, true), curve(2, &ell, false)];
         let size = 0.15;
         let tolerance = 2e-3;
-        let exact =
-            protect(&curves, &[], &Sizing::Constant(size), &limits(1e-6)).expect("protects");
+        let exact = protect(
+            &curves,
+            &[],
+            &Sizing::Constant(size),
+            &limits(1e-6),
+            &on_polyline,
+        )
+        .expect("protects");
         assert!(
             exact.balls.len() >= n,
             "without tolerance every vertex is a centre"
@@ -1046,7 +1126,14 @@ mod tests {
             bend_tolerance: tolerance,
             ..limits(1e-6)
         };
-        let p = protect(&curves, &[], &Sizing::Constant(size), &bounded).expect("protects");
+        let p = protect(
+            &curves,
+            &[],
+            &Sizing::Constant(size),
+            &bounded,
+            &on_polyline,
+        )
+        .expect("protects");
         assert_protects(&p, &curves, size);
         // About 2π / (2 · 0.15 · SPACING-ish) balls: far fewer than the 2,000 vertices.
         assert!(p.balls.len() < 200, "{} balls", p.balls.len());
@@ -1079,7 +1166,14 @@ mod tests {
                 curve(2, &[tip, b], false),
                 curve(3, &[a, b], false),
             ];
-            let p = protect(&curves, &[], &Sizing::Constant(0.1), &limits(1e-9)).expect("protects");
+            let p = protect(
+                &curves,
+                &[],
+                &Sizing::Constant(0.1),
+                &limits(1e-9),
+                &on_polyline,
+            )
+            .expect("protects");
             assert_eq!(p.corners.len(), 3);
             assert_protects(&p, &curves, 0.1);
         }
@@ -1097,6 +1191,7 @@ mod tests {
             &[Point3::new(1.0, 0.0, 0.0)],
             &Sizing::Constant(0.1),
             &limits(1e-6),
+            &on_polyline,
         )
         .expect("protects");
         assert_eq!(p.corners.len(), 3);
@@ -1118,13 +1213,26 @@ mod tests {
             curve(1, &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]], false),
             curve(2, &[[0.5, -1.0, 0.0], [0.5, 1.0, 0.0]], false),
         ];
-        let p = protect(&curves, &[], &Sizing::Constant(0.1), &limits(1e-3)).expect("protects");
+        let p = protect(
+            &curves,
+            &[],
+            &Sizing::Constant(0.1),
+            &limits(1e-3),
+            &on_polyline,
+        )
+        .expect("protects");
         assert!(p.balls.iter().all(|b| b.radius >= 1e-3 && b.radius <= 0.1));
         // Far from the crossing, the balls keep the requested size.
         assert!(p.balls.iter().any(|b| b.radius == 0.1));
         let bad = [curve(3, &[[0.0, 0.0, 0.0]], false)];
         assert_eq!(
-            protect(&bad, &[], &Sizing::Constant(0.1), &limits(1e-4)),
+            protect(
+                &bad,
+                &[],
+                &Sizing::Constant(0.1),
+                &limits(1e-4),
+                &on_polyline
+            ),
             Err(ProtectError::BadCurve { curve: CurveId(3) })
         );
     }
@@ -1138,11 +1246,11 @@ mod tests {
             ..limits(1e-300)
         };
         assert_eq!(
-            protect(&curves, &corners, &tiny, &bounded),
+            protect(&curves, &corners, &tiny, &bounded, &on_polyline),
             Err(ProtectError::TooManyBalls { limit: 1000 })
         );
         // The smallest radius wins over the edge size: 12 edges of length 1 at radius 0.01.
-        let p = protect(&curves, &corners, &tiny, &limits(0.01)).expect("protects");
+        let p = protect(&curves, &corners, &tiny, &limits(0.01), &on_polyline).expect("protects");
         assert!(p.balls.iter().all(|b| b.radius >= 0.01));
         assert!(p.balls.len() <= 12 * 100 + 8);
         let past = ProtectLimits {
@@ -1151,7 +1259,13 @@ mod tests {
         };
         std::thread::sleep(std::time::Duration::from_millis(2));
         assert_eq!(
-            protect(&curves, &corners, &Sizing::Constant(0.1), &past),
+            protect(
+                &curves,
+                &corners,
+                &Sizing::Constant(0.1),
+                &past,
+                &on_polyline
+            ),
             Err(ProtectError::TimeLimit)
         );
     }

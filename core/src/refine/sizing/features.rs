@@ -24,7 +24,8 @@ pub fn feature_sizes(oracle: &dyn Oracle, criteria: &MeshCriteria) -> Vec<(Point
         deadline: None,
         bend_tolerance: criteria.bend_tolerance(),
     };
-    protect(&curves, &corners, &criteria.edge_size, &limits)
+    let onto_curve = |c, p| oracle.project_to_curve(c, p);
+    protect(&curves, &corners, &criteria.edge_size, &limits, &onto_curve)
         .map(|p| p.balls.iter().map(|b| (b.center, b.radius)).collect())
         .unwrap_or_default()
 }
