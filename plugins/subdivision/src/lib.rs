@@ -17,6 +17,7 @@
 
 mod bezier;
 mod control;
+mod crease;
 mod intersect;
 mod net;
 mod oracle;

@@ -2,6 +2,7 @@
 
 use crate::bezier::reference_corners;
 use crate::control::ControlMesh;
+use crate::crease::{CreasePiece, nearest};
 use crate::intersect::{Crossing, Query, crossings};
 use crate::net::Net;
 use crate::patch::{Patch, Surface};
@@ -19,6 +20,11 @@ use glam::{DVec2, DVec3};
 /// curve (at most [`CURVE_LEVELS`] times per control half-edge).
 const CURVE_TOLERANCE: f64 = 1e-7;
 const CURVE_LEVELS: u32 = 10;
+/// A point is projected onto the crease borders whose samples come within this × the diagonal
+/// of the nearest sample: more than the samples' chords leave the curve by.
+const CREASE_SLACK: f64 = 1e-5;
+/// The projection onto a crease stops when a step moves the point by this × the diagonal.
+const CREASE_TOLERANCE: f64 = 1e-13;
 /// The most initial points handed to the mesher.
 const MAX_INITIAL_POINTS: usize = 4096;
 /// Steps of subdivision applied ahead to irregular patches for the queries.
@@ -36,6 +42,8 @@ pub struct SubdivisionOracle {
     bbox: Aabb,
     initial: Vec<SurfacePoint>,
     curves: Vec<FeatureCurve>,
+    /// The patch borders each curve is made of (by curve), for the exact projection.
+    creases: Vec<(CurveId, Vec<CreasePiece>)>,
     corners: Vec<DVec3>,
     /// Euler characteristic of each connected component of the control mesh.
     euler: Vec<i64>,
@@ -106,6 +114,7 @@ impl SubdivisionOracle {
             bbox,
             initial: Vec::new(),
             curves: Vec::new(),
+            creases: Vec::new(),
             corners: Vec::new(),
             euler: component_euler_characteristics(&mesh.triangulated().triangles).1,
             base,
@@ -211,6 +220,7 @@ impl SubdivisionOracle {
         let diagonal = self.bbox.diagonal();
         for (i, c) in chains.curves.iter().enumerate() {
             let mut points: Vec<DVec3> = Vec::new();
+            let mut borders = Vec::new();
             let mut vertices = c.vertices.clone();
             if c.closed {
                 vertices.push(c.vertices[0]);
@@ -219,7 +229,11 @@ impl SubdivisionOracle {
                 let Some((h, reversed)) = half_of(w[0], w[1]) else {
                     continue;
                 };
-                let mut along = self.half_edge_curve(control, h, diagonal);
+                let pieces = self.half_edge_curve(control, h, diagonal);
+                let mut along: Vec<DVec3> = Vec::new();
+                for piece in &pieces {
+                    along.extend(piece.points().skip(usize::from(!along.is_empty())));
+                }
                 if reversed {
                     along.reverse();
                 }
@@ -227,16 +241,19 @@ impl SubdivisionOracle {
                     along.remove(0);
                 }
                 points.extend(along);
+                borders.extend(pieces);
             }
             if c.closed {
                 points.pop();
             }
             if points.len() >= 2 {
+                let id = CurveId(i as u32 + 1);
                 self.curves.push(FeatureCurve {
-                    id: CurveId(i as u32 + 1),
+                    id,
                     points,
                     closed: c.closed,
                 });
+                self.creases.push((id, borders));
             }
         }
         self.corners = chains
@@ -268,8 +285,9 @@ impl SubdivisionOracle {
         }
     }
 
-    /// Points on the limit curve of control half-edge `h`, from its first vertex to its second.
-    fn half_edge_curve(&self, control: &ControlMesh, h: usize, diagonal: f64) -> Vec<DVec3> {
+    /// The limit curve of control half-edge `h` as patch borders sampled on the limit, from its
+    /// first vertex to its second.
+    fn half_edge_curve(&self, control: &ControlMesh, h: usize, diagonal: f64) -> Vec<CreasePiece> {
         let c = reference_corners(self.scheme);
         // Pieces (patch, parameter segment) in order along the edge.
         let pieces: Vec<(usize, DVec2, DVec2)> = match self.scheme {
@@ -285,25 +303,23 @@ impl SubdivisionOracle {
                 vec![(f, c[k], c[(k + 1) % 3])]
             }
         };
-        let mut out = Vec::new();
-        for (patch, from, to) in pieces {
-            let surface = &self.patches[patch].surface;
-            let at = |s: f64| surface.eval(self.scheme, from + s * (to - from)).point;
-            let mut piece = vec![(0.0, at(0.0))];
-            bisect(
-                &at,
-                (0.0, at(0.0)),
-                (1.0, at(1.0)),
-                CURVE_TOLERANCE * diagonal,
-                CURVE_LEVELS,
-                &mut piece,
-            );
-            if !out.is_empty() {
-                piece.remove(0);
-            }
-            out.extend(piece.into_iter().map(|(_, p)| p));
-        }
-        out
+        pieces
+            .into_iter()
+            .map(|(patch, from, to)| {
+                let surface = &self.patches[patch].surface;
+                let at = |s: f64| surface.eval(self.scheme, from + s * (to - from)).point;
+                let mut samples = vec![(0.0, at(0.0))];
+                bisect(
+                    &at,
+                    (0.0, at(0.0)),
+                    (1.0, at(1.0)),
+                    CURVE_TOLERANCE * diagonal,
+                    CURVE_LEVELS,
+                    &mut samples,
+                );
+                CreasePiece::new(patch, from, to, samples)
+            })
+            .collect()
     }
 
     fn hits(&self, a: DVec3, b: DVec3, out: &mut Vec<SurfaceHit>) {
@@ -431,6 +447,25 @@ impl Oracle for SubdivisionOracle {
 
     fn feature_curves(&self) -> Vec<FeatureCurve> {
         self.curves.clone()
+    }
+
+    /// The nearest point of the limit crease: Newton's method on the exact patch borders it
+    /// is made of, from the nearest of their samples.
+    fn project_to_curve(&self, curve: CurveId, p: DVec3) -> DVec3 {
+        let Some((_, pieces)) = self.creases.iter().find(|(id, _)| *id == curve) else {
+            return p;
+        };
+        let d = self.bbox.diagonal();
+        nearest(
+            self.scheme,
+            &self.patches,
+            pieces,
+            p,
+            CREASE_SLACK * d,
+            CREASE_TOLERANCE * d,
+        )
+        .filter(|q| q.is_finite())
+        .unwrap_or(p)
     }
 
     fn corners(&self) -> Vec<DVec3> {
