@@ -5,7 +5,10 @@
 #[path = "../plugins/subdivision/tests/common/mod.rs"]
 mod control;
 
-use control::{cube, euler_characteristic, genus_two, octahedron, torus_grid, torus_point};
+use control::{
+    creased_torus, cube, distance_to_crease, euler_characteristic, genus_two, octahedron,
+    torus_grid, torus_point,
+};
 use delamesh::core::quality::surface_topology;
 use delamesh::formats::PolygonMesh;
 use delamesh::subdivision::SubdivisionOptions;
@@ -272,4 +275,48 @@ fn the_command_line_meshes_a_control_mesh_with_defaults_and_refuses_open_ones() 
         .arg(&input)
         .assert()
         .failure();
+}
+
+/// Crease vertices are on the exact limit crease, a curved closed loop, not on a polyline
+/// through samples of it: every vertex of a feature edge is within 1e-9 × the diagonal of one
+/// of the two crease B-splines, for Catmull–Clark and Loop.
+#[test]
+fn crease_vertices_lie_on_the_exact_limit_crease_curve() {
+    for triangles in [false, true] {
+        let (n, m) = (8, 6);
+        let (control, loops) = creased_torus(n, m, triangles);
+        let meshed = mesh(&control, SubdivisionOptions::default());
+        let c = &meshed.complex;
+        let diagonal = meshed.domain().oracle().bounding_box().diagonal();
+        let mut on_crease: Vec<u32> = c.feature_edges.iter().flatten().copied().collect();
+        on_crease.sort_unstable();
+        on_crease.dedup();
+        // The loops are 8 and 17 long, many edge sizes: a test over a handful would prove little.
+        assert!(
+            on_crease.len() >= 2 * n,
+            "{} crease vertices",
+            on_crease.len()
+        );
+        let worst = on_crease
+            .iter()
+            .map(|&v| {
+                let p = c.points[v as usize];
+                loops
+                    .iter()
+                    .map(|l| distance_to_crease(l, p))
+                    .fold(f64::INFINITY, f64::min)
+            })
+            .fold(0.0, f64::max);
+        eprintln!(
+            "{}: worst crease vertex {:.3e} × diagonal over {} vertices",
+            if triangles { "loop" } else { "catmull-clark" },
+            worst / diagonal,
+            on_crease.len()
+        );
+        assert!(
+            worst <= 1e-9 * diagonal,
+            "a crease vertex is {:.3e} × the diagonal off the limit crease",
+            worst / diagonal
+        );
+    }
 }

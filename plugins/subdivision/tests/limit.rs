@@ -4,7 +4,10 @@
 
 mod common;
 
-use common::{cube, genus_two, octahedron, torus_grid, torus_point, torus_triangles};
+use common::{
+    crease_b_spline, creased_torus, cube, distance_to_crease, genus_two, octahedron, torus_grid,
+    torus_point, torus_triangles,
+};
 use delamesh_core::oracle::Oracle;
 use delamesh_formats::PolygonMesh;
 use delamesh_subdivision::{Scheme, SubdivisionError, SubdivisionOptions, SubdivisionOracle};
@@ -153,6 +156,44 @@ fn evaluation_converges_at_an_extraordinary_vertex() {
         assert!(d < last && d < 4.0 * e, "2^-{k}: {d}");
         assert!(nk.dot(normal) > 0.99, "{nk} {normal}");
         last = d;
+    }
+}
+
+/// A point off a crease loop by 1e-6 of the diagonal, along a normal of the exact crease (a
+/// cubic B-spline, evaluated here on its own), is projected to the foot of that normal, and
+/// the polyline's own points stay where they are: both schemes, both loops.
+#[test]
+fn points_near_a_crease_go_to_the_nearest_point_of_the_exact_crease() {
+    for triangles in [false, true] {
+        let (control, loops) = creased_torus(8, 6, triangles);
+        let o = oracle(&control);
+        let diagonal = o.bounding_box().diagonal();
+        let curves = o.feature_curves();
+        assert_eq!(curves.len(), 2, "two crease loops");
+        let mut worst = 0.0f64;
+        for l in &loops {
+            let curve = curves
+                .iter()
+                .find(|c| distance_to_crease(l, c.points[0]) < 1e-9 * diagonal)
+                .expect("a curve along the loop");
+            assert!(curve.closed);
+            for &q in &curve.points {
+                let r = o.project_to_curve(curve.id, q);
+                worst = worst.max(r.distance(q));
+            }
+            for k in 0..16 * l.len() {
+                let [q, tangent] = crease_b_spline(l, k as f64 / 16.0);
+                let normal = (tangent.cross(DVec3::Z).normalize() + 0.5 * DVec3::Z).normalize();
+                let p = q + 1e-6 * diagonal * normal;
+                let r = o.project_to_curve(curve.id, p);
+                worst = worst.max(r.distance(q));
+            }
+        }
+        assert!(
+            worst <= 1e-12 * diagonal,
+            "a projection is {:.2e} × the diagonal from the nearest point",
+            worst / diagonal
+        );
     }
 }
 

@@ -94,6 +94,76 @@ pub fn torus_triangles(n: usize, m: usize) -> PolygonMesh {
     mesh(quads.positions, faces)
 }
 
+/// The uniform periodic cubic B-spline of the closed polygon `c` at `t` (one unit per
+/// control point) and its derivative: the limit of the crease rules (crease vertex
+/// `(a + 6v + b)/8`, edge point the midpoint), Loop's and Catmull–Clark's alike.
+pub fn crease_b_spline(c: &[DVec3], t: f64) -> [DVec3; 2] {
+    let n = c.len();
+    let t = t.rem_euclid(n as f64);
+    let (i, s) = (t.floor() as usize, t.fract());
+    let b = [
+        (1.0 - s).powi(3) / 6.0,
+        (3.0 * s.powi(3) - 6.0 * s * s + 4.0) / 6.0,
+        (-3.0 * s.powi(3) + 3.0 * s * s + 3.0 * s + 1.0) / 6.0,
+        s.powi(3) / 6.0,
+    ];
+    let d = [
+        -(1.0 - s).powi(2) / 2.0,
+        (3.0 * s * s - 4.0 * s) / 2.0,
+        (-3.0 * s * s + 2.0 * s + 1.0) / 2.0,
+        s * s / 2.0,
+    ];
+    let mut out = [DVec3::ZERO; 2];
+    for k in 0..4 {
+        let p = c[(i + n + k - 1) % n];
+        out[0] += b[k] * p;
+        out[1] += d[k] * p;
+    }
+    out
+}
+
+/// Distance from `p` to the B-spline of `c`: the nearest of a sample, then damped Newton on
+/// the squared distance.
+pub fn distance_to_crease(c: &[DVec3], p: DVec3) -> f64 {
+    let samples = 64 * c.len();
+    let mut t = (0..samples)
+        .map(|k| k as f64 / 64.0)
+        .min_by(|&a, &b| {
+            let da = crease_b_spline(c, a)[0].distance(p);
+            da.total_cmp(&crease_b_spline(c, b)[0].distance(p))
+        })
+        .unwrap_or(0.0);
+    let mut d = crease_b_spline(c, t)[0].distance(p);
+    for _ in 0..60 {
+        let [q, dq] = crease_b_spline(c, t);
+        let mut step = (q - p).dot(dq) / dq.length_squared();
+        while step.abs() > 1e-18 && crease_b_spline(c, t - step)[0].distance(p) > d {
+            step *= 0.5;
+        }
+        t -= step;
+        d = crease_b_spline(c, t)[0].distance(p);
+    }
+    d
+}
+
+/// The torus grid (or its triangles) with the faces of its upper half (`j < m / 2`) in a group
+/// of their own: two closed crease loops along the rings `j = 0` and `j = m / 2`, every vertex
+/// on them a regular crease vertex. Returns the mesh and the two loops' control polygons.
+pub fn creased_torus(n: usize, m: usize, triangles: bool) -> (PolygonMesh, [Vec<DVec3>; 2]) {
+    let mut t = if triangles {
+        torus_triangles(n, m)
+    } else {
+        torus_grid(n, m)
+    };
+    let per_quad = if triangles { 2 } else { 1 };
+    t.groups = (0..t.faces.len())
+        .map(|f| PatchId(u32::from(f / per_quad / n >= m / 2)))
+        .collect();
+    t.group_names = vec!["upper".into(), "lower".into()];
+    let ring = |j: usize| (0..n).map(|i| torus_point(n, m, i, j)).collect();
+    (t, [ring(0), ring(m / 2)])
+}
+
 /// A slab of 5 × 3 × 1 unit cubes with two cubes taken out: a genus-2 quad mesh (χ = −2).
 pub fn genus_two() -> PolygonMesh {
     let solid = |x: i32, y: i32, z: i32| {
