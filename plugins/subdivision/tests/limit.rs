@@ -197,6 +197,65 @@ fn points_near_a_crease_go_to_the_nearest_point_of_the_exact_crease() {
     }
 }
 
+/// Open creases, ending at darts (half a ring of the torus given as a feature polyline) or at
+/// crease corners (the cube with every edge sharp): the projection keeps the sampled points,
+/// takes a chord's middle to a point it keeps (a point of the curve), and a point past an end
+/// along the last chord to that end.
+#[test]
+fn projections_onto_open_creases_keep_their_points_and_stop_at_their_ends() {
+    let (n, m) = (8, 6);
+    let half_ring = delamesh_piecewise_smooth::Polyline {
+        line: 1,
+        points: (0..=n / 2).map(|i| torus_point(n, m, i, 0)).collect(),
+    };
+    let darts = SubdivisionOracle::new(
+        &torus_grid(n, m),
+        &SubdivisionOptions::default(),
+        &[half_ring],
+    )
+    .expect("valid");
+    let sharp_cube = SubdivisionOracle::new(
+        &cube(),
+        &SubdivisionOptions {
+            crease_angle_deg: Some(60.0),
+            ..SubdivisionOptions::default()
+        },
+        &[],
+    )
+    .expect("valid");
+    for (o, count) in [(darts, 1), (sharp_cube, 12)] {
+        let diagonal = o.bounding_box().diagonal();
+        let curves = o.feature_curves();
+        assert_eq!(curves.len(), count);
+        for c in &curves {
+            assert!(!c.closed);
+            let project = |p: DVec3| o.project_to_curve(c.id, p);
+            for w in c.points.windows(2) {
+                let (a, b) = (w[0], w[1]);
+                assert!(project(a).distance(a) <= 1e-12 * diagonal, "{a} moved");
+                let mid = 0.5 * (a + b);
+                let r = project(mid);
+                assert!(r.distance(mid) <= 1e-6 * diagonal, "{mid} went to {r}");
+                assert!(
+                    project(r).distance(r) <= 1e-12 * diagonal,
+                    "{r} is off the curve"
+                );
+            }
+            let k = c.points.len();
+            for (end, before) in [
+                (c.points[0], c.points[1]),
+                (c.points[k - 1], c.points[k - 2]),
+            ] {
+                let past = end + 1e-3 * diagonal * (end - before).normalize();
+                assert!(
+                    project(past).distance(end) <= 1e-12 * diagonal,
+                    "past {end}"
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn hits_lie_on_their_segment_and_the_inside_is_inside() {
     for m in [cube(), octahedron(), torus_grid(6, 5), genus_two()] {
