@@ -40,7 +40,7 @@ impl CreasePiece {
     }
 
     /// The sampled points, from `from` to `to`.
-    pub fn points(&self) -> impl DoubleEndedIterator<Item = DVec3> + '_ {
+    pub fn points(&self) -> impl Iterator<Item = DVec3> + '_ {
         self.samples.iter().map(|&(_, p)| p)
     }
 
