@@ -10,7 +10,9 @@
 //! parameter falls in a regular child. Segment queries split patches while the box of their
 //! control points meets the segment, then run Newton's method on the exact polynomial; the
 //! inside test is ray parity on the same queries. Patch ids are the control faces' groups (from
-//! 1), curve ids the crease chains between corners.
+//! 1), curve ids the crease chains between corners: the mesher protects them as polylines
+//! sampled on the limit, and every vertex it puts on one is projected onto the limit crease
+//! ([`crease`]: Newton's method on the patch borders the crease is made of).
 //!
 //! The control mesh must be a closed, consistently oriented 2-manifold without degenerate faces;
 //! anything else is refused with an error naming the edge, vertex or face.
