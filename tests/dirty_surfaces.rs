@@ -116,6 +116,33 @@ fn two_overlapping_boxes_give_one_solid_of_the_union_volume() {
     assert!((mesh_volume(&c) - union).abs() < 0.02 * union);
 }
 
+/// Two copies of a box shifted along x: their faces y = 0, 1 and z = 0, 1 overlap in their
+/// planes, where the winding number goes from two to zero. Both copies bound the union there.
+#[test]
+fn boxes_overlapping_in_their_face_planes_give_the_union() {
+    let boxes = cuboid(DVec3::ZERO, DVec3::ONE)
+        .merge(cuboid(DVec3::new(0.3, 0.0, 0.0), DVec3::new(1.3, 1.0, 1.0)));
+    let o = oracle(&boxes);
+    assert!((o.domain_volume() - 1.3).abs() < 0.01);
+    // Up from inside both, through the shared top face: one hit, on it.
+    let mut hits = Vec::new();
+    o.segment_hits(
+        DVec3::new(0.6, 0.4, 0.5),
+        DVec3::new(0.6, 0.4, 2.0),
+        &mut hits,
+    );
+    assert_eq!(hits.len(), 1, "{hits:?}");
+    assert!((hits[0].point.z - 1.0).abs() < 1e-12);
+
+    let c = mesh_of(&o, 0.2);
+    assert_valid(&c, 2);
+    assert!(
+        (mesh_volume(&c) - 1.3).abs() < 0.02 * 1.3,
+        "{}",
+        mesh_volume(&c)
+    );
+}
+
 #[test]
 fn a_cube_with_a_missing_face_gives_the_cube() {
     let mut open = cuboid(DVec3::ZERO, DVec3::ONE);

@@ -31,6 +31,8 @@ pub struct Relabelling {
     pub volume_change: f64,
     /// Pinched vertices left when the budget ran out (0 when the boundary is a 2-manifold).
     pub pinched_left: usize,
+    /// Cells moved from one subdomain to another (the domain stays the same).
+    pub cells_across: usize,
 }
 
 /// A region of the cells around a vertex: cells of one side connected through facets holding
@@ -110,6 +112,129 @@ pub(crate) fn relabel_to_manifold<T: Triangulation<Point = Point3>>(
         }
     }
     result
+}
+
+/// Where a subdomain's boundary touches itself at a vertex (an interface pinched against another
+/// subdomain, or two sheets of an inclusion's surface, or an inclusion and the outer surface,
+/// that the sizes could not separate), relabel cells between subdomains there. Around a vertex,
+/// the boundary of subdomain `L` is one disc exactly when the cells of `L`, and the other cells,
+/// each form one piece connected through facets holding the vertex. The smallest movable piece
+/// that breaks this is moved: a piece of `L` to the subdomain it shares the most facets with, or
+/// a piece of the other cells (clear of the outside) into `L`. Pinches against the outside alone
+/// are [`relabel_to_manifold`]'s. Each cell moves once, so it ends; the domain does not change.
+pub(crate) fn relabel_interfaces<T: Triangulation<Point = Point3>>(
+    tr: &T,
+    cells: &mut CellLevel<'_>,
+    pinched: &[VertexId],
+    result: &mut Relabelling,
+) {
+    let mut todo: BTreeSet<u32> = pinched.iter().map(|v| v.0).collect();
+    let mut around = Vec::new();
+    let mut moved = vec![false; tr.cell_capacity()];
+    while let Some(v) = todo.pop_first() {
+        let v = VertexId(v);
+        loop {
+            tr.incident_cells(v, &mut around);
+            let label: Vec<SubdomainId> = around
+                .iter()
+                .map(|&c| {
+                    if tr.is_infinite_cell(c) {
+                        OUTSIDE
+                    } else {
+                        cells.subdomain(c)
+                    }
+                })
+                .collect();
+            // Cells around `v` sharing a facet that holds `v`.
+            let mut next: Vec<Vec<usize>> = vec![Vec::new(); around.len()];
+            for (k, &c) in around.iter().enumerate() {
+                for (i, &w) in tr.cell(c).as_ref().iter().enumerate() {
+                    if w != v
+                        && let Some(j) = around.iter().position(|&x| x == tr.neighbor(c, i))
+                    {
+                        next[k].push(j);
+                    }
+                }
+            }
+            let movable = |piece: &[usize]| {
+                piece.iter().all(|&k| {
+                    label[k] != OUTSIDE && !moved.get(around[k].0 as usize).copied().unwrap_or(true)
+                })
+            };
+            let volume = |piece: &[usize]| piece.iter().map(|&k| volume_of(tr, around[k])).sum();
+            // Candidate moves: (volume, cells around `v` by index, new subdomain).
+            let mut moves: Vec<(f64, Vec<usize>, SubdomainId)> = Vec::new();
+            let labels: BTreeSet<SubdomainId> =
+                label.iter().copied().filter(|&l| l != OUTSIDE).collect();
+            for l in labels {
+                let inner = pieces(&next, |k| label[k] == l);
+                let outer = pieces(&next, |k| label[k] != l);
+                if inner.len() <= 1 && outer.len() <= 1 {
+                    continue;
+                }
+                if inner.len() > 1 {
+                    for piece in inner.into_iter().filter(|p| movable(p)) {
+                        let mut votes: BTreeMap<SubdomainId, usize> = BTreeMap::new();
+                        for &k in &piece {
+                            for &j in &next[k] {
+                                if label[j] != l && label[j] != OUTSIDE {
+                                    *votes.entry(label[j]).or_default() += 1;
+                                }
+                            }
+                        }
+                        if let Some((to, _)) = votes
+                            .into_iter()
+                            .max_by(|a, b| a.1.cmp(&b.1).then(b.0.cmp(&a.0)))
+                        {
+                            moves.push((volume(&piece), piece, to));
+                        }
+                    }
+                }
+                for piece in outer.into_iter().filter(|p| movable(p)) {
+                    moves.push((volume(&piece), piece, l));
+                }
+            }
+            let Some((_, piece, to)) = moves
+                .into_iter()
+                .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+            else {
+                break;
+            };
+            for k in piece {
+                let c = around[k];
+                moved[c.0 as usize] = true;
+                cells.set_subdomain(c, to);
+                result.cells_across += 1;
+                todo.extend(cell_vertices(tr, c).iter().map(|w| w.0));
+            }
+        }
+    }
+}
+
+/// The pieces of the cells `member` accepts, connected through `next`, each sorted.
+fn pieces(next: &[Vec<usize>], member: impl Fn(usize) -> bool) -> Vec<Vec<usize>> {
+    let mut seen = vec![false; next.len()];
+    let mut out = Vec::new();
+    for start in 0..next.len() {
+        if seen[start] || !member(start) {
+            continue;
+        }
+        seen[start] = true;
+        let mut piece = vec![start];
+        let mut k = 0;
+        while k < piece.len() {
+            for &j in &next[piece[k]] {
+                if !seen[j] && member(j) {
+                    seen[j] = true;
+                    piece.push(j);
+                }
+            }
+            k += 1;
+        }
+        piece.sort_unstable();
+        out.push(piece);
+    }
+    out
 }
 
 /// Give the other label to the `count` smallest face-connected pieces of cells (islands of

@@ -8,7 +8,7 @@ use super::engine::{Engine, Limits, Progress, RefineError, RefineStats};
 use super::facets::SurfaceLevel;
 use super::geometry::is_flat;
 use super::guard::CurveLevel;
-use super::manifold::{relabel_to_manifold, remove_stray_pieces};
+use super::manifold::{relabel_interfaces, relabel_to_manifold, remove_stray_pieces};
 use super::protect::{ProtectError, ProtectLimits, protect};
 use super::repair::{Validity, ValidityOptions, find_defects};
 use crate::complex::MeshComplex;
@@ -471,8 +471,13 @@ fn relabel<T: Triangulation<Point = Point3>>(refined: &mut Refined<'_, T>, optio
     }
     if !validity.manifold {
         let on_surface = |v| surface.is_on_surface(v);
-        let relabelling = relabel_to_manifold(tr, cells, stuck, &on_surface, tr.num_vertices());
-        *validity = find_defects(tr, cells, &options.validity, false).validity();
+        let mut relabelling = relabel_to_manifold(tr, cells, stuck, &on_surface, tr.num_vertices());
+        let mut defects = find_defects(tr, cells, &options.validity, false);
+        if !defects.validity().manifold {
+            relabel_interfaces(tr, cells, &defects.stuck, &mut relabelling);
+            defects = find_defects(tr, cells, &options.validity, false);
+        }
+        *validity = defects.validity();
         validity.relabelling = relabelling;
     }
     if validity.manifold && validity.extra_components > 0 {

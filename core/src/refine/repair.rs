@@ -17,9 +17,9 @@ use super::facets::SurfaceLevel;
 use super::geometry::{cell_vertices, facet_vertices, is_flat};
 use crate::kernel::Point3;
 use crate::mesh::{component_euler_characteristics, non_manifold_elements};
-use crate::oracle::OUTSIDE;
+use crate::oracle::{OUTSIDE, SubdomainId};
 use crate::triangulation::{CellId, Triangulation, VertexId};
-use std::collections::{BTreeMap, HashMap};
+use std::collections::BTreeMap;
 
 /// What the repairs after the criteria must reach.
 #[derive(Clone, Debug, PartialEq)]
@@ -144,10 +144,16 @@ pub(crate) fn find_defects<T: Triangulation<Point = Point3>>(
     topology: bool,
 ) -> Defects {
     let mut defects = Defects::default();
+    // Every facet between two labels, once from each side inside a subdomain: `sides[k]` is the
+    // subdomain of `boundary[k]`'s cell, and `once` keeps one side of each facet (the lower
+    // label's, or the only one against the outside).
     let mut boundary: Vec<BoundaryFacet> = Vec::new();
     let mut triangles: Vec<[u32; 3]> = Vec::new();
+    let mut sides: Vec<SubdomainId> = Vec::new();
+    let mut once: Vec<usize> = Vec::new();
     for c in tr.finite_cells() {
-        if cells.subdomain(c) == OUTSIDE {
+        let label = cells.subdomain(c);
+        if label == OUTSIDE {
             continue;
         }
         let cell = cell_vertices(tr, c);
@@ -156,9 +162,18 @@ pub(crate) fn find_defects<T: Triangulation<Point = Point3>>(
         }
         for i in 0..4 {
             let n = tr.neighbor(c, i);
-            if tr.is_infinite_cell(n) || cells.subdomain(n) == OUTSIDE {
+            let other = if tr.is_infinite_cell(n) {
+                OUTSIDE
+            } else {
+                cells.subdomain(n)
+            };
+            if other != label {
+                if other == OUTSIDE || label < other {
+                    once.push(triangles.len());
+                }
                 boundary.push(BoundaryFacet { cell: c, index: i });
                 triangles.push(facet_vertices(&cell, i).map(|v| v.0));
+                sides.push(label);
             }
         }
     }
@@ -166,50 +181,93 @@ pub(crate) fn find_defects<T: Triangulation<Point = Point3>>(
         let [a, b, c] = triangles[k].map(|v| tr.point(crate::triangulation::VertexId(v)));
         circumradius2(a, b, c)
     };
-    let (edges, vertices) = non_manifold_elements(&triangles);
-    defects.non_manifold = !edges.is_empty() || !vertices.is_empty();
-    defects.stuck = edges
+    // Each subdomain's boundary must be a 2-manifold, interfaces included (where three labels
+    // meet along a curve the union of the interfaces is not, and need not be, one), and so must
+    // the domain's (listed under `OUTSIDE`).
+    let mut by_label: BTreeMap<SubdomainId, Vec<usize>> = BTreeMap::new();
+    for (k, &label) in sides.iter().enumerate() {
+        by_label.entry(label).or_default().push(k);
+    }
+    // And the boundary of the whole domain, against the outside (with one subdomain, the same).
+    if by_label.len() > 1 {
+        let outer = once
+            .iter()
+            .copied()
+            .filter(|&k| {
+                let f = boundary[k];
+                let n = tr.neighbor(f.cell, f.index);
+                tr.is_infinite_cell(n) || cells.subdomain(n) == OUTSIDE
+            })
+            .collect();
+        by_label.insert(OUTSIDE, outer);
+    }
+    // Per defect, the facets (of one subdomain's boundary) around it.
+    let mut spots: Vec<Vec<usize>> = Vec::new();
+    let mut pinched: Vec<u32> = Vec::new();
+    for facets in by_label.values() {
+        let soup: Vec<[u32; 3]> = facets.iter().map(|&k| triangles[k]).collect();
+        let (edges, vertices) = non_manifold_elements(&soup);
+        let mut around: BTreeMap<u32, Vec<usize>> = edges
+            .iter()
+            .flatten()
+            .chain(&vertices)
+            .map(|&v| (v, Vec::new()))
+            .collect();
+        if around.is_empty() {
+            continue;
+        }
+        for &k in facets {
+            for v in triangles[k] {
+                if let Some(list) = around.get_mut(&v) {
+                    list.push(k);
+                }
+            }
+        }
+        for e in &edges {
+            spots.push(
+                around[&e[0]]
+                    .iter()
+                    .copied()
+                    .filter(|&k| triangles[k].contains(&e[1]))
+                    .collect(),
+            );
+        }
+        for v in &vertices {
+            spots.push(around[v].clone());
+        }
+        pinched.extend(edges.iter().flatten().chain(&vertices));
+    }
+    defects.non_manifold = !spots.is_empty();
+    defects.stuck = pinched
         .iter()
-        .flatten()
-        .chain(&vertices)
         .map(|&v| VertexId(v))
         .chain(defects.flat.iter().flat_map(|&c| cell_vertices(tr, c)))
         .collect();
     defects.stuck.sort_unstable();
     defects.stuck.dedup();
     if options.manifold && defects.non_manifold {
-        // The facets around each spot, then the biggest of them refined.
-        let mut around: HashMap<u32, Vec<usize>> = HashMap::new();
-        for v in edges.iter().flatten().chain(&vertices) {
-            around.entry(*v).or_default();
-        }
-        for (k, t) in triangles.iter().enumerate() {
-            for v in t {
-                if let Some(list) = around.get_mut(v) {
-                    list.push(k);
-                }
-            }
-        }
-        let biggest = |list: &mut dyn Iterator<Item = usize>| {
-            list.max_by(|&x, &y| size(x).total_cmp(&size(y)).then(y.cmp(&x)))
-        };
-        let mut chosen: Vec<usize> = Vec::new();
-        for e in &edges {
-            let on_edge = &mut around[&e[0]]
-                .iter()
-                .copied()
-                .filter(|&k| triangles[k].contains(&e[1]));
-            chosen.extend(biggest(on_edge));
-        }
-        for v in &vertices {
-            chosen.extend(biggest(&mut around[v].iter().copied()));
-        }
+        // The biggest facet around each spot is refined.
+        let mut chosen: Vec<usize> = spots
+            .iter()
+            .filter_map(|list| {
+                list.iter()
+                    .copied()
+                    .max_by(|&x, &y| size(x).total_cmp(&size(y)).then(y.cmp(&x)))
+            })
+            .collect();
         chosen.sort_unstable();
         chosen.dedup();
         defects
             .facets
             .extend(chosen.into_iter().map(|k| boundary[k]));
     }
+    // The topology rule compares the surfaces between labels (each facet once) with the input's.
+    let triangles: Vec<[u32; 3]> = once.iter().map(|&k| triangles[k]).collect();
+    let boundary: Vec<BoundaryFacet> = once.iter().map(|&k| boundary[k]).collect();
+    let size = |k: usize| {
+        let [a, b, c] = triangles[k].map(|v| tr.point(crate::triangulation::VertexId(v)));
+        circumradius2(a, b, c)
+    };
     if !defects.non_manifold
         && let Some(input) = &options.input_euler
     {

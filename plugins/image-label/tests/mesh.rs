@@ -627,8 +627,8 @@ fn random_blobs_of_labels_are_meshed_along_their_junctions() {
         if same { 2.0 } else { 0.0 }
     };
     assert_tets_in_their_voxels(&c, DVec3::ONE, label, away, 1.0);
-    // The boundary of the labelled region is a closed 2-manifold (the validity repairs' target;
-    // the interfaces between labels inside it are not repaired to manifolds yet).
+    // The boundary of the labelled region, and of each label's region, is a closed 2-manifold
+    // (the validity repairs' target).
     let outer: Vec<[u32; 3]> = (0..c.facets.len())
         .filter(|&f| c.facet_subdomains[f].contains(&OUTSIDE))
         .map(|f| c.facets[f])
@@ -637,6 +637,19 @@ fn random_blobs_of_labels_are_meshed_along_their_junctions() {
     assert_eq!(t.border_edges, 0);
     assert_eq!(t.non_manifold_edges, 0);
     assert_eq!(t.non_manifold_vertices, 0);
+    for l in 1..=4 {
+        let facets: Vec<[u32; 3]> = (0..c.facets.len())
+            .filter(|&f| c.facet_subdomains[f].contains(&SubdomainId(l)))
+            .map(|f| c.facets[f])
+            .collect();
+        let t = quality::surface_topology(&facets);
+        assert_eq!(t.border_edges, 0, "label {l}: border");
+        assert_eq!(t.non_manifold_edges, 0, "label {l}: non-manifold edges");
+        assert_eq!(
+            t.non_manifold_vertices, 0,
+            "label {l}: non-manifold vertices"
+        );
+    }
 }
 
 #[test]

@@ -3,7 +3,7 @@
 use crate::occupancy::{MAX_CANDIDATES, Near, Occupancy};
 use crate::predicates::{Crossing, orient, segment_crossing};
 use crate::repair::{Repairs, repair};
-use crate::tree::TriangleTree;
+use crate::tree::{TriangleTree, closest_point_on_triangle};
 use crate::validate::{SurfaceDefects, crossed_triangles, surface_defects_in};
 use delamesh_core::mesh::{component_euler_characteristics, first_out_of_range};
 use delamesh_core::oracle::{
@@ -616,41 +616,68 @@ impl PolyhedralOracle {
     }
 
     /// Does triangle `t` bound the domain at its point `x`? Always for a surface that bounds a
-    /// volume as given; for the winding-number domain, where the winding number just behind `t`
-    /// is one (zero in front): a triangle buried in the volume, or in an inverted region, is
-    /// not part of its boundary.
+    /// volume as given; for the winding-number domain, where the winding number is at least one
+    /// just behind `t` and at most zero just in front: a triangle buried in the volume, or in an
+    /// inverted region, is not part of its boundary, and of two overlapping coplanar triangles
+    /// facing the same way (two solids sharing a face, both outward) both are.
     fn bounds_domain(&self, t: u32, x: DVec3) -> bool {
         let Some(w) = &self.winding else {
             return true;
         };
+        let bounds = |x: DVec3| {
+            self.windings_across(t, x)
+                .is_none_or(|(behind, front)| behind >= 1 && front <= 0)
+        };
         if w.crossed[t as usize] {
-            return self.winding_behind(t, x).is_none_or(|b| b == 1);
+            return bounds(x);
         }
         *w.on_boundary[t as usize].get_or_init(|| {
             let [a, b, c] = self.triangles[t as usize];
-            self.winding_behind(t, (a + b + c) / 3.0)
-                .is_none_or(|b| b == 1)
+            bounds((a + b + c) / 3.0)
         })
     }
 
-    /// The winding number just behind triangle `t` at its point `x`, from a ray from `x` that
-    /// ignores `t`. On an edge or a vertex of `t` every such ray starts on a neighbour: then from a
-    /// point a hair behind `t` (`None` if that fails too).
-    fn winding_behind(&self, t: u32, x: DVec3) -> Option<i32> {
+    /// The winding numbers just behind and just in front of triangle `t` at its point `x`. Where
+    /// no other triangle lies in `t`'s plane at `x`, from one ray from `x` that ignores `t` (the
+    /// two differ by one); otherwise, or when every ray from `x` starts on a neighbour (`x` on an
+    /// edge or a vertex of `t`), from points a hair behind and in front (`None` if that fails).
+    fn windings_across(&self, t: u32, x: DVec3) -> Option<(i32, i32)> {
         let n = self.depth.len();
         let [a, b, c] = self.triangles[t as usize];
-        let (w, end) = self.windings(x, |s| s == t, n);
-        let total: i32 = w.iter().sum();
-        // Leaving through the front, the ray counted the winding number in front, one less.
-        match end.map(|q| orient(a, b, c, q)) {
-            Some(std::cmp::Ordering::Less) => return Some(total + 1),
-            Some(std::cmp::Ordering::Greater) => return Some(total),
-            _ => {}
+        let hair = 1e-9 * self.bbox.diagonal();
+        if !self.coplanar_neighbour_at(t, x, hair) {
+            let (w, end) = self.windings(x, |s| s == t, n);
+            let total: i32 = w.iter().sum();
+            // Leaving through the front, the ray counted the winding number in front.
+            match end.map(|q| orient(a, b, c, q)) {
+                Some(std::cmp::Ordering::Less) => return Some((total + 1, total)),
+                Some(std::cmp::Ordering::Greater) => return Some((total, total - 1)),
+                _ => {}
+            }
         }
         let normal = (b - a).cross(c - a).normalize_or_zero();
-        let behind = x - 1e-9 * self.bbox.diagonal() * normal;
-        let (w, end) = self.windings(behind, |_| false, n);
-        end.map(|_| w.iter().sum())
+        let at = |p: DVec3| {
+            let (w, end) = self.windings(p, |_| false, n);
+            end.map(|_| w.iter().sum::<i32>())
+        };
+        Some((at(x - hair * normal)?, at(x + hair * normal)?))
+    }
+
+    /// Is there, besides `t`, a triangle in `t`'s plane (exactly) within `tolerance` of `x`?
+    fn coplanar_neighbour_at(&self, t: u32, x: DVec3, tolerance: f64) -> bool {
+        let tri = self.triangles[t as usize];
+        let mut found = false;
+        self.tree
+            .for_each_near_box(x - tolerance, x + tolerance, |s| {
+                let other = &self.triangles[s as usize];
+                found = found
+                    || (s != t
+                        && other.iter().all(|&p| {
+                            orient(tri[0], tri[1], tri[2], p) == std::cmp::Ordering::Equal
+                        })
+                        && closest_point_on_triangle(x, other).distance(x) <= tolerance);
+            });
+        found
     }
 
     /// Volume of `{w ≥ 1}`: the exact length inside along each of a grid of lines parallel to
