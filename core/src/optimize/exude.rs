@@ -61,11 +61,11 @@ fn pump(ws: &mut Workspace<'_>, v: VertexId) -> bool {
     // each try costs a move and an undo in the triangulation.
     for f in PUMPS {
         let w = w0 + (bound - w0) * f;
-        if let Some(change) = ws.try_move(v, p, w) {
-            if change.after > change.before {
-                return true;
-            }
-            ws.undo(change);
+        if ws
+            .try_move(v, p, w, |before, after| after > before)
+            .is_some()
+        {
+            return true;
         }
     }
     false

@@ -249,12 +249,9 @@ fn perturb_cell(
         };
         for q in tries {
             let w = ws.rt.weight(v);
-            if let Some(change) = ws.try_move(v, q, w) {
-                // The surface checks query the oracle: only for a move that helps.
-                let on_surface = || {
-                    !fixed_boundary || (ws.none_folded(v, &normals) && ws.surface_near_around(v))
-                };
-                if change.after > change.before && on_surface() {
+            // The surface checks query the oracle: only for a move that helps.
+            if let Some(change) = ws.try_move(v, q, w, |before, after| after > before) {
+                if !fixed_boundary || (ws.none_folded(v, &normals) && ws.surface_near_around(v)) {
                     return true;
                 }
                 ws.undo(change);

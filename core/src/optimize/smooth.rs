@@ -68,13 +68,10 @@ pub(super) fn smooth(
                 continue;
             }
             let w = ws.rt.weight(v);
-            if let Some(change) = ws.try_move(v, target, w) {
-                if change.after >= change.before.min(KEEP_ANGLE) {
-                    kept += 1;
-                    largest = largest.max(relative);
-                } else {
-                    ws.undo(change);
-                }
+            let keep = |before: f64, after: f64| after >= before.min(KEEP_ANGLE);
+            if ws.try_move(v, target, w, keep).is_some() {
+                kept += 1;
+                largest = largest.max(relative);
             }
         }
         if largest < CONVERGENCE {

@@ -50,14 +50,11 @@ pub(super) struct Change {
     vertex: VertexId,
     old_point: Point3,
     old_weight: f64,
-    /// Subdomains of the destroyed cells, by sorted vertices (to restore them on undo).
-    saved: FxHashMap<[u32; 4], SubdomainId>,
+    /// Subdomain and [`min_dihedral_cos`] of each destroyed cell, in the order of
+    /// `moved.removed` (an undo puts the cells back in that order).
+    saved: Vec<(SubdomainId, f64)>,
     /// The cells the move destroyed and created (to put the old ones back on undo).
     moved: MoveReport,
-    /// Smallest dihedral angle of the destroyed cells inside the domain.
-    pub before: f64,
-    /// Smallest dihedral angle of the created cells inside the domain.
-    pub after: f64,
 }
 
 /// The triangulation, its labels and the boundary, with the per-vertex data of the mesh.
@@ -202,6 +199,19 @@ fn quad_key(q: [VertexId; 4]) -> [u32; 4] {
 }
 
 /// Sorted vertices of facet `i` of cell `q`.
+/// The subdomains of destroyed cells (`saved`, in the order of `removed`) by their sorted
+/// vertices, to label the same cells rebuilt in other slots.
+fn by_vertices(
+    removed: &[(CellId, [VertexId; 4])],
+    saved: &[(SubdomainId, f64)],
+) -> FxHashMap<[u32; 4], SubdomainId> {
+    removed
+        .iter()
+        .zip(saved)
+        .map(|(&(_, q), &(label, _))| (quad_key(q), label))
+        .collect()
+}
+
 fn facet_key(q: [VertexId; 4], i: usize) -> FacetKey {
     let mut k = [0u32; 3];
     let mut n = 0;
@@ -515,41 +525,40 @@ impl<'o> Workspace<'o> {
         }
     }
 
-    /// Moves `v` to `p` with weight `w`. `Some` when the triangulation accepted the move and the
-    /// boundary survived it; otherwise the mesh is left as it was and `None` is returned.
-    pub fn try_move(&mut self, v: VertexId, p: Point3, w: f64) -> Option<Change> {
+    /// Moves `v` to `p` with weight `w`, and keeps the move when the triangulation accepted it,
+    /// the boundary survived it and `keep(before, after)` holds for the smallest dihedral angles
+    /// of the cells it destroyed and created inside the domain (`keep` must not decrease with
+    /// `after`, so a move is refused at its first bad cell: most trial moves are). Otherwise the
+    /// mesh is left as it was and `None` is returned.
+    pub fn try_move(
+        &mut self,
+        v: VertexId,
+        p: Point3,
+        w: f64,
+        keep: impl Fn(f64, f64) -> bool,
+    ) -> Option<Change> {
         let old_point = self.rt.point(v);
         let old_weight = self.rt.weight(v);
         let moved = self.rt.move_vertex(v, p, w, &mut self.report);
+        let saved = self.saved_cells();
         self.refresh_cos();
-        let moved = moved.ok()?;
-        let saved = self.saved_labels();
-        if !moved {
-            self.restore(&saved);
+        if !moved.ok()? {
+            self.restore(&by_vertices(&self.report.removed, &saved));
             return None;
         }
         let (before, size_excess) = self.removed_quality(&saved, v, old_point);
-        let moved = self.report.clone();
-        match self.relabel(size_excess.max(1.0)) {
-            Some(after) => Some(Change {
-                vertex: v,
-                old_point,
-                old_weight,
-                saved,
-                moved,
-                before,
-                after,
-            }),
-            None => {
-                self.undo(Change {
-                    vertex: v,
-                    old_point,
-                    old_weight,
-                    saved,
-                    moved,
-                    before,
-                    after: 0.0,
-                });
+        let after = self.relabel(size_excess.max(1.0), |a| keep(before, a));
+        let change = Change {
+            vertex: v,
+            old_point,
+            old_weight,
+            saved,
+            moved: std::mem::take(&mut self.report),
+        };
+        match after {
+            Some(after) if keep(before, after) => Some(change),
+            _ => {
+                self.undo(change);
                 None
             }
         }
@@ -557,16 +566,21 @@ impl<'o> Workspace<'o> {
 
     /// Puts the moved vertex back where it was, with the labels it had.
     pub fn undo(&mut self, mut change: Change) {
-        // The old cells straight back; moving the vertex back is the fallback.
+        // The old cells straight back, in their order; moving the vertex back is the fallback.
         if self.rt.undo_move(
             change.vertex,
             change.old_point,
             change.old_weight,
             &mut change.moved,
         ) {
+            self.grow_labels();
+            self.cos
+                .resize(self.cos.len().max(self.rt.cell_capacity()), 1.0);
+            for (&c, &(label, cos)) in change.moved.created.iter().zip(&change.saved) {
+                self.label[c.0 as usize] = label;
+                self.cos[c.0 as usize] = cos;
+            }
             self.report = change.moved;
-            self.refresh_cos();
-            self.restore(&change.saved);
             return;
         }
         let back = self
@@ -578,27 +592,30 @@ impl<'o> Workspace<'o> {
                 &mut self.report,
             )
             .unwrap_or(false);
-        self.refresh_cos();
-        if back {
-            self.restore(&change.saved);
+        let saved = if back {
+            // The cells are rebuilt as they were, in other slots: by their vertices.
+            by_vertices(&change.moved.removed, &change.saved)
         } else {
             // The star of the old place could not be rebuilt: the move (which passed the
             // invariants) stays, and the refused undo rebuilt the same cells.
-            let saved = self.saved_labels();
-            self.restore(&saved);
-        }
+            by_vertices(&self.report.removed, &self.saved_cells())
+        };
+        self.refresh_cos();
+        self.restore(&saved);
     }
 
-    /// The subdomains of the cells the last move destroyed, read before any is overwritten.
-    fn saved_labels(&self) -> FxHashMap<[u32; 4], SubdomainId> {
+    /// The subdomain and cached [`min_dihedral_cos`] of each cell the last move destroyed, read
+    /// before any is overwritten.
+    fn saved_cells(&self) -> Vec<(SubdomainId, f64)> {
         self.report
             .removed
             .iter()
-            .map(|&(c, q)| (quad_key(q), self.label(c)))
+            .map(|&(c, _)| (self.label(c), self.cell_cos(c)))
             .collect()
     }
 
-    /// Labels the created cells of the last move from `saved` (cells rebuilt as they were).
+    /// Labels the created cells of the last move from the subdomains `saved` by
+    /// [`by_vertices`] (destroyed cells rebuilt), and the others as outside.
     fn restore(&mut self, saved: &FxHashMap<[u32; 4], SubdomainId>) {
         self.grow_labels();
         for k in 0..self.report.created.len() {
@@ -622,19 +639,18 @@ impl<'o> Workspace<'o> {
     /// the domain, `v` at `old`.
     fn removed_quality(
         &self,
-        saved: &FxHashMap<[u32; 4], SubdomainId>,
+        saved: &[(SubdomainId, f64)],
         v: VertexId,
         old: Point3,
     ) -> (f64, f64) {
         let inf = self.rt.infinite_vertex();
         let (mut min, mut excess) = (180.0f64, 0.0f64);
-        for &(_, q) in &self.report.removed {
-            let sub = saved.get(&quad_key(q)).copied().unwrap_or(OUTSIDE);
+        for (&(_, q), &(sub, cos)) in self.report.removed.iter().zip(saved) {
             if q.contains(&inf) || sub == OUTSIDE {
                 continue;
             }
+            min = min.min(degrees(cos));
             let p = positive(q).map(|x| if x == v { old } else { self.rt.point(x) });
-            min = min.min(min_dihedral(&p));
             excess = excess.max(self.size_excess(&p, sub));
         }
         (min, excess)
@@ -659,8 +675,9 @@ impl<'o> Workspace<'o> {
     /// Labels the created cells by crossing facets from the cells around them. Returns the
     /// smallest dihedral angle of the created cells inside the domain, or `None` when the
     /// boundary did not survive (no consistent labelling, a boundary facet gone), or a cell
-    /// inside is flat or has a [`Self::size_excess`] above `max_excess`.
-    fn relabel(&mut self, max_excess: f64) -> Option<f64> {
+    /// inside is flat, has an angle `acceptable` refuses or a [`Self::size_excess`] above
+    /// `max_excess`.
+    fn relabel(&mut self, max_excess: f64, acceptable: impl Fn(f64) -> bool) -> Option<f64> {
         self.grow_labels();
         let created = &self.report.created;
         let index: FxHashMap<u32, usize> =
@@ -705,6 +722,23 @@ impl<'o> Workspace<'o> {
         {
             return None;
         }
+        // The angles first: they refuse most trial moves, and cost least.
+        let mut after = 180.0f64;
+        for (k, &c) in self.report.created.iter().enumerate() {
+            if new_label[k]? != OUTSIDE {
+                let a = self.cell_min_dihedral(c);
+                if a < FLAT_DEG || !acceptable(a) {
+                    return None;
+                }
+                after = after.min(a);
+            }
+        }
+        for (k, &c) in self.report.created.iter().enumerate() {
+            let sub = new_label[k]?;
+            if sub != OUTSIDE && self.size_excess(&self.points(c), sub) > max_excess {
+                return None;
+            }
+        }
         // Every boundary facet of a destroyed cell must be a facet of a created one.
         let mut lost: Vec<FacetKey> = Vec::new();
         for &(_, q) in &self.report.removed {
@@ -715,22 +749,13 @@ impl<'o> Workspace<'o> {
             );
         }
         let mut found: Vec<FacetKey> = Vec::new();
-        let mut after = 180.0f64;
-        for (k, &c) in self.report.created.iter().enumerate() {
+        for &c in &self.report.created {
             let q = self.rt.cell(c);
             found.extend(
                 (0..4)
                     .map(|i| facet_key(q, i))
                     .filter(|k| self.is_boundary(k)),
             );
-            let sub = new_label[k]?;
-            if sub != OUTSIDE {
-                let a = self.cell_min_dihedral(c);
-                if a < FLAT_DEG || self.size_excess(&self.points(c), sub) > max_excess {
-                    return None;
-                }
-                after = after.min(a);
-            }
         }
         lost.sort_unstable();
         lost.dedup();

@@ -172,7 +172,7 @@ fn surface_vertices_on_the_hull_of_the_mesh_can_move() {
     for v in surface {
         let p = ws.rt.point(v);
         let change = ws
-            .try_move(v, p * (1.0 - 0.1 * DISTANCE), 0.0)
+            .try_move(v, p * (1.0 - 0.1 * DISTANCE), 0.0, |_, _| true)
             .expect("a small move inwards keeps the boundary");
         ws.undo(change);
         assert_eq!(ws.rt.point(v), p);

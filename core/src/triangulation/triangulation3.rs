@@ -109,6 +109,9 @@ pub struct Triangulation3<K: ConflictKernel> {
     /// Static predicate filters for the bounding box of the vertices.
     filter: StaticFilter,
     scratch: Scratch,
+    /// The last vertex removal planned, for the next removal of the same vertex from the same
+    /// star (see [`relocate`]).
+    fill_memo: Option<Box<relocate::FillMemo>>,
 }
 
 /// Writes new cells into the cell array of a sequential insertion, counting the finite ones.
@@ -236,6 +239,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
             bulk: false,
             filter: StaticFilter::default(),
             scratch: Scratch::default(),
+            fill_memo: None,
         }
     }
 
@@ -762,7 +766,19 @@ impl<K: ConflictKernel> Triangulation3<K> {
     }
 
     /// Inserts vertex `v` (already in `points`) by starring its cavity, grown from `start`.
-    fn star_from(&mut self, v: u32, start: u32, mut report: Option<&mut InsertReport>) {
+    fn star_from(&mut self, v: u32, start: u32, report: Option<&mut InsertReport>) {
+        self.star_from_seeing(v, start, report, |_, _| {});
+    }
+
+    /// [`Self::star_from`], showing `destroyed` each cavity cell (slot and vertices) before its
+    /// slot is reused: a vertex move records the cells it destroys.
+    fn star_from_seeing(
+        &mut self,
+        v: u32,
+        start: u32,
+        mut report: Option<&mut InsertReport>,
+        mut destroyed: impl FnMut(u32, [u32; 4]),
+    ) {
         let p = self.pt(v);
         let w = self.kernel.weight(v);
         let mut s = std::mem::take(&mut self.scratch);
@@ -776,6 +792,9 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 &mut s.cavity,
                 &mut s.boundary,
             );
+        }
+        for &c in &s.cavity {
+            destroyed(c, self.cells[c as usize].v);
         }
         s.collect_new_cells(v, |c| self.cells[c as usize]);
         let removed_infinite = s

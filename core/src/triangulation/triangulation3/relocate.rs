@@ -46,6 +46,34 @@ enum Link {
     Outside(u32),
 }
 
+/// A [`Link`] as planned, before the cells around the hole are known by slot: an outside
+/// neighbour is named by the facet it shares (sorted vertices).
+#[derive(Clone, Copy, Debug)]
+enum PlannedLink {
+    Fill(usize, usize),
+    Outside([u32; 3]),
+}
+
+/// One planned filling cell: its vertices and links.
+type PlannedCell = ([u32; 4], [PlannedLink; 4]);
+
+/// A planned removal: the vertex, the sorted vertices of its star's link, the place (point,
+/// weight) of the vertex and of each link vertex, which determine the fill, and the fill.
+#[derive(Clone, Debug)]
+pub(super) struct FillMemo {
+    vertex: u32,
+    link: Vec<u32>,
+    places: Vec<(Point3, f64)>,
+    cells: Vec<PlannedCell>,
+}
+
+/// The vertices of facet `i` of cell `q` (the three others than `q[i]`), sorted.
+fn sorted_facet(q: [u32; 4], i: usize) -> [u32; 3] {
+    let mut f = [q[(i + 1) % 4], q[(i + 2) % 4], q[(i + 3) % 4]];
+    f.sort_unstable();
+    f
+}
+
 impl<K: ConflictKernel> Triangulation3<K> {
     /// Moves finite vertex `v` to `p` with weight `w` (the weight is ignored by a Delaunay
     /// triangulation). Returns `Ok(true)` when done; `Ok(false)`, with the triangulation as it
@@ -98,11 +126,6 @@ impl<K: ConflictKernel> Triangulation3<K> {
         {
             return false;
         }
-        let sorted = |q: [u32; 4], i: usize| {
-            let mut f = [q[(i + 1) % 4], q[(i + 2) % 4], q[(i + 3) % 4]];
-            f.sort_unstable();
-            f
-        };
         // The facets of the changed region's boundary: the cell outside each, seen from inside.
         let mut outside: FxHashMap<[u32; 3], u32> =
             FxHashMap::with_capacity_and_hasher(2 * created.len(), Default::default());
@@ -111,7 +134,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
             for i in 0..4 {
                 let nb = r.n[i] >> 2;
                 if members.binary_search(&nb).is_err()
-                    && outside.insert(sorted(r.v, i), r.n[i]).is_some()
+                    && outside.insert(sorted_facet(r.v, i), r.n[i]).is_some()
                 {
                     return false;
                 }
@@ -124,7 +147,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
         let mut on_boundary = 0;
         for q in &old {
             for i in 0..4 {
-                let f = sorted(*q, i);
+                let f = sorted_facet(*q, i);
                 if outside.contains_key(&f) {
                     on_boundary += 1;
                 } else {
@@ -153,7 +176,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
         for (k, q) in old.iter().enumerate() {
             let c = ids[k];
             for i in 0..4 {
-                let f = sorted(*q, i);
+                let f = sorted_facet(*q, i);
                 let link = match outside.get(&f) {
                     Some(&out) => out,
                     None => match open.remove(&f) {
@@ -337,28 +360,68 @@ impl<K: ConflictKernel> Triangulation3<K> {
     }
 
     /// The cells filling the star of interior vertex `v` once removed, computed without touching
-    /// the triangulation; `None` for a hull vertex (or, defensively, an inconsistent fill).
-    fn plan_fill(&self, v: u32) -> Option<Vec<FillCell>> {
+    /// the triangulation; `None` for a hull vertex (or, defensively, an inconsistent fill). The
+    /// plan is kept: an optimiser tries several places for one vertex, undoing each trial, and
+    /// the hole to fill is the same each time.
+    fn plan_fill(&mut self, v: u32) -> Option<Vec<FillCell>> {
         let mut star = Vec::new();
         self.incident_cells(VertexId(v), &mut star);
         let mut outside: FxHashMap<[u32; 3], u32> =
             FxHashMap::with_capacity_and_hasher(star.len(), Default::default());
-        let mut link = Vec::with_capacity(star.len());
+        let mut link = Vec::with_capacity(3 * star.len());
         for &c in &star {
             let r = self.cells[c.0 as usize];
             if Self::is_infinite_record(&r) {
                 return None;
             }
             let i = r.v.iter().position(|&x| x == v)?;
-            let mut f: Vec<u32> = (0..4).filter(|&j| j != i).map(|j| r.v[j]).collect();
+            let f = sorted_facet(r.v, i);
             link.extend_from_slice(&f);
-            f.sort_unstable();
-            outside.insert([f[0], f[1], f[2]], r.n[i]);
+            outside.insert(f, r.n[i]);
         }
         link.sort_unstable();
         link.dedup();
+        let places: Vec<(Point3, f64)> = std::iter::once(v)
+            .chain(link.iter().copied())
+            .map(|x| (self.pt(x), self.kernel.weight(x)))
+            .collect();
+        let memo = match self.fill_memo.take() {
+            // The same points and weights have the same regular triangulation, so the same
+            // star and the same fill.
+            Some(m) if m.vertex == v && m.link == link && m.places == places => m,
+            _ => Box::new(FillMemo {
+                vertex: v,
+                cells: self.triangulate_hole(v, &link, star.len())?,
+                link,
+                places,
+            }),
+        };
+        let fill = memo
+            .cells
+            .iter()
+            .map(|(verts, links)| {
+                let mut resolved = [Link::Outside(0); 4];
+                for (l, plan) in resolved.iter_mut().zip(links) {
+                    *l = match *plan {
+                        PlannedLink::Fill(k, j) => Link::Fill(k, j),
+                        PlannedLink::Outside(f) => Link::Outside(*outside.get(&f)?),
+                    };
+                }
+                Some(FillCell {
+                    verts: *verts,
+                    links: resolved,
+                })
+            })
+            .collect();
+        self.fill_memo = Some(memo);
+        fill
+    }
+
+    /// The cells of the regular triangulation of `link` (the sorted vertices of the star of
+    /// interior vertex `v`, whose `star_size` cells it replaces) that `v` conflicts with.
+    fn triangulate_hole(&self, v: u32, link: &[u32], star_size: usize) -> Option<Vec<PlannedCell>> {
         let mut small = Self::new();
-        for &x in &link {
+        for &x in link {
             let id = small.push_vertex(self.pt(x), self.kernel.weight(x));
             small.insert_new_vertex(id, None, None);
             if small.is_hidden(VertexId(id)) {
@@ -376,7 +439,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
         let (mut stack, mut cavity, mut boundary) = (Vec::new(), Vec::new(), Vec::new());
         let mut marks = HashMarks::default();
         small.find_cavity(q, start, &mut marks, &mut stack, &mut cavity, &mut boundary);
-        if boundary.len() != star.len() {
+        if boundary.len() != star_size {
             return None;
         }
         let position: FxHashMap<u32, usize> =
@@ -388,20 +451,15 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 return None;
             }
             let verts = r.v.map(|x| link[x as usize]);
-            let mut links = [Link::Outside(0); 4];
+            let mut links = [PlannedLink::Fill(0, 0); 4];
             for (i, l) in links.iter_mut().enumerate() {
                 let nb = r.n[i] >> 2;
                 *l = match position.get(&nb) {
-                    Some(&k) => Link::Fill(k, (r.n[i] & 3) as usize),
-                    None => {
-                        let mut f: Vec<u32> =
-                            (0..4).filter(|&j| j != i).map(|j| verts[j]).collect();
-                        f.sort_unstable();
-                        Link::Outside(*outside.get(&[f[0], f[1], f[2]])?)
-                    }
+                    Some(&k) => PlannedLink::Fill(k, (r.n[i] & 3) as usize),
+                    None => PlannedLink::Outside(sorted_facet(verts, i)),
                 };
             }
-            fill.push(FillCell { verts, links });
+            fill.push((verts, links));
         }
         Some(fill)
     }
@@ -437,26 +495,15 @@ impl<K: ConflictKernel> Triangulation3<K> {
             self.kernel.hide(v);
             return None;
         }
-        let (mut stack, mut cavity, mut boundary) = (Vec::new(), Vec::new(), Vec::new());
-        let mut marks = HashMarks::default();
-        self.find_cavity(
-            WeightedPoint3::new(p, w),
-            start,
-            &mut marks,
-            &mut stack,
-            &mut cavity,
-            &mut boundary,
-        );
-        for &c in &cavity {
-            if let Some(k) = report.created.iter().position(|&x| x.0 == c) {
-                report.created.swap_remove(k);
-            } else {
-                let verts = self.cells[c as usize].v.map(VertexId);
-                report.removed.push((CellId(c), verts));
-            }
-        }
         let mut inserted = InsertReport::default();
-        self.star_from(v, start, Some(&mut inserted));
+        let MoveReport { removed, created } = report;
+        self.star_from_seeing(v, start, Some(&mut inserted), |c, q| {
+            if let Some(k) = created.iter().position(|&x| x.0 == c) {
+                created.swap_remove(k);
+            } else {
+                removed.push((CellId(c), q.map(VertexId)));
+            }
+        });
         report.created.extend_from_slice(&inserted.created);
         Some(inserted.hidden)
     }
