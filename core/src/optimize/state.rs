@@ -546,8 +546,10 @@ impl<'o> Workspace<'o> {
             self.restore(&by_vertices(&self.report.removed, &saved));
             return None;
         }
-        let (before, size_excess) = self.removed_quality(&saved, v, old_point);
-        let after = self.relabel(size_excess.max(1.0), |a| keep(before, a));
+        let before = self.removed_angle(&saved);
+        let after = self
+            .relabel(|a| keep(before, a))
+            .filter(|&after| keep(before, after) && self.sizes_kept(&saved, v, old_point));
         let change = Change {
             vertex: v,
             old_point,
@@ -555,12 +557,11 @@ impl<'o> Workspace<'o> {
             saved,
             moved: std::mem::take(&mut self.report),
         };
-        match after {
-            Some(after) if keep(before, after) => Some(change),
-            _ => {
-                self.undo(change);
-                None
-            }
+        if after.is_some() {
+            Some(change)
+        } else {
+            self.undo(change);
+            None
         }
     }
 
@@ -635,25 +636,33 @@ impl<'o> Workspace<'o> {
         }
     }
 
-    /// Smallest dihedral angle and largest [`Self::size_excess`] of the destroyed cells inside
-    /// the domain, `v` at `old`.
-    fn removed_quality(
-        &self,
-        saved: &[(SubdomainId, f64)],
-        v: VertexId,
-        old: Point3,
-    ) -> (f64, f64) {
+    /// Smallest dihedral angle of the destroyed cells inside the domain.
+    fn removed_angle(&self, saved: &[(SubdomainId, f64)]) -> f64 {
         let inf = self.rt.infinite_vertex();
-        let (mut min, mut excess) = (180.0f64, 0.0f64);
-        for (&(_, q), &(sub, cos)) in self.report.removed.iter().zip(saved) {
-            if q.contains(&inf) || sub == OUTSIDE {
-                continue;
+        self.report
+            .removed
+            .iter()
+            .zip(saved)
+            .filter(|((_, q), (sub, _))| !q.contains(&inf) && *sub != OUTSIDE)
+            .fold(180.0, |min, (_, (_, cos))| min.min(degrees(*cos)))
+    }
+
+    /// Whether no cell the last move created inside the domain has a [`Self::size_excess`]
+    /// above 1 or above the largest of the destroyed cells (`v` at `old` in them). Checked last:
+    /// a sizing field costs a search per cell.
+    fn sizes_kept(&self, saved: &[(SubdomainId, f64)], v: VertexId, old: Point3) -> bool {
+        let inf = self.rt.infinite_vertex();
+        let mut bound = 1.0f64;
+        for (&(_, q), &(sub, _)) in self.report.removed.iter().zip(saved) {
+            if !q.contains(&inf) && sub != OUTSIDE {
+                let p = positive(q).map(|x| if x == v { old } else { self.rt.point(x) });
+                bound = bound.max(self.size_excess(&p, sub));
             }
-            min = min.min(degrees(cos));
-            let p = positive(q).map(|x| if x == v { old } else { self.rt.point(x) });
-            excess = excess.max(self.size_excess(&p, sub));
         }
-        (min, excess)
+        self.report.created.iter().all(|&c| {
+            let sub = self.label(c);
+            sub == OUTSIDE || self.size_excess(&self.points(c), sub) <= bound
+        })
     }
 
     /// Circumradius of tetrahedron `p` of subdomain `sub` over the cell size at its centroid
@@ -675,9 +684,8 @@ impl<'o> Workspace<'o> {
     /// Labels the created cells by crossing facets from the cells around them. Returns the
     /// smallest dihedral angle of the created cells inside the domain, or `None` when the
     /// boundary did not survive (no consistent labelling, a boundary facet gone), or a cell
-    /// inside is flat, has an angle `acceptable` refuses or a [`Self::size_excess`] above
-    /// `max_excess`.
-    fn relabel(&mut self, max_excess: f64, acceptable: impl Fn(f64) -> bool) -> Option<f64> {
+    /// inside is flat or has an angle `acceptable` refuses.
+    fn relabel(&mut self, acceptable: impl Fn(f64) -> bool) -> Option<f64> {
         self.grow_labels();
         let created = &self.report.created;
         let index: FxHashMap<u32, usize> =
@@ -731,12 +739,6 @@ impl<'o> Workspace<'o> {
                     return None;
                 }
                 after = after.min(a);
-            }
-        }
-        for (k, &c) in self.report.created.iter().enumerate() {
-            let sub = new_label[k]?;
-            if sub != OUTSIDE && self.size_excess(&self.points(c), sub) > max_excess {
-                return None;
             }
         }
         // Every boundary facet of a destroyed cell must be a facet of a created one.
