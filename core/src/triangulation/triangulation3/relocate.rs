@@ -604,6 +604,45 @@ mod tests {
         assert_eq!(cell_sets(&rt), cell_sets(&fresh));
     }
 
+    /// An optimiser's pattern: a trial move of a vertex, undone; a kept move of one of its
+    /// neighbours; another trial of the vertex, kept. The second trial may not reuse the removal
+    /// planned for the first, whose hole had the neighbour elsewhere.
+    #[test]
+    fn trials_after_a_neighbour_moved_give_the_triangulation_of_the_moved_points() {
+        let mut rng = XorShift::new(0x7777_1111_3333_5555);
+        let mut pts = cube_points(300, &mut rng);
+        let mut dt = delaunay(&pts);
+        let mut report = MoveReport::default();
+        let mut star = Vec::new();
+        let mut step = |reach: f64| {
+            reach * (Point3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) - 0.5)
+        };
+        let mut kept = 0;
+        for k in 0..100 {
+            let v = VertexId((k * 13 % 300) as u32);
+            let p = dt.point(v);
+            if dt.move_vertex(v, p + step(0.1), 0.0, &mut report).unwrap() {
+                assert!(dt.undo_move(v, p, 0.0, &mut report));
+            }
+            dt.incident_cells(v, &mut star);
+            let inf = dt.infinite_vertex();
+            let Some(u) = dt.cell(star[0]).into_iter().find(|&x| x != v && x != inf) else {
+                continue;
+            };
+            let q = dt.point(u) + step(0.03);
+            if dt.move_vertex(u, q, 0.0, &mut report).unwrap() {
+                pts[u.0 as usize] = q;
+            }
+            let q = p + step(0.1);
+            if dt.move_vertex(v, q, 0.0, &mut report).unwrap() {
+                pts[v.0 as usize] = q;
+                kept += 1;
+            }
+            assert_eq!(cell_sets(&dt), cell_sets(&delaunay(&pts)), "after move {k}");
+        }
+        assert!(kept > 30, "{kept} moves kept");
+    }
+
     /// Moves 200 vertices of a random regular triangulation by small moves (which keep the
     /// star's cells) and large ones (which change them), undoes each by `undo`, and checks that
     /// the cells, their count, the vertex and regularity are as before.
