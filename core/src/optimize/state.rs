@@ -198,7 +198,6 @@ fn quad_key(q: [VertexId; 4]) -> [u32; 4] {
     k
 }
 
-/// Sorted vertices of facet `i` of cell `q`.
 /// The subdomains of destroyed cells (`saved`, in the order of `removed`) by their sorted
 /// vertices, to label the same cells rebuilt in other slots.
 fn by_vertices(
@@ -212,6 +211,7 @@ fn by_vertices(
         .collect()
 }
 
+/// Sorted vertices of facet `i` of cell `q`.
 fn facet_key(q: [VertexId; 4], i: usize) -> FacetKey {
     let mut k = [0u32; 3];
     let mut n = 0;

@@ -561,18 +561,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
 
     /// Sets the neighbour links between the given cells by matching their facets (small sets only).
     fn link_by_shared_facets(&mut self, ids: &[u32]) {
-        let facet = |r: &CellRecord, i: usize| {
-            let mut f = [0u32; 3];
-            let mut k = 0;
-            for (j, &v) in r.v.iter().enumerate() {
-                if j != i {
-                    f[k] = v;
-                    k += 1;
-                }
-            }
-            f.sort_unstable();
-            f
-        };
+        let facet = |r: &CellRecord, i: usize| relocate::sorted_facet(r.v, i);
         for (a_pos, &a) in ids.iter().enumerate() {
             for &b in &ids[a_pos + 1..] {
                 for i in 0..4 {

@@ -68,7 +68,7 @@ pub(super) struct FillMemo {
 }
 
 /// The vertices of facet `i` of cell `q` (the three others than `q[i]`), sorted.
-fn sorted_facet(q: [u32; 4], i: usize) -> [u32; 3] {
+pub(super) fn sorted_facet(q: [u32; 4], i: usize) -> [u32; 3] {
     let mut f = [q[(i + 1) % 4], q[(i + 2) % 4], q[(i + 3) % 4]];
     f.sort_unstable();
     f
