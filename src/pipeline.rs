@@ -14,7 +14,7 @@ use delamesh_core::mesh::weld_exact;
 use delamesh_core::mesh::{SurfaceMesh, TetMesh};
 use delamesh_core::optimize::{OptimizeOptions, OptimizeReport, optimize};
 use delamesh_core::oracle::Oracle;
-use delamesh_core::refine::criteria::{MeshCriteria, Sizing};
+use delamesh_core::refine::criteria::{CellCriteria, MeshCriteria, Sizing};
 use delamesh_core::refine::{
     Cancel, MeshError, MeshOptions, Progress, RefineError, RefineStats, mesh_domain,
 };
@@ -282,11 +282,26 @@ impl<'p> Mesher<'p> {
         let mut times = oracle_times(read, t);
         let t = Instant::now();
         let patches = surface.oracle_patches();
+        let bbox = domain.oracle().bounding_box();
+        let criteria = self.settings.criteria(&bbox);
+        let settings = &self.settings;
+        // Quality refinement only when a cell criterion is asked for: by default the surface's
+        // own vertices and the recovery's Steiner points are the whole mesh, as `tetgen -p`.
+        let refine_cells = settings.cell_radius_edge_ratio.is_some()
+            || settings.cell_size.is_some()
+            || !settings.sizing.per_subdomain.is_empty();
         let options = PreserveOptions {
-            max_vertices: self
-                .settings
+            max_vertices: settings
                 .max_vertices
                 .unwrap_or(PreserveOptions::default().max_vertices),
+            cells: refine_cells.then(|| CellCriteria {
+                radius_edge_ratio: settings.cell_radius_edge_ratio.unwrap_or(0.0),
+                size: if settings.cell_size.is_some() || !settings.sizing.per_subdomain.is_empty() {
+                    criteria.cell.size.clone()
+                } else {
+                    Sizing::Unbounded
+                },
+            }),
             ..PreserveOptions::default()
         };
         let preserved = preserve_surface(
@@ -304,16 +319,18 @@ impl<'p> Mesher<'p> {
                 what: "surface",
             });
         }
-        let bbox = domain.oracle().bounding_box();
         let none = OptimizeOptions::none();
-        let criteria = self.settings.criteria(&bbox);
         let (complex, optimization) =
             optimize(preserved.complex, &[], domain.oracle(), &criteria, &none);
         Ok(Meshed {
             complex,
-            // The two levels of recovery: Steiner points on input edges, then inside triangles.
+            // The levels: Steiner points on input edges, inside triangles, inside the volume.
             stats: RefineStats {
-                insertions: vec![preserved.edge_steiner, preserved.facet_steiner],
+                insertions: vec![
+                    preserved.edge_steiner,
+                    preserved.facet_steiner,
+                    preserved.cell_steiner,
+                ],
                 ..RefineStats::default()
             },
             warnings: Vec::new(),

@@ -193,8 +193,8 @@ impl MeshSettings {
 
     /// The checks of [`SizingSettings`] that need no file: sizes, gradation, expressions.
     /// `--preserve-surface` keeps the input triangles as they are: options that re-sample the
-    /// surface or refine the volume have nothing to act on (refinement of a kept surface is not
-    /// built yet).
+    /// surface have nothing to act on (the cell criteria refine the volume, splitting input
+    /// triangles only where a cell's centre asks it).
     fn validate_preserve_surface(&self) -> Result<(), SettingsError> {
         if !self.preserve_surface {
             return Ok(());
@@ -205,11 +205,6 @@ impl MeshSettings {
             ("facet-angle", self.facet_angle.is_some()),
             ("facet-size", self.facet_size.is_some()),
             ("facet-distance", self.facet_distance.is_some()),
-            (
-                "cell-radius-edge-ratio",
-                self.cell_radius_edge_ratio.is_some(),
-            ),
-            ("cell-size", self.cell_size.is_some()),
             ("subdivision", self.subdivision.is_some()),
         ];
         match conflicts.iter().find(|c| c.1) {

@@ -9,6 +9,7 @@ mod common;
 
 use cli_support::{delamesh, test_data};
 use common::{Surface, cuboid, sphere};
+use delamesh::core::complex::VertexDimension;
 use delamesh::core::kernel::{Point3, Sign, insphere, orient3d};
 use delamesh::core::mesh::{PatchId, SurfaceMesh};
 use delamesh::core::oracle::OUTSIDE;
@@ -17,14 +18,18 @@ use glam::DVec3;
 use std::collections::{BTreeMap, HashMap};
 
 fn preserved(name: &str, surface: &Surface) -> delamesh::Meshed {
-    let mut mesh = SurfaceMesh::from_triangles(surface.points.clone(), surface.triangles.clone());
-    // One patch per triangle, so that a facet's patch names the triangle it must lie in.
-    mesh.patches = (0..mesh.triangles.len() as u32).map(PatchId).collect();
-    mesh.patch_names = (0..mesh.triangles.len()).map(|t| format!("t{t}")).collect();
     let settings = MeshSettings::builder()
         .preserve_surface(true)
         .build()
         .expect("valid settings");
+    preserved_with(name, surface, settings)
+}
+
+fn preserved_with(name: &str, surface: &Surface, settings: MeshSettings) -> delamesh::Meshed {
+    let mut mesh = SurfaceMesh::from_triangles(surface.points.clone(), surface.triangles.clone());
+    // One patch per triangle, so that a facet's patch names the triangle it must lie in.
+    mesh.patches = (0..mesh.triangles.len() as u32).map(PatchId).collect();
+    mesh.patch_names = (0..mesh.triangles.len()).map(|t| format!("t{t}")).collect();
     Mesher::new(settings)
         .mesh_surface(name, mesh)
         .unwrap_or_else(|e| panic!("{name}: {e}"))
@@ -277,6 +282,57 @@ fn box_with_a_thin_slot_keeps_its_triangles() {
         [3, 6, 2],
     ];
     check_closed("slot", &prism(&ring, &caps, 0.8));
+}
+
+/// The cell criteria refine the volume and keep the surface: every check above still holds,
+/// points are added inside, every cell with no vertex on the surface meets the size bound, and
+/// nearly all of them the radius-edge bound.
+#[test]
+fn cell_criteria_refine_the_volume_and_keep_the_triangles() {
+    let (ratio, size) = (1.5, 0.2);
+    let ring = [[0.0, 0.0], [1.0, 0.0], [1.0, 0.3], [0.0, 1.0]];
+    for (name, surface) in [
+        ("cube", cuboid(DVec3::ZERO, DVec3::new(1.0, 2.0, 0.5))),
+        ("sphere", sphere(DVec3::new(0.1, 0.2, 0.3), 1.0, 2)),
+        ("prism", prism(&ring, &[[0, 1, 2], [0, 2, 3]], 0.8)),
+    ] {
+        let settings = MeshSettings::builder()
+            .preserve_surface(true)
+            .cell_radius_edge_ratio(ratio)
+            .cell_size(size)
+            .build()
+            .expect("valid settings");
+        let meshed = preserved_with(name, &surface, settings);
+        let volume = enclosed_volume(&surface.points, &surface.triangles);
+        check(name, &surface, &meshed, &[volume]);
+        let c = &meshed.complex;
+        let inside = |v: u32| c.vertex_dimension[v as usize] == VertexDimension::Volume;
+        assert!(c.points.len() as u32 > 0 && (0..c.points.len() as u32).any(inside));
+        let (mut away, mut shaped) = (0, 0);
+        for tet in c.tets.iter().filter(|t| t.iter().all(|&v| inside(v))) {
+            let p = tet.map(|v| c.points[v as usize]);
+            let center = delamesh::core::quality::tet_circumcenter(&p).expect("not flat");
+            let radius = center.distance(p[0]);
+            let shortest = (0..4)
+                .flat_map(|i| (i + 1..4).map(move |j| p[i].distance(p[j])))
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                radius <= size * (1.0 + 1e-9),
+                "{name}: circumradius {radius}"
+            );
+            away += 1;
+            if radius / shortest <= ratio * (1.0 + 1e-9) {
+                shaped += 1;
+            }
+        }
+        // The shape bound yields near the surface when meeting it would split the input finer
+        // than itself; away from it, nearly every cell meets it.
+        assert!(
+            shaped as f64 >= 0.9 * away as f64,
+            "{name}: {shaped} of {away} cells meet the radius-edge bound"
+        );
+        assert!(away > 0, "{name}: no cell away from the surface");
+    }
 }
 
 #[test]

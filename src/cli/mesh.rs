@@ -91,6 +91,7 @@ pub struct MeshArgs {
     /// Keep the input surface exactly: every input vertex is a mesh vertex and every input triangle
     /// a union of boundary facets (Steiner points on input edges and triangles where the Delaunay
     /// tetrahedralisation misses them). The surface must be closed and not self-intersecting.
+    /// With --cell-radius-edge-ratio / --cell-size the volume is then refined.
     #[arg(long)]
     pub preserve_surface: bool,
     /// ASCII instead of binary for .vtu / .vtk.

@@ -71,6 +71,18 @@ fn vertices_on(r: &Recovery, f: usize) -> Vec<(VertexId, u8)> {
     out
 }
 
+/// The vertices `on` facet `f` with their coordinates in its plane.
+fn on_facet(r: &Recovery, f: usize, on: Vec<(VertexId, u8)>) -> Vec<OnFacet> {
+    let frame = Frame::new(r.constraints.facets[f].corners.map(|v| r.dt.point(v)));
+    on.into_iter()
+        .map(|(vertex, edges)| OnFacet {
+            vertex,
+            edges,
+            at: frame.project(r.dt.point(vertex)),
+        })
+        .collect()
+}
+
 /// Whether facet `f` is a union of triangulation faces (inserting nothing).
 pub(super) fn is_recovered(r: &mut Recovery, f: usize) -> bool {
     matches!(pieces(r, f), Ok((_, _, missing)) if missing.is_empty())
@@ -86,31 +98,13 @@ fn pieces(
     let on = vertices_on(r, f);
     if on.len() == 3 {
         let corners = r.constraints.facets[f].corners;
-        let at = Vec::new();
         return Ok(if r.has_face(corners) {
-            (at, vec![corners], Vec::new())
+            (Vec::new(), vec![corners], Vec::new())
         } else {
-            let frame = Frame::new(corners.map(|v| r.dt.point(v)));
-            let at = on
-                .iter()
-                .map(|&(vertex, edges)| OnFacet {
-                    vertex,
-                    edges,
-                    at: frame.project(r.dt.point(vertex)),
-                })
-                .collect();
-            (at, Vec::new(), vec![[0, 1, 2]])
+            (on_facet(r, f, on), Vec::new(), vec![[0, 1, 2]])
         });
     }
-    let frame = Frame::new(r.constraints.facets[f].corners.map(|v| r.dt.point(v)));
-    let on: Vec<OnFacet> = on
-        .into_iter()
-        .map(|(vertex, edges)| OnFacet {
-            vertex,
-            edges,
-            at: frame.project(r.dt.point(vertex)),
-        })
-        .collect();
+    let on = on_facet(r, f, on);
     let planar: Vec<Point2> = on.iter().map(|o| o.at).collect();
     let (dt2, outcomes) = Delaunay2::from_points(&planar)?;
     let mut local = vec![usize::MAX; dt2.num_vertices()];
@@ -145,17 +139,64 @@ pub(super) fn facet_step(r: &mut Recovery, f: usize) -> Result<FacetStep, Preser
     if missing.is_empty() {
         return Ok(FacetStep::Recovered(faces));
     }
-    let corners: Vec<Point2> = (0..3).map(|k| on[corner_index(&on, k)].at).collect();
-    let boundary = boundary_segments(r, f, &on);
-    let mut planned: Vec<Point2> = Vec::new();
-    let mut actions: Vec<Action> = Vec::new();
+    let mut plan = Plan::new(r, f, &on);
     for tri in missing {
+        plan.add(&on, tri);
+    }
+    if plan.apply(r, f)? == 0 {
+        // Nothing to insert for pieces that are missing: another pass would do the same.
+        return Err(PreserveError::Stuck(f));
+    }
+    Ok(FacetStep::Refined)
+}
+
+/// Refines the piece `face` of facet `f` as a missing one would be (its centre, or the
+/// sub-segment that centre encroaches): the cell level asks it of a piece that a cell's centre
+/// would destroy. Returns how many points were inserted (none when `face` is not made of
+/// vertices on `f`).
+pub(super) fn split_piece(
+    r: &mut Recovery,
+    f: usize,
+    face: [VertexId; 3],
+) -> Result<usize, PreserveError> {
+    let on = on_facet(r, f, vertices_on(r, f));
+    let index = |v: VertexId| on.iter().position(|o| o.vertex == v);
+    let (Some(a), Some(b), Some(c)) = (index(face[0]), index(face[1]), index(face[2])) else {
+        return Ok(0);
+    };
+    let mut plan = Plan::new(r, f, &on);
+    plan.add(&on, [a, b, c]);
+    plan.apply(r, f)
+}
+
+/// The refinements planned for pieces of one facet.
+struct Plan {
+    corners: Vec<Point2>,
+    boundary: Vec<Boundary>,
+    planned: Vec<Point2>,
+    actions: Vec<Action>,
+}
+
+impl Plan {
+    fn new(r: &Recovery, f: usize, on: &[OnFacet]) -> Self {
+        Plan {
+            corners: (0..3).map(|k| on[corner_index(on, k)].at).collect(),
+            boundary: boundary_segments(r, f, on),
+            planned: Vec::new(),
+            actions: Vec::new(),
+        }
+    }
+
+    /// Plans the refinement of the piece `tri` (indices into `on`).
+    fn add(&mut self, on: &[OnFacet], tri: [usize; 3]) {
         let [a, b, c] = tri.map(|i| on[i].at);
         let center = circumcenter(a, b, c);
         if !center.is_finite() {
-            continue;
+            return;
         }
-        let encroached = boundary
+        let corners = &self.corners;
+        let encroached = self
+            .boundary
             .iter()
             .find(|s| dot_sign(center, s.ends[0], s.ends[1]) == Ordering::Less)
             .or_else(|| {
@@ -165,50 +206,53 @@ pub(super) fn facet_step(r: &mut Recovery, f: usize) -> Result<FacetStep, Preser
                     .filter(|&k| {
                         orient2d(corners[k], corners[(k + 1) % 3], center) != Ordering::Greater
                     })
-                    .flat_map(|k| boundary.iter().filter(move |s| s.side == k))
+                    .flat_map(|k| self.boundary.iter().filter(move |s| s.side == k))
                     .max_by(|s, t| s.length2().total_cmp(&t.length2()))
             });
         match encroached {
             // Splits of distinct sub-segments do not interfere.
             Some(s) => {
-                if !actions
+                let split = Action::Split(s.edge, s.vertices);
+                if !self
+                    .actions
                     .iter()
                     .any(|a| matches!(a, Action::Split(e, v) if *e == s.edge && *v == s.vertices))
                 {
-                    actions.push(Action::Split(s.edge, s.vertices));
+                    self.actions.push(split);
                 }
             }
             None => {
                 let radius2 = (center - a).length_squared();
-                if !planned
+                if !self
+                    .planned
                     .iter()
                     .any(|q| (*q - center).length_squared() < radius2)
                 {
-                    planned.push(center);
-                    actions.push(Action::Insert(center, on[tri[0]].vertex));
+                    self.planned.push(center);
+                    self.actions.push(Action::Insert(center, on[tri[0]].vertex));
                 }
             }
         }
     }
-    let frame = Frame::new(r.constraints.facets[f].corners.map(|v| r.dt.point(v)));
-    let before = r.dt.num_vertices();
-    for action in actions {
-        match action {
-            Action::Split(e, pair) => r.split(e, pair)?,
-            Action::Insert(at, near) => {
-                let v = r
-                    .insert(frame.lift(at), near)?
-                    .ok_or(PreserveError::Coincident(f))?;
-                r.constraints.facets[f].interior.push(v);
-                r.facet_steiner += 1;
+
+    /// Carries the plan out; returns how many points were inserted.
+    fn apply(self, r: &mut Recovery, f: usize) -> Result<usize, PreserveError> {
+        let frame = Frame::new(r.constraints.facets[f].corners.map(|v| r.dt.point(v)));
+        let before = r.dt.num_vertices();
+        for action in self.actions {
+            match action {
+                Action::Split(e, pair) => r.split(e, pair)?,
+                Action::Insert(at, near) => {
+                    let v = r
+                        .insert(frame.lift(at), near)?
+                        .ok_or(PreserveError::Coincident(f))?;
+                    r.constraints.facets[f].interior.push(v);
+                    r.facet_steiner += 1;
+                }
             }
         }
+        Ok(r.dt.num_vertices() - before)
     }
-    if r.dt.num_vertices() == before {
-        // Nothing to insert for pieces that are missing: another pass would do the same.
-        return Err(PreserveError::Stuck(f));
-    }
-    Ok(FacetStep::Refined)
 }
 
 /// Index in `on` of corner `k` (the vertices come edge by edge, each edge from its corner).

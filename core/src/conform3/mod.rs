@@ -17,6 +17,7 @@
 
 mod constraints;
 mod facet;
+mod quality;
 mod regions;
 
 #[cfg(test)]
@@ -25,6 +26,7 @@ mod tests;
 use crate::complex::MeshComplex;
 use crate::kernel::Point3;
 use crate::oracle::{Oracle, PatchId};
+use crate::refine::criteria::CellCriteria;
 use crate::triangulation::{
     CellId, Delaunay3, InsertOutcome, InsertReport, Triangulation, TriangulationError, VertexId,
 };
@@ -32,13 +34,20 @@ use constraints::Constraints;
 use facet::{FacetStep, facet_step};
 
 /// Options of [`preserve_surface`].
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct PreserveOptions {
     /// Most vertices (input and Steiner) the triangulation may reach before recovery gives up.
     pub max_vertices: usize,
     /// Shortest sub-segment a split may create, relative to the diagonal of the input's bounding
     /// box: below it the input is taken to have a feature floating point cannot resolve.
     pub min_relative_length: f64,
+    /// Quality refinement of the cells inside (radius-edge ratio and circumradius), with points
+    /// inside the volume and, where their cavities would cross the surface, on it; `None`: the
+    /// recovered tetrahedralisation as it is.
+    pub cells: Option<CellCriteria>,
+    /// Cells whose circumradius is below this, relative to the diagonal of the input's bounding
+    /// box, are not refined: the guard that ends quality refinement near small input angles.
+    pub min_relative_radius: f64,
 }
 
 impl Default for PreserveOptions {
@@ -46,6 +55,8 @@ impl Default for PreserveOptions {
         PreserveOptions {
             max_vertices: 5_000_000,
             min_relative_length: 1e-9,
+            cells: None,
+            min_relative_radius: 1e-3,
         }
     }
 }
@@ -122,6 +133,8 @@ pub struct Preserved {
     pub facet_steiner: usize,
     /// Passes over all constraints (the last one finds every constraint present).
     pub rounds: usize,
+    /// Points inserted inside the volume by quality refinement (cell circumcentres).
+    pub cell_steiner: usize,
 }
 
 impl Preserved {
@@ -147,13 +160,28 @@ pub fn preserve_surface(
 ) -> Result<Preserved, PreserveError> {
     let constraints = Constraints::new(points, triangles, patches)?;
     let mut recovery = Recovery::new(points, constraints, options)?;
-    let faces = recovery.run()?;
-    let complex = regions::complex(&recovery.dt, &faces, &recovery.constraints, oracle);
+    let mut faces = Vec::new();
+    recovery.run(&mut faces)?;
+    let cell_steiner = match &options.cells {
+        Some(criteria) => {
+            let min_radius = options.min_relative_radius * recovery.diagonal;
+            quality::refine(&mut recovery, &mut faces, oracle, criteria, min_radius)?
+        }
+        None => 0,
+    };
+    let complex = regions::complex(
+        &recovery.dt,
+        &faces,
+        &recovery.constraints,
+        oracle,
+        &recovery.inside,
+    );
     Ok(Preserved {
         complex,
         edge_steiner: recovery.edge_steiner,
         facet_steiner: recovery.facet_steiner,
         rounds: recovery.rounds,
+        cell_steiner,
     })
 }
 
@@ -163,6 +191,10 @@ struct Recovery {
     constraints: Constraints,
     max_vertices: usize,
     min_length: f64,
+    /// Diagonal of the input's bounding box.
+    diagonal: f64,
+    /// Vertices placed inside the volume (not on the surface), in increasing order.
+    inside: Vec<VertexId>,
     report: InsertReport,
     incident: Vec<CellId>,
     edge_steiner: usize,
@@ -198,6 +230,8 @@ impl Recovery {
             constraints,
             max_vertices: options.max_vertices,
             min_length: options.min_relative_length * diagonal,
+            diagonal,
+            inside: Vec::new(),
             report: InsertReport::default(),
             incident: Vec::new(),
             edge_steiner: 0,
@@ -209,10 +243,11 @@ impl Recovery {
         })
     }
 
-    /// Passes over every constraint until one inserts nothing; returns the faces making up each
-    /// input triangle.
-    fn run(&mut self) -> Result<Vec<Vec<[VertexId; 3]>>, PreserveError> {
-        let mut faces = vec![Vec::new(); self.constraints.facets.len()];
+    /// Passes over every constraint until one inserts nothing; `faces` (one list per input
+    /// triangle, kept from the last call: a triangle untouched since is not searched again)
+    /// then holds the faces making up each input triangle.
+    fn run(&mut self, faces: &mut Vec<Vec<[VertexId; 3]>>) -> Result<(), PreserveError> {
+        faces.resize(self.constraints.facets.len(), Vec::new());
         loop {
             self.rounds += 1;
             let mut changed = false;
@@ -255,7 +290,7 @@ impl Recovery {
                 }
             }
             if !changed {
-                return Ok(faces);
+                return Ok(());
             }
         }
     }

@@ -11,40 +11,45 @@ use crate::triangulation::{CellId, Delaunay3, Triangulation, VertexId};
 use crate::union_find::UnionFind;
 use std::collections::HashMap;
 
-fn key(mut f: [VertexId; 3]) -> [VertexId; 3] {
+pub(super) fn key(mut f: [VertexId; 3]) -> [VertexId; 3] {
     f.sort_unstable();
     f
 }
 
-/// The interior cells of the recovered surface with their subdomains, and the faces between
-/// subdomains with the patch of the input triangle they lie in.
-pub(super) fn complex(
-    dt: &Delaunay3,
-    faces: &[Vec<[VertexId; 3]>],
-    constraints: &Constraints,
-    oracle: &dyn Oracle,
-) -> MeshComplex {
-    let mut patch_of: HashMap<[VertexId; 3], PatchId> = HashMap::new();
+/// Each piece of an input triangle (its vertices sorted) with the index of that triangle.
+pub(super) fn piece_facets(faces: &[Vec<[VertexId; 3]>]) -> HashMap<[VertexId; 3], usize> {
+    let mut facet_of = HashMap::new();
     for (f, pieces) in faces.iter().enumerate() {
         for &face in pieces {
-            patch_of.insert(key(face), constraints.facets[f].patch);
+            facet_of.insert(key(face), f);
         }
     }
+    facet_of
+}
+
+/// The subdomain of every cell (indexed by cell id): cells joined across faces that are not
+/// pieces form a region; the region of the infinite cells is outside, each other takes the
+/// subdomain the oracle gives its largest cell's centroid.
+pub(super) fn cell_subdomains(
+    dt: &Delaunay3,
+    facet_of: &HashMap<[VertexId; 3], usize>,
+    oracle: &dyn Oracle,
+) -> Vec<SubdomainId> {
     let mut regions = UnionFind::new(dt.cell_capacity());
     for (c, i) in dt.facets() {
         let face = facet_vertices(&cell_vertices(dt, c), i);
-        if !patch_of.contains_key(&key(face)) {
+        if !facet_of.contains_key(&key(face)) {
             regions.union(c.0, dt.neighbor(c, i).0);
         }
     }
-    // Per region: its subdomain once known, or its largest cell so far.
     let mut outside = Vec::new();
     for c in dt.cells().filter(|&c| dt.is_infinite_cell(c)) {
         outside.push(regions.find(c.0));
     }
     outside.sort_unstable();
     outside.dedup();
-    let mut largest: HashMap<u32, (f64, crate::triangulation::CellId)> = HashMap::new();
+    // Per region, its largest cell.
+    let mut largest: HashMap<u32, (f64, CellId)> = HashMap::new();
     for c in dt.finite_cells() {
         let root = regions.find(c.0);
         if outside.binary_search(&root).is_ok() {
@@ -70,8 +75,27 @@ pub(super) fn complex(
         let root = regions.find(c.0);
         subdomain[c.0 as usize] = subdomain_of_root.get(&root).copied().unwrap_or(OUTSIDE);
     }
+    subdomain
+}
+
+/// The interior cells of the recovered surface with their subdomains, and the faces between
+/// subdomains with the patch of the input triangle they lie in. `inside` lists (in increasing
+/// order) the vertices placed inside the volume; every other vertex lies on the surface.
+pub(super) fn complex(
+    dt: &Delaunay3,
+    faces: &[Vec<[VertexId; 3]>],
+    constraints: &Constraints,
+    oracle: &dyn Oracle,
+    inside: &[VertexId],
+) -> MeshComplex {
+    let facet_of = piece_facets(faces);
+    let mut subdomain = cell_subdomains(dt, &facet_of, oracle);
+    let mut patch_of: HashMap<[VertexId; 3], PatchId> = facet_of
+        .into_iter()
+        .map(|(face, f)| (face, constraints.facets[f].patch))
+        .collect();
     move_flat_cells_across(dt, &mut subdomain, &mut patch_of);
-    collect(dt, &subdomain, &patch_of)
+    collect(dt, &subdomain, &patch_of, inside)
 }
 
 /// Steiner points on an input triangle lie on it only up to rounding, so four of them (or with
@@ -134,8 +158,9 @@ fn collect(
     dt: &Delaunay3,
     subdomain: &[SubdomainId],
     patch_of: &HashMap<[VertexId; 3], PatchId>,
+    inside: &[VertexId],
 ) -> MeshComplex {
-    let kept = |c: crate::triangulation::CellId| subdomain[c.0 as usize] != OUTSIDE;
+    let kept = |c: CellId| subdomain[c.0 as usize] != OUTSIDE;
     let mut used: Vec<VertexId> = dt
         .finite_cells()
         .filter(|&c| kept(c))
@@ -148,8 +173,13 @@ fn collect(
     for (i, &v) in used.iter().enumerate() {
         index[v.0 as usize] = i as u32;
         complex.points.push(dt.point(v));
-        // Every vertex lies on the input surface: its own vertices and the Steiner points.
-        complex.vertex_dimension.push(VertexDimension::Surface);
+        complex
+            .vertex_dimension
+            .push(if inside.binary_search(&v).is_ok() {
+                VertexDimension::Volume
+            } else {
+                VertexDimension::Surface
+            });
     }
     for c in dt.finite_cells().filter(|&c| kept(c)) {
         let sub = subdomain[c.0 as usize];

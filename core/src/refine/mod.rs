@@ -25,7 +25,9 @@ pub mod sizing;
 pub use engine::{
     Cancel, Candidate, Check, Engine, Limits, MesherLevel, Progress, RefineError, RefineStats,
 };
-pub(crate) use geometry::{cell_vertices, facet_vertices, is_flat, triangle_circumcenter};
+pub(crate) use geometry::{
+    cell_vertices, facet_vertices, is_flat, is_same_cell, shortest_edge, triangle_circumcenter,
+};
 pub use manifold::Relabelling;
 pub use mesh3::{
     InsertBall, MeshError, MeshOptions, MeshOutcome, PhaseTimes, mesh_domain, mesh_with_features,
