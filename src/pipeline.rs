@@ -287,16 +287,15 @@ impl<'p> Mesher<'p> {
         let settings = &self.settings;
         // Quality refinement only when a cell criterion is asked for: by default the surface's
         // own vertices and the recovery's Steiner points are the whole mesh, as `tetgen -p`.
-        let refine_cells = settings.cell_radius_edge_ratio.is_some()
-            || settings.cell_size.is_some()
-            || !settings.sizing.per_subdomain.is_empty();
+        let sized = settings.cell_size.is_some() || !settings.sizing.per_subdomain.is_empty();
+        let shaped = settings.cell_radius_edge_ratio.is_some();
         let options = PreserveOptions {
             max_vertices: settings
                 .max_vertices
                 .unwrap_or(PreserveOptions::default().max_vertices),
-            cells: refine_cells.then(|| CellCriteria {
+            cells: (sized || shaped).then(|| CellCriteria {
                 radius_edge_ratio: settings.cell_radius_edge_ratio.unwrap_or(0.0),
-                size: if settings.cell_size.is_some() || !settings.sizing.per_subdomain.is_empty() {
+                size: if sized {
                     criteria.cell.size.clone()
                 } else {
                     Sizing::Unbounded

@@ -307,7 +307,10 @@ fn cell_criteria_refine_the_volume_and_keep_the_triangles() {
         check(name, &surface, &meshed, &[volume]);
         let c = &meshed.complex;
         let inside = |v: u32| c.vertex_dimension[v as usize] == VertexDimension::Volume;
-        assert!(c.points.len() as u32 > 0 && (0..c.points.len() as u32).any(inside));
+        assert!(
+            (0..c.points.len() as u32).any(inside),
+            "{name}: no point inside"
+        );
         let (mut away, mut shaped) = (0, 0);
         for tet in c.tets.iter().filter(|t| t.iter().all(|&v| inside(v))) {
             let p = tet.map(|v| c.points[v as usize]);

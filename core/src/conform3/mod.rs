@@ -46,7 +46,7 @@ pub struct PreserveOptions {
     /// recovered tetrahedralisation as it is.
     pub cells: Option<CellCriteria>,
     /// Cells whose circumradius is below this, relative to the diagonal of the input's bounding
-    /// box, are not refined: the guard that ends quality refinement near small input angles.
+    /// box, are not refined: a floor under the cell level, whatever the criteria ask.
     pub min_relative_radius: f64,
 }
 
