@@ -8,7 +8,7 @@ use crate::report::{Report, ReportInput, Times};
 use crate::settings::{FeatureSettings, MeshSettings};
 use crate::sizing::{Fields, grade};
 use delamesh_core::complex::MeshComplex;
-use delamesh_core::conform3::{PreserveOptions, preserve_surface};
+use delamesh_core::conform3::{PreserveError, PreserveOptions, preserve_surface};
 use delamesh_core::mesh::component_euler_characteristics;
 use delamesh_core::mesh::weld_exact;
 use delamesh_core::mesh::{SurfaceMesh, TetMesh};
@@ -301,17 +301,28 @@ impl<'p> Mesher<'p> {
                     Sizing::Unbounded
                 },
             }),
+            time_limit: settings.time_limit,
+            cancel: self.cancel.clone(),
             ..PreserveOptions::default()
         };
-        let preserved = preserve_surface(
+        let preserved = match preserve_surface(
             &surface.positions,
             &surface.triangles,
             &patches,
             domain.oracle(),
             &options,
-        )
-        .map_err(|e| unmeshable(format!("--preserve-surface: {e}")))?;
+        ) {
+            Ok(p) => p,
+            Err(PreserveError::Stopped(source)) => return Err(Error::Stopped { name, source }),
+            Err(e) => return Err(unmeshable(format!("--preserve-surface: {e}"))),
+        };
         times.refinement = t.elapsed();
+        // The cell level stopped early: its mesh keeps the surface, so it is the partial mesh.
+        if let Some(source) = preserved.stopped.clone()
+            && !settings.keep_partial
+        {
+            return Err(Error::Stopped { name, source });
+        }
         if preserved.complex.tets.is_empty() {
             return Err(Error::Empty {
                 name,
@@ -333,7 +344,7 @@ impl<'p> Mesher<'p> {
                 ..RefineStats::default()
             },
             warnings: Vec::new(),
-            stopped: None,
+            stopped: preserved.stopped,
             criteria,
             times,
             optimization,
