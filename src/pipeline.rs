@@ -25,6 +25,14 @@ use delamesh_polyhedral::{refuse_defects, surface_defects};
 use std::path::Path;
 use std::time::{Duration, Instant};
 
+/// The automatic vertex limit of `--preserve-surface` (no `--max-vertices`): this many vertices
+/// per input vertex, over [`RECOVERY_MIN_BUDGET`] for recovery alone or over the criteria's own
+/// limit when the cells are refined. Recovery needs up to 22 per input vertex on CGAL's models
+/// (conforming, on CAD parts with long thin triangles); one that cycles then stops within
+/// seconds with an error naming the limit, instead of running for minutes.
+const STEINER_BUDGET_PER_INPUT_VERTEX: usize = 100;
+/// See [`STEINER_BUDGET_PER_INPUT_VERTEX`].
+const RECOVERY_MIN_BUDGET: usize = 10_000;
 /// The times of a domain built from an input read in `read`, its oracle from `t` on.
 fn oracle_times(read: Duration, t: Instant) -> Times {
     Times {
@@ -290,9 +298,16 @@ impl<'p> Mesher<'p> {
         let sized = settings.cell_size.is_some() || !settings.sizing.per_subdomain.is_empty();
         let shaped = settings.cell_radius_edge_ratio.is_some();
         let options = PreserveOptions {
-            max_vertices: settings
-                .max_vertices
-                .unwrap_or(PreserveOptions::default().max_vertices),
+            max_vertices: settings.max_vertices.unwrap_or_else(|| {
+                let base = if sized || shaped {
+                    criteria.vertex_budget(&bbox)
+                } else {
+                    RECOVERY_MIN_BUDGET
+                };
+                base.saturating_add(
+                    STEINER_BUDGET_PER_INPUT_VERTEX.saturating_mul(surface.positions.len()),
+                )
+            }),
             cells: (sized || shaped).then(|| CellCriteria {
                 radius_edge_ratio: settings.cell_radius_edge_ratio.unwrap_or(0.0),
                 size: if sized {

@@ -101,7 +101,7 @@ pub enum PreserveError {
     Triangulation(#[from] TriangulationError),
     /// The vertex cap was reached before every constraint appeared.
     #[error(
-        "boundary recovery did not finish within {cap} vertices ({edges} input edges and {facets} input triangles still missing)"
+        "boundary recovery did not finish within {cap} vertices (max-vertices; {edges} input edges and {facets} input triangles still missing)"
     )]
     VertexCap {
         /// The cap.
