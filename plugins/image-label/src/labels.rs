@@ -56,6 +56,9 @@ fn crop_box<T: Copy + PartialEq>(
     (lo, [0, 1, 2].map(|a| hi[a] - lo[a] + 1))
 }
 
+/// A cropped grid: the image voxel of its voxel `(0, 0, 0)`, its dimensions, its values.
+type Cropped<T> = ([usize; 3], [usize; 3], Vec<T>);
+
 /// The values of the box at `lo` of dimensions `size`, mapped by `map`, x fastest.
 fn extract<T: Copy, U>(
     dims: [usize; 3],
@@ -76,11 +79,7 @@ fn extract<T: Copy, U>(
 
 /// The classes of the box of non-background voxels (see [`crop_box`]), its offset and its
 /// dimensions.
-fn crop<T: Copy + PartialEq>(
-    dims: [usize; 3],
-    classes: Vec<T>,
-    background: T,
-) -> ([usize; 3], [usize; 3], Vec<T>) {
+fn crop<T: Copy + PartialEq>(dims: [usize; 3], classes: Vec<T>, background: T) -> Cropped<T> {
     let (lo, size) = crop_box(dims, &classes, background);
     if size == dims {
         return ([0; 3], dims, classes);
@@ -151,7 +150,7 @@ pub(crate) fn classify_labels(
         table: &dyn Fn(u32) -> usize,
         label_of: &dyn Fn(usize) -> Result<u32, ImageLabelError>,
         narrow: fn(usize) -> T,
-    ) -> Result<([usize; 3], [usize; 3], Vec<T>), ImageLabelError>
+    ) -> Result<Cropped<T>, ImageLabelError>
     where
         T: Copy + PartialEq + From<u8>,
     {
@@ -161,7 +160,7 @@ pub(crate) fn classify_labels(
             background: u32,
             t: &[T],
             index: fn(V) -> usize,
-        ) -> ([usize; 3], [usize; 3], Vec<T>)
+        ) -> Cropped<T>
         where
             T: Copy,
         {
