@@ -27,7 +27,7 @@ use crate::complex::MeshComplex;
 use crate::kernel::Point3;
 use crate::oracle::{Oracle, PatchId};
 use crate::refine::criteria::CellCriteria;
-use crate::refine::{Cancel, RefineError};
+use crate::refine::{Cancel, Deadline, RefineError};
 use crate::triangulation::{
     CellId, Delaunay3, InsertOutcome, InsertReport, Triangulation, TriangulationError, VertexId,
 };
@@ -174,10 +174,7 @@ pub fn preserve_surface(
     oracle: &dyn Oracle,
     options: &PreserveOptions,
 ) -> Result<Preserved, PreserveError> {
-    let clock = Clock {
-        deadline: options.time_limit.map(|t| std::time::Instant::now() + t),
-        cancel: options.cancel.clone(),
-    };
+    let clock = Deadline::new(options.time_limit, options.cancel.clone());
     let constraints = Constraints::new(points, triangles, patches)?;
     let mut recovery = Recovery::new(points, constraints, options, clock)?;
     let mut faces = Vec::new();
@@ -206,28 +203,6 @@ pub fn preserve_surface(
     })
 }
 
-/// The time limit and cancel flag of a run.
-struct Clock {
-    deadline: Option<std::time::Instant>,
-    cancel: Option<Cancel>,
-}
-
-impl Clock {
-    /// Why the run must stop now, if it must.
-    fn stop(&self) -> Option<RefineError> {
-        if self.cancel.as_ref().is_some_and(Cancel::is_cancelled) {
-            Some(RefineError::Cancelled)
-        } else if self
-            .deadline
-            .is_some_and(|d| std::time::Instant::now() >= d)
-        {
-            Some(RefineError::TimeLimit)
-        } else {
-            None
-        }
-    }
-}
-
 /// The triangulation being made to conform, and the constraints' bookkeeping.
 struct Recovery {
     dt: Delaunay3,
@@ -238,7 +213,8 @@ struct Recovery {
     diagonal: f64,
     /// Vertices placed inside the volume (not on the surface), in increasing order.
     inside: Vec<VertexId>,
-    clock: Clock,
+    /// The time limit and cancel flag of the run.
+    clock: Deadline,
     report: InsertReport,
     incident: Vec<CellId>,
     edge_steiner: usize,
@@ -259,7 +235,7 @@ impl Recovery {
         points: &[Point3],
         mut constraints: Constraints,
         options: &PreserveOptions,
-        clock: Clock,
+        clock: Deadline,
     ) -> Result<Self, PreserveError> {
         let used = constraints.used_points(points);
         let mut dt = Delaunay3::new();
