@@ -2,7 +2,7 @@
 //! isovalue of a gray-level one.
 
 use crate::ImageLabelError;
-use crate::grid::{ClassGrid, Interpolation};
+use crate::grid::{Class, ClassGrid, Interpolation};
 use delamesh_core::oracle::{OUTSIDE, SubdomainId};
 use delamesh_formats::image::{Image, Voxels};
 
@@ -14,6 +14,31 @@ pub const MAX_LABELS: usize = 65_535;
 pub(crate) enum Field {
     U8(ClassGrid<u8>),
     U16(ClassGrid<u16>),
+}
+
+/// A class type a [`Field`] holds: how a class number (below the type's range, checked by the
+/// caller) narrows to it, and the field's variant for it.
+trait FieldClass: Class + From<u8> {
+    fn narrow(class: usize) -> Self;
+    fn field(grid: ClassGrid<Self>) -> Field;
+}
+
+impl FieldClass for u8 {
+    fn narrow(class: usize) -> Self {
+        class as u8
+    }
+    fn field(grid: ClassGrid<Self>) -> Field {
+        Field::U8(grid)
+    }
+}
+
+impl FieldClass for u16 {
+    fn narrow(class: usize) -> Self {
+        class as u16
+    }
+    fn field(grid: ClassGrid<Self>) -> Field {
+        Field::U16(grid)
+    }
 }
 
 /// Classes of an image and the subdomain of each class (class 0 is the background, `OUTSIDE`).
@@ -143,27 +168,21 @@ pub(crate) fn classify_labels(
     // intermediate buffer: bytes and shorts are cropped on their raw values (the background
     // label is the only value of class 0) before a table maps them, so that the voxels outside
     // the labels' box are read once.
-    fn per_voxel<T>(
-        dims: [usize; 3],
-        voxels: &Voxels,
+    fn per_voxel<T: FieldClass>(
+        image: &Image,
         background: u32,
         table: &dyn Fn(u32) -> usize,
         label_of: &dyn Fn(usize) -> Result<u32, ImageLabelError>,
-        narrow: fn(usize) -> T,
-    ) -> Result<Cropped<T>, ImageLabelError>
-    where
-        T: Copy + PartialEq + From<u8>,
-    {
-        fn raw<V: Copy + PartialEq + TryFrom<u32>, T>(
+        count: usize,
+        interpolation: Interpolation,
+    ) -> Result<(Field, [usize; 3]), ImageLabelError> {
+        fn raw<V: Copy + PartialEq + TryFrom<u32>, T: Copy>(
             dims: [usize; 3],
             v: &[V],
             background: u32,
             t: &[T],
             index: fn(V) -> usize,
-        ) -> Cropped<T>
-        where
-            T: Copy,
-        {
+        ) -> Cropped<T> {
             // A background the type cannot hold: no voxel is background.
             let bx = match V::try_from(background) {
                 Ok(b) => crop_box(dims, v, b),
@@ -171,50 +190,39 @@ pub(crate) fn classify_labels(
             };
             (bx.0, bx.1, extract(dims, v, bx, |x| t[index(x)]))
         }
-        match voxels {
+        let dims = image.dims;
+        let (offset, dims, classes) = match &image.voxels {
             Voxels::U8(v) => {
-                let t: Vec<T> = (0..256u32).map(|l| narrow(table(l))).collect();
-                Ok(raw(dims, v, background, &t, usize::from))
+                let t: Vec<T> = (0..256u32).map(|l| T::narrow(table(l))).collect();
+                raw(dims, v, background, &t, usize::from)
             }
             Voxels::U16(v) => {
-                let t: Vec<T> = (0..65_536u32).map(|l| narrow(table(l))).collect();
-                Ok(raw(dims, v, background, &t, usize::from))
+                let t: Vec<T> = (0..65_536u32).map(|l| T::narrow(table(l))).collect();
+                raw(dims, v, background, &t, usize::from)
             }
-            _ => {
+            voxels => {
                 let classes = (0..voxels.len())
-                    .map(|i| label_of(i).map(|l| narrow(table(l))))
+                    .map(|i| label_of(i).map(|l| T::narrow(table(l))))
                     .collect::<Result<Vec<T>, _>>()?;
-                Ok(crop(dims, classes, T::from(0)))
+                crop(dims, classes, T::from(0))
             }
-        }
+        };
+        let grid = ClassGrid::new(dims, classes, count, interpolation);
+        Ok((T::field(grid), offset))
     }
-    let (field, offset) = if count <= 256 {
-        let (offset, dims, classes) = per_voxel(
-            image.dims,
-            &image.voxels,
-            background,
-            &class_of,
-            &label_of,
-            |c| c as u8,
-        )?;
-        (
-            Field::U8(ClassGrid::new(dims, classes, count, interpolation)),
-            offset,
-        )
+    let per_voxel = if count <= 256 {
+        per_voxel::<u8>
     } else {
-        let (offset, dims, classes) = per_voxel(
-            image.dims,
-            &image.voxels,
-            background,
-            &class_of,
-            &label_of,
-            |c| c as u16,
-        )?;
-        (
-            Field::U16(ClassGrid::new(dims, classes, count, interpolation)),
-            offset,
-        )
+        per_voxel::<u16>
     };
+    let (field, offset) = per_voxel(
+        image,
+        background,
+        &class_of,
+        &label_of,
+        count,
+        interpolation,
+    )?;
     Ok(Classified {
         field,
         subdomains,
@@ -246,4 +254,65 @@ fn histogram(values: impl Iterator<Item = usize>, size: usize) -> Vec<u32> {
         seen[v] = true;
     }
     (0..size as u32).filter(|&l| seen[l as usize]).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec3;
+
+    const DIMS: [usize; 3] = [20, 20, 3];
+
+    /// A 20×20×3 image of labels below `labels` (0 the background) as shorts, with a voxel of
+    /// background around them (324 voxels, as many distinct labels when `labels` ≥ 400),
+    /// classified by [`classify_labels`].
+    fn classified(labels: u16) -> (Image, Classified) {
+        let [nx, ny, nz] = DIMS;
+        let voxels = (0..nx * ny * nz)
+            .map(|i| {
+                let (x, y, z) = (i % nx, i / nx % ny, i / (nx * ny));
+                let inner = (1..nx - 1).contains(&x) && (1..ny - 1).contains(&y) && z == 1;
+                if inner { (i as u16 * 7) % labels } else { 0 }
+            })
+            .collect();
+        let image = Image::axis_aligned(DIMS, DVec3::ONE, DVec3::ZERO, Voxels::U16(voxels));
+        let classified = classify_labels(&image, 0, Interpolation::Nearest).unwrap();
+        (image, classified)
+    }
+
+    /// The class of image voxel `v` in `grid`, whose voxel `(0, 0, 0)` is image voxel `offset`:
+    /// background (0) outside the grid's box.
+    fn class_in<C: Class>(grid: &ClassGrid<C>, offset: [usize; 3], v: [usize; 3]) -> u32 {
+        let local: Option<Vec<usize>> = (0..3)
+            .map(|a| v[a].checked_sub(offset[a]).filter(|&x| x < grid.dims[a]))
+            .collect();
+        local.map_or(0, |l| grid.voxel(l[0], l[1], l[2]).index())
+    }
+
+    /// Every voxel of the image keeps its label: its class in the (cropped) field is the rank
+    /// of its label among the labels present, in bytes up to 256 classes and in shorts beyond.
+    #[test]
+    fn classes_are_label_ranks_in_the_narrowest_type() {
+        for (labels, wide) in [(5, false), (255, false), (400, true)] {
+            let (image, classified) = classified(labels);
+            let Voxels::U16(values) = &image.voxels else {
+                unreachable!()
+            };
+            let mut present: Vec<u16> = values.iter().copied().filter(|&l| l != 0).collect();
+            present.sort_unstable();
+            present.dedup();
+            assert_eq!(classified.subdomains.len(), present.len() + 1);
+            let o = classified.offset;
+            let class = |v: [usize; 3]| match &classified.field {
+                Field::U8(g) => class_in(g, o, v),
+                Field::U16(g) => class_in(g, o, v),
+            };
+            assert_eq!(matches!(classified.field, Field::U16(_)), wide);
+            for (n, &l) in values.iter().enumerate() {
+                let rank = present.binary_search(&l).map_or(0, |r| r as u32 + 1);
+                let v = [n % DIMS[0], n / DIMS[0] % DIMS[1], n / (DIMS[0] * DIMS[1])];
+                assert_eq!(class(v), rank, "voxel {n}, label {l}");
+            }
+        }
+    }
 }
