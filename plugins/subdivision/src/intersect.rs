@@ -84,9 +84,9 @@ fn visit(scheme: Scheme, surface: &Surface, q: &Query, depth: u32, out: &mut Vec
         Surface::Irregular(_) if depth >= MAX_DEPTH || (hi - lo).length() <= q.point_size => {
             out.push(q.point_crossing(lo, hi));
         }
-        Surface::Irregular(_) => {
-            for (_, child) in surface.children(scheme) {
-                visit(scheme, &child, q, depth + 1, out);
+        Surface::Irregular(ring) => {
+            for (_, child) in ring.children(scheme) {
+                visit(scheme, child, q, depth + 1, out);
             }
         }
     }

@@ -368,9 +368,9 @@ impl SubdivisionOracle {
 /// `surface` as pieces: its regular children, split `levels` times while irregular.
 fn presplit(scheme: Scheme, surface: Surface, group: u32, levels: u32, out: &mut Vec<Patch>) {
     match surface {
-        Surface::Irregular(_) if levels > 0 => {
-            for (_, child) in surface.children(scheme) {
-                presplit(scheme, child, group, levels - 1, out);
+        Surface::Irregular(ring) if levels > 0 => {
+            for (_, child) in ring.children(scheme) {
+                presplit(scheme, child.clone(), group, levels - 1, out);
             }
         }
         surface => out.push(Patch { surface, group }),
