@@ -8,7 +8,7 @@ use crate::report::{Report, ReportInput, Times};
 use crate::settings::{FeatureSettings, MeshSettings};
 use crate::sizing::{Fields, grade};
 use delamesh_core::complex::MeshComplex;
-use delamesh_core::conform3::{PreserveOptions, preserve_surface};
+use delamesh_core::conform3::{PreserveError, PreserveOptions, preserve_surface};
 use delamesh_core::mesh::component_euler_characteristics;
 use delamesh_core::mesh::weld_exact;
 use delamesh_core::mesh::{SurfaceMesh, TetMesh};
@@ -25,6 +25,14 @@ use delamesh_polyhedral::{refuse_defects, surface_defects};
 use std::path::Path;
 use std::time::{Duration, Instant};
 
+/// The automatic vertex limit of `--preserve-surface` (no `--max-vertices`): this many vertices
+/// per input vertex, over [`RECOVERY_MIN_BUDGET`] for recovery alone or over the criteria's own
+/// limit when the cells are refined. Recovery needs up to 22 per input vertex on CGAL's models
+/// (conforming, on CAD parts with long thin triangles); one that cycles then stops within
+/// seconds with an error naming the limit, instead of running for minutes.
+const STEINER_BUDGET_PER_INPUT_VERTEX: usize = 100;
+/// See [`STEINER_BUDGET_PER_INPUT_VERTEX`].
+const RECOVERY_MIN_BUDGET: usize = 10_000;
 /// The times of a domain built from an input read in `read`, its oracle from `t` on.
 fn oracle_times(read: Duration, t: Instant) -> Times {
     Times {
@@ -290,9 +298,16 @@ impl<'p> Mesher<'p> {
         let sized = settings.cell_size.is_some() || !settings.sizing.per_subdomain.is_empty();
         let shaped = settings.cell_radius_edge_ratio.is_some();
         let options = PreserveOptions {
-            max_vertices: settings
-                .max_vertices
-                .unwrap_or(PreserveOptions::default().max_vertices),
+            max_vertices: settings.max_vertices.unwrap_or_else(|| {
+                let base = if sized || shaped {
+                    criteria.vertex_budget(&bbox)
+                } else {
+                    RECOVERY_MIN_BUDGET
+                };
+                base.saturating_add(
+                    STEINER_BUDGET_PER_INPUT_VERTEX.saturating_mul(surface.positions.len()),
+                )
+            }),
             cells: (sized || shaped).then(|| CellCriteria {
                 radius_edge_ratio: settings.cell_radius_edge_ratio.unwrap_or(0.0),
                 size: if sized {
@@ -301,17 +316,28 @@ impl<'p> Mesher<'p> {
                     Sizing::Unbounded
                 },
             }),
+            time_limit: settings.time_limit,
+            cancel: self.cancel.clone(),
             ..PreserveOptions::default()
         };
-        let preserved = preserve_surface(
+        let preserved = match preserve_surface(
             &surface.positions,
             &surface.triangles,
             &patches,
             domain.oracle(),
             &options,
-        )
-        .map_err(|e| unmeshable(format!("--preserve-surface: {e}")))?;
+        ) {
+            Ok(p) => p,
+            Err(PreserveError::Stopped(source)) => return Err(Error::Stopped { name, source }),
+            Err(e) => return Err(unmeshable(format!("--preserve-surface: {e}"))),
+        };
         times.refinement = t.elapsed();
+        // The cell level stopped early: its mesh keeps the surface, so it is the partial mesh.
+        if let Some(source) = preserved.stopped.clone()
+            && !settings.keep_partial
+        {
+            return Err(Error::Stopped { name, source });
+        }
         if preserved.complex.tets.is_empty() {
             return Err(Error::Empty {
                 name,
@@ -333,7 +359,7 @@ impl<'p> Mesher<'p> {
                 ..RefineStats::default()
             },
             warnings: Vec::new(),
-            stopped: None,
+            stopped: preserved.stopped,
             criteria,
             times,
             optimization,

@@ -87,3 +87,27 @@ fn the_time_limit_stops_with_a_clear_error() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--time-limit"));
 }
+
+#[test]
+fn the_time_limit_bounds_the_surface_keeping_mode() {
+    let quality = [
+        "--preserve-surface",
+        "--cell-size",
+        "0.1",
+        "--time-limit",
+        "1e-9",
+    ];
+    // Recovery stopped: no mesh keeps the surface yet.
+    let (ok, err, written) = run(&cuboid(1.0, 1.0, 1.0), &quality);
+    assert!(!ok && !written, "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains("--time-limit"), "{err}");
+    // A tetrahedron needs no Steiner point, and the cell level stops between rounds, where its
+    // mesh keeps the surface: a partial mesh.
+    let corner = "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    let (ok, err, written) = run(corner, &quality);
+    assert!(!ok && !written, "{err}");
+    let (ok, err, written) = run(corner, &[&quality[..], &["--keep-partial"]].concat());
+    assert!(!ok && written, "{err}");
+    assert!(err.contains("partial mesh"), "{err}");
+}

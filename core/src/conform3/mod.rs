@@ -27,6 +27,7 @@ use crate::complex::MeshComplex;
 use crate::kernel::Point3;
 use crate::oracle::{Oracle, PatchId};
 use crate::refine::criteria::CellCriteria;
+use crate::refine::{Cancel, Deadline, RefineError};
 use crate::triangulation::{
     CellId, Delaunay3, InsertOutcome, InsertReport, Triangulation, TriangulationError, VertexId,
 };
@@ -48,6 +49,13 @@ pub struct PreserveOptions {
     /// Cells whose circumradius is below this, relative to the diagonal of the input's bounding
     /// box, are not refined: a floor under the cell level, whatever the criteria ask.
     pub min_relative_radius: f64,
+    /// Wall-clock bound of the whole run: recovery past it fails with
+    /// [`RefineError::TimeLimit`]; the cell level stops at its next round and the mesh reached
+    /// is returned with [`Preserved::stopped`] set.
+    pub time_limit: Option<std::time::Duration>,
+    /// Raised from elsewhere, stops the run as the time limit does, with
+    /// [`RefineError::Cancelled`].
+    pub cancel: Option<Cancel>,
 }
 
 impl Default for PreserveOptions {
@@ -57,6 +65,8 @@ impl Default for PreserveOptions {
             min_relative_length: 1e-9,
             cells: None,
             min_relative_radius: 1e-3,
+            time_limit: None,
+            cancel: None,
         }
     }
 }
@@ -91,7 +101,7 @@ pub enum PreserveError {
     Triangulation(#[from] TriangulationError),
     /// The vertex cap was reached before every constraint appeared.
     #[error(
-        "boundary recovery did not finish within {cap} vertices ({edges} input edges and {facets} input triangles still missing)"
+        "boundary recovery did not finish within {cap} vertices (max-vertices; {edges} input edges and {facets} input triangles still missing)"
     )]
     VertexCap {
         /// The cap.
@@ -120,6 +130,9 @@ pub enum PreserveError {
         "recovery of input triangle {0} is stuck: no Steiner point found for its missing pieces"
     )]
     Stuck(usize),
+    /// The time limit passed, or the run was cancelled, before the surface was recovered.
+    #[error(transparent)]
+    Stopped(RefineError),
 }
 
 /// A surface kept exactly in a tetrahedral mesh.
@@ -135,6 +148,9 @@ pub struct Preserved {
     pub rounds: usize,
     /// Points inserted inside the volume by quality refinement (cell circumcentres).
     pub cell_steiner: usize,
+    /// Why the cell level stopped before every cell met its criteria (time limit, cancel); the
+    /// surface is kept all the same.
+    pub stopped: Option<RefineError>,
 }
 
 impl Preserved {
@@ -158,16 +174,17 @@ pub fn preserve_surface(
     oracle: &dyn Oracle,
     options: &PreserveOptions,
 ) -> Result<Preserved, PreserveError> {
+    let clock = Deadline::new(options.time_limit, options.cancel.clone());
     let constraints = Constraints::new(points, triangles, patches)?;
-    let mut recovery = Recovery::new(points, constraints, options)?;
+    let mut recovery = Recovery::new(points, constraints, options, clock)?;
     let mut faces = Vec::new();
     recovery.run(&mut faces)?;
-    let cell_steiner = match &options.cells {
+    let (cell_steiner, stopped) = match &options.cells {
         Some(criteria) => {
             let min_radius = options.min_relative_radius * recovery.diagonal;
             quality::refine(&mut recovery, &mut faces, oracle, criteria, min_radius)?
         }
-        None => 0,
+        None => (0, None),
     };
     let complex = regions::complex(
         &recovery.dt,
@@ -182,6 +199,7 @@ pub fn preserve_surface(
         facet_steiner: recovery.facet_steiner,
         rounds: recovery.rounds,
         cell_steiner,
+        stopped,
     })
 }
 
@@ -195,6 +213,8 @@ struct Recovery {
     diagonal: f64,
     /// Vertices placed inside the volume (not on the surface), in increasing order.
     inside: Vec<VertexId>,
+    /// The time limit and cancel flag of the run.
+    clock: Deadline,
     report: InsertReport,
     incident: Vec<CellId>,
     edge_steiner: usize,
@@ -215,6 +235,7 @@ impl Recovery {
         points: &[Point3],
         mut constraints: Constraints,
         options: &PreserveOptions,
+        clock: Deadline,
     ) -> Result<Self, PreserveError> {
         let used = constraints.used_points(points);
         let mut dt = Delaunay3::new();
@@ -232,6 +253,7 @@ impl Recovery {
             min_length: options.min_relative_length * diagonal,
             diagonal,
             inside: Vec::new(),
+            clock,
             report: InsertReport::default(),
             incident: Vec::new(),
             edge_steiner: 0,
@@ -319,9 +341,14 @@ impl Recovery {
     }
 
     /// Inserts a Steiner point near vertex `near`; `None` when it falls on an existing vertex.
+    /// Fails past the vertex cap, the time limit, or once cancelled: every step of recovery and
+    /// of the cell level inserts, so this bounds them all.
     fn insert(&mut self, p: Point3, near: VertexId) -> Result<Option<VertexId>, PreserveError> {
         if self.dt.num_vertices() >= self.max_vertices {
             return Err(self.cap_error());
+        }
+        if let Some(stop) = self.clock.stop() {
+            return Err(PreserveError::Stopped(stop));
         }
         let hint = self.dt.vertex_cell(near);
         match self.dt.insert_reporting(p, hint, &mut self.report)? {

@@ -13,6 +13,7 @@ use super::regions::{cell_subdomains, key, piece_facets};
 use super::{PreserveError, Recovery, facet};
 use crate::kernel::Point3;
 use crate::oracle::{OUTSIDE, Oracle, SubdomainId};
+use crate::refine::RefineError;
 use crate::refine::criteria::CellCriteria;
 use crate::refine::{
     cell_vertices, facet_vertices, is_same_cell, shortest_edge, triangle_circumcenter,
@@ -34,20 +35,24 @@ enum Split {
 
 /// Refines the cells inside the domain until each meets `criteria` or has a circumradius below
 /// `min_radius`; `faces` (the pieces of each input triangle) is kept up to date. Returns how many
-/// centres were inserted.
+/// centres were inserted, and why it stopped early, if the clock stopped it at a round's start or
+/// at a centre (the pieces are then whole; past that, the run fails).
 pub(super) fn refine(
     r: &mut Recovery,
     faces: &mut Vec<Vec<[VertexId; 3]>>,
     oracle: &dyn Oracle,
     criteria: &CellCriteria,
     min_radius: f64,
-) -> Result<usize, PreserveError> {
+) -> Result<(usize, Option<RefineError>), PreserveError> {
     let mut zone = ConflictZone::default();
     let mut inserted = 0;
     // Cells left as they are because refining them would refine the surface too finely: not
     // tried again while they exist.
     let mut kept: HashSet<[VertexId; 4]> = HashSet::new();
     for _ in 0..MAX_ROUNDS {
+        if let Some(stop) = r.clock.stop() {
+            return Ok((inserted, Some(stop)));
+        }
         let facet_of = piece_facets(faces);
         let subdomain = cell_subdomains(&r.dt, &facet_of, oracle);
         let bad = bad_cells(r, &subdomain, criteria, min_radius);
@@ -76,7 +81,10 @@ pub(super) fn refine(
                 in_zone[c.0 as usize] = false;
             }
             if destroyed.is_empty() {
-                let v = r.insert(center, vertices[0])?;
+                let v = match r.insert(center, vertices[0]) {
+                    Err(PreserveError::Stopped(stop)) => return Ok((inserted, Some(stop))),
+                    v => v?,
+                };
                 if let Some(v) = v {
                     r.inside.push(v);
                     inserted += 1;
@@ -114,7 +122,7 @@ pub(super) fn refine(
         }
         r.run(faces)?;
     }
-    Ok(inserted)
+    Ok((inserted, None))
 }
 
 /// The cells inside the domain that fail `criteria`, worst first (ties by vertices, so the

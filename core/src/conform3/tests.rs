@@ -71,6 +71,58 @@ fn coincident_input_vertices_are_refused() {
     ));
 }
 
+/// A raised cancel flag stops recovery at its first Steiner point, and the cell level at its
+/// first round, whose mesh (the recovered surface) is then returned with the reason; a time
+/// limit already passed does the same.
+#[test]
+fn the_clock_stops_recovery_with_an_error_and_the_cell_level_with_its_mesh() {
+    let cancel = Cancel::new();
+    cancel.cancel();
+    let long = SurfaceMesh::cuboid(Point3::ZERO, Point3::new(10.0, 0.1, 0.1));
+    let stopped = PreserveOptions {
+        cancel: Some(cancel),
+        ..PreserveOptions::default()
+    };
+    assert_eq!(
+        run(&long.positions, &long.triangles, &stopped).unwrap_err(),
+        PreserveError::Stopped(RefineError::Cancelled)
+    );
+    let late = PreserveOptions {
+        time_limit: Some(std::time::Duration::ZERO),
+        ..PreserveOptions::default()
+    };
+    assert_eq!(
+        run(&long.positions, &long.triangles, &late).unwrap_err(),
+        PreserveError::Stopped(RefineError::TimeLimit)
+    );
+    // A tetrahedron needs no Steiner point: recovery ends, and the cell level stops at once.
+    let corner = [Point3::ZERO, Point3::X, Point3::Y, Point3::Z];
+    let faces = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
+    let cells = Some(CellCriteria {
+        radius_edge_ratio: 1.5,
+        size: crate::refine::criteria::Sizing::Constant(0.1),
+    });
+    for (options, why) in [
+        (stopped, RefineError::Cancelled),
+        (late, RefineError::TimeLimit),
+    ] {
+        let options = PreserveOptions {
+            cells: cells.clone(),
+            ..options
+        };
+        let kept = run(&corner, &faces, &options).expect("the surface is kept");
+        assert_eq!(kept.stopped, Some(why));
+        assert_eq!((kept.cell_steiner, kept.complex.points.len()), (0, 4));
+    }
+    let unbounded = PreserveOptions {
+        cells,
+        ..PreserveOptions::default()
+    };
+    let refined = run(&corner, &faces, &unbounded).expect("refined");
+    assert_eq!(refined.stopped, None);
+    assert!(refined.cell_steiner > 0);
+}
+
 #[test]
 fn the_vertex_cap_stops_recovery_with_what_is_missing() {
     // Four-point faces of a long box are cocircular, so their diagonals are chosen by the

@@ -24,8 +24,8 @@ pub use state::WorkspaceError;
 use crate::complex::MeshComplex;
 use crate::oracle::Oracle;
 use crate::quality::Histogram;
-use crate::refine::Cancel;
 use crate::refine::criteria::MeshCriteria;
+use crate::refine::{Cancel, Deadline};
 use smooth::Smoother;
 use state::Workspace;
 use std::time::{Duration, Instant};
@@ -179,20 +179,6 @@ impl OptimizeReport {
     }
 }
 
-/// The end of the phase: a time bound, an interruption, or neither.
-#[derive(Default)]
-pub(crate) struct Deadline {
-    at: Option<Instant>,
-    cancel: Option<Cancel>,
-}
-
-impl Deadline {
-    fn passed(&self) -> bool {
-        self.at.is_some_and(|d| Instant::now() >= d)
-            || self.cancel.as_ref().is_some_and(Cancel::is_cancelled)
-    }
-}
-
 /// Optimises `complex`, whose vertex `i` had weight `weights[i]` in the triangulation refinement
 /// built (missing weights are 0), over the domain `oracle`; boundary facets the optimisers change
 /// meet the facet-distance and facet-size criteria of `criteria`, and no cell gets larger
@@ -205,11 +191,7 @@ pub fn optimize(
     criteria: &MeshCriteria,
     options: &OptimizeOptions,
 ) -> (MeshComplex, OptimizeReport) {
-    let start = Instant::now();
-    let deadline = Deadline {
-        at: options.time_limit.map(|t| start + t),
-        cancel: options.cancel.clone(),
-    };
+    let deadline = Deadline::new(options.time_limit, options.cancel.clone());
     let angles: Vec<f64> = (0..complex.tets.len())
         .map(|t| state::min_dihedral(&complex.tet_points(t)))
         .collect();

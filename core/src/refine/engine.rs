@@ -138,6 +138,40 @@ impl Cancel {
     }
 }
 
+/// When a run must end: a time bound from its start, a [`Cancel`] flag, both or neither. One
+/// guard for refinement, the surface-keeping recovery and the optimisers.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Deadline {
+    at: Option<std::time::Instant>,
+    cancel: Option<Cancel>,
+}
+
+impl Deadline {
+    /// The deadline `limit` from now, or raised by `cancel`.
+    pub(crate) fn new(limit: Option<std::time::Duration>, cancel: Option<Cancel>) -> Self {
+        Deadline {
+            at: limit.map(|t| std::time::Instant::now() + t),
+            cancel,
+        }
+    }
+
+    /// Why the run must stop now, if it must (the time limit first).
+    pub(crate) fn stop(&self) -> Option<RefineError> {
+        if self.at.is_some_and(|d| std::time::Instant::now() >= d) {
+            Some(RefineError::TimeLimit)
+        } else if self.cancel.as_ref().is_some_and(Cancel::is_cancelled) {
+            Some(RefineError::Cancelled)
+        } else {
+            None
+        }
+    }
+
+    /// Whether the run must stop now.
+    pub(crate) fn passed(&self) -> bool {
+        self.stop().is_some()
+    }
+}
+
 /// The same flag, not the same state: two runs with equal limits stop together.
 impl PartialEq for Cancel {
     fn eq(&self, other: &Self) -> bool {
@@ -282,25 +316,14 @@ impl<'a, T: Triangulation> Engine<'a, T> {
         // Per level: a bounced element of one level cannot reset the count of another's.
         let mut rejections_in_a_row = vec![0usize; self.levels.len()];
         let mut total = 0usize;
-        let deadline = self
-            .limits
-            .time_limit
-            .map(|t| std::time::Instant::now() + t);
+        let deadline = Deadline::new(self.limits.time_limit, self.limits.cancel.clone());
         let mut steps = 0usize;
         while let Some((i, candidate)) = self.next_candidate(tr) {
             steps += 1;
-            if steps % 256 == 0 {
-                if deadline.is_some_and(|d| std::time::Instant::now() > d) {
-                    return Err(RefineError::TimeLimit);
-                }
-                if self
-                    .limits
-                    .cancel
-                    .as_ref()
-                    .is_some_and(Cancel::is_cancelled)
-                {
-                    return Err(RefineError::Cancelled);
-                }
+            if steps % 256 == 0
+                && let Some(stop) = deadline.stop()
+            {
+                return Err(stop);
             }
             match self.check_by_all_levels(tr, &candidate, i) {
                 Check::Accepted => {

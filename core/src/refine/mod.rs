@@ -22,6 +22,7 @@ mod queue;
 pub mod repair;
 pub mod sizing;
 
+pub(crate) use engine::Deadline;
 pub use engine::{
     Cancel, Candidate, Check, Engine, Limits, MesherLevel, Progress, RefineError, RefineStats,
 };

@@ -125,9 +125,29 @@ impl<C: Class> ClassGrid<C> {
             lo..=(lo + BLOCK).min(self.dims[a] - 1)
         };
         let first = self.voxel(b[0] * BLOCK, b[1] * BLOCK, b[2] * BLOCK);
+        // Blocks and bricks share their lower corner: a brick of several classes (most blocks
+        // near the interfaces) is told by one compare of its 64 stored voxels.
+        const { assert!(BLOCK == BRICK) };
+        // Padding past the image is not the image's, so only a full brick decides alone.
+        let full = (0..3).all(|a| (b[a] + 1) * BLOCK <= self.dims[a]);
+        let lower = brick_index(self.bricks, b[0] * BLOCK, b[1] * BLOCK, b[2] * BLOCK);
+        let brick = &self.classes[lower..lower + BRICK.pow(3)];
+        if full && brick.iter().any(|&c| c != first) {
+            return MIXED;
+        }
+        // Past a uniform full brick, only the block's upper faces are left to read.
+        let upper = b.map(|v| v * BLOCK + BLOCK);
         for k in range(2) {
             for j in range(1) {
-                if range(0).any(|i| self.voxel(i, j, k) != first) {
+                let inside = full && j < upper[1] && k < upper[2];
+                let mut row = range(0);
+                if inside {
+                    row = upper[0]..=upper[0];
+                    if upper[0] >= self.dims[0] {
+                        continue;
+                    }
+                }
+                if row.any(|i| self.voxel(i, j, k) != first) {
                     return MIXED;
                 }
             }

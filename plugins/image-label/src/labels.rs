@@ -25,18 +25,18 @@ pub(crate) struct Classified {
     pub offset: [usize; 3],
 }
 
-/// The classes of the box of non-background voxels (class 0 is the background) grown by one
-/// voxel within the image, its offset and its dimensions: outside it every voxel is background,
-/// so the class of every point is the same (the domain box of the interpolation shrinks, but
-/// only by background). Returned whole when there is nothing but background.
-fn crop<T: Copy + PartialEq>(
+/// The box of non-background voxels grown by one voxel within the image, as its lower corner and
+/// its dimensions: outside it every voxel is background, so the class of every point is the same
+/// (the domain box of the interpolation shrinks, but only by background). The whole image when
+/// there is nothing but background.
+fn crop_box<T: Copy + PartialEq>(
     dims: [usize; 3],
-    classes: Vec<T>,
+    values: &[T],
     background: T,
-) -> ([usize; 3], [usize; 3], Vec<T>) {
+) -> ([usize; 3], [usize; 3]) {
     let [nx, ny, _] = dims;
     let (mut lo, mut hi) = ([usize::MAX; 3], [0usize; 3]);
-    for (row, values) in classes.chunks_exact(nx.max(1)).enumerate() {
+    for (row, values) in values.chunks_exact(nx.max(1)).enumerate() {
         let Some(first) = values.iter().position(|&c| c != background) else {
             continue;
         };
@@ -49,21 +49,42 @@ fn crop<T: Copy + PartialEq>(
         hi = [hi[0].max(last), hi[1].max(j), hi[2].max(k)];
     }
     if lo[0] == usize::MAX {
-        return ([0; 3], dims, classes);
+        return ([0; 3], dims);
     }
     let lo = [0, 1, 2].map(|a| lo[a].saturating_sub(1));
     let hi = [0, 1, 2].map(|a| (hi[a] + 1).min(dims[a] - 1));
-    let size = [0, 1, 2].map(|a| hi[a] - lo[a] + 1);
+    (lo, [0, 1, 2].map(|a| hi[a] - lo[a] + 1))
+}
+
+/// A cropped grid: the image voxel of its voxel `(0, 0, 0)`, its dimensions, its values.
+type Cropped<T> = ([usize; 3], [usize; 3], Vec<T>);
+
+/// The values of the box at `lo` of dimensions `size`, mapped by `map`, x fastest.
+fn extract<T: Copy, U>(
+    dims: [usize; 3],
+    values: &[T],
+    (lo, size): ([usize; 3], [usize; 3]),
+    map: impl Fn(T) -> U,
+) -> Vec<U> {
+    let [nx, ny, _] = dims;
+    let mut out = Vec::with_capacity(size[0] * size[1] * size[2]);
+    for k in lo[2]..lo[2] + size[2] {
+        for j in lo[1]..lo[1] + size[1] {
+            let row = nx * (j + ny * k) + lo[0];
+            out.extend(values[row..row + size[0]].iter().map(|&v| map(v)));
+        }
+    }
+    out
+}
+
+/// The classes of the box of non-background voxels (see [`crop_box`]), its offset and its
+/// dimensions.
+fn crop<T: Copy + PartialEq>(dims: [usize; 3], classes: Vec<T>, background: T) -> Cropped<T> {
+    let (lo, size) = crop_box(dims, &classes, background);
     if size == dims {
         return ([0; 3], dims, classes);
     }
-    let mut out = Vec::with_capacity(size[0] * size[1] * size[2]);
-    for k in lo[2]..=hi[2] {
-        for j in lo[1]..=hi[1] {
-            let row = nx * (j + ny * k);
-            out.extend_from_slice(&classes[row + lo[0]..=row + hi[0]]);
-        }
-    }
+    let out = extract(dims, &classes, (lo, size), |c| c);
     (lo, size, out)
 }
 
@@ -118,37 +139,77 @@ pub(crate) fn classify_labels(
         }
     };
     let count = labels.len();
-    // One class per voxel, in the narrowest type, without a wider intermediate buffer.
+    // One class per voxel of the cropped box, in the narrowest type, without a wider
+    // intermediate buffer: bytes and shorts are cropped on their raw values (the background
+    // label is the only value of class 0) before a table maps them, so that the voxels outside
+    // the labels' box are read once.
     fn per_voxel<T>(
+        dims: [usize; 3],
         voxels: &Voxels,
+        background: u32,
         table: &dyn Fn(u32) -> usize,
         label_of: &dyn Fn(usize) -> Result<u32, ImageLabelError>,
         narrow: fn(usize) -> T,
-    ) -> Result<Vec<T>, ImageLabelError> {
+    ) -> Result<Cropped<T>, ImageLabelError>
+    where
+        T: Copy + PartialEq + From<u8>,
+    {
+        fn raw<V: Copy + PartialEq + TryFrom<u32>, T>(
+            dims: [usize; 3],
+            v: &[V],
+            background: u32,
+            t: &[T],
+            index: fn(V) -> usize,
+        ) -> Cropped<T>
+        where
+            T: Copy,
+        {
+            // A background the type cannot hold: no voxel is background.
+            let bx = match V::try_from(background) {
+                Ok(b) => crop_box(dims, v, b),
+                Err(_) => ([0; 3], dims),
+            };
+            (bx.0, bx.1, extract(dims, v, bx, |x| t[index(x)]))
+        }
         match voxels {
             Voxels::U8(v) => {
-                let t: Vec<usize> = (0..256u32).map(table).collect();
-                Ok(v.iter().map(|&x| narrow(t[usize::from(x)])).collect())
+                let t: Vec<T> = (0..256u32).map(|l| narrow(table(l))).collect();
+                Ok(raw(dims, v, background, &t, usize::from))
             }
             Voxels::U16(v) => {
-                let t: Vec<usize> = (0..65_536u32).map(table).collect();
-                Ok(v.iter().map(|&x| narrow(t[usize::from(x)])).collect())
+                let t: Vec<T> = (0..65_536u32).map(|l| narrow(table(l))).collect();
+                Ok(raw(dims, v, background, &t, usize::from))
             }
-            _ => (0..voxels.len())
-                .map(|i| label_of(i).map(|l| narrow(table(l))))
-                .collect(),
+            _ => {
+                let classes = (0..voxels.len())
+                    .map(|i| label_of(i).map(|l| narrow(table(l))))
+                    .collect::<Result<Vec<T>, _>>()?;
+                Ok(crop(dims, classes, T::from(0)))
+            }
         }
     }
     let (field, offset) = if count <= 256 {
-        let classes = per_voxel(&image.voxels, &class_of, &label_of, |c| c as u8)?;
-        let (offset, dims, classes) = crop(image.dims, classes, 0);
+        let (offset, dims, classes) = per_voxel(
+            image.dims,
+            &image.voxels,
+            background,
+            &class_of,
+            &label_of,
+            |c| c as u8,
+        )?;
         (
             Field::U8(ClassGrid::new(dims, classes, count, interpolation)),
             offset,
         )
     } else {
-        let classes = per_voxel(&image.voxels, &class_of, &label_of, |c| c as u16)?;
-        let (offset, dims, classes) = crop(image.dims, classes, 0);
+        let (offset, dims, classes) = per_voxel(
+            image.dims,
+            &image.voxels,
+            background,
+            &class_of,
+            &label_of,
+            |c| c as u16,
+        )?;
         (
             Field::U16(ClassGrid::new(dims, classes, count, interpolation)),
             offset,
