@@ -18,6 +18,7 @@ mod repair;
 mod tree;
 mod validate;
 
+pub use occupancy::Occupancy;
 pub use oracle::{PolyhedralError, PolyhedralOptions, PolyhedralOracle, diagnose, refuse_defects};
 pub use repair::Repairs;
 pub use tree::{TriangleTree, closest_point_on_triangle};

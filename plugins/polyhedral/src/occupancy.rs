@@ -23,8 +23,10 @@ pub(crate) const MAX_CANDIDATES: usize = 64;
 const MAX_ENTRIES_PER_TRIANGLE: usize = 32;
 const ENTRIES_ALWAYS_KEPT: usize = 1 << 20;
 
+/// The grid: cells of one size over a box, with the triangles (or boxes, given as degenerate
+/// triangles) overlapping each.
 #[derive(Clone, Debug)]
-pub(crate) struct Occupancy {
+pub struct Occupancy {
     origin: DVec3,
     inv_cell: f64,
     dims: [usize; 3],
@@ -46,7 +48,7 @@ pub(crate) enum Near<'a> {
 
 impl Occupancy {
     /// The grid over the box `[min, max]` with the cells overlapped by each triangle marked.
-    pub(crate) fn new(min: DVec3, max: DVec3, triangles: &[[DVec3; 3]]) -> Self {
+    pub fn new(min: DVec3, max: DVec3, triangles: &[[DVec3; 3]]) -> Self {
         let extent = (max - min).max_element();
         let mean_side = triangles
             .iter()
@@ -127,13 +129,13 @@ impl Occupancy {
 
     /// The cell of `p` when no triangle comes near it: all points of such a cell lie in one
     /// subdomain, since the segment between two of them meets no triangle.
-    pub(crate) fn empty_cell(&self, p: DVec3) -> Option<usize> {
+    pub fn empty_cell(&self, p: DVec3) -> Option<usize> {
         let k = self.linear(self.index(p));
         (self.start[k] == self.start[k + 1]).then_some(k)
     }
 
     /// The number of cells.
-    pub(crate) fn num_cells(&self) -> usize {
+    pub fn num_cells(&self) -> usize {
         self.start.len() - 1
     }
 

@@ -63,10 +63,6 @@ fn cubic(t: f64) -> ([f64; 4], [f64; 4]) {
     )
 }
 
-fn powi(x: f64, n: i32) -> f64 {
-    if n < 0 { 0.0 } else { x.powi(n) }
-}
-
 /// Basis values and their `u`, `v` derivatives at `(u, v)`.
 pub(crate) fn basis(scheme: Scheme, p: DVec2) -> [[f64; 16]; 3] {
     let mut out = [[0.0; 16]; 3];
@@ -82,27 +78,65 @@ pub(crate) fn basis(scheme: Scheme, p: DVec2) -> [[f64; 16]; 3] {
             }
         }
         Scheme::Loop => {
+            // Power tables: the hot path of Newton's method on Loop patches (`powi` was most of
+            // a query's time).
+            let powers = |x: f64| {
+                let x2 = x * x;
+                [1.0, x, x2, x2 * x, x2 * x2]
+            };
             let (u, v) = (p.x, p.y);
-            let w = 1.0 - u - v;
-            const FACT: [f64; 5] = [1.0, 1.0, 2.0, 6.0, 24.0];
-            for (n, &(i, j)) in triangle_indices().iter().enumerate() {
+            let (pu, pv, pw) = (powers(u), powers(v), powers(1.0 - u - v));
+            // x^(n-1) times n: the derivative's factor, zero for n = 0.
+            let lower = |pw: &[f64; 5], n: usize| if n == 0 { 0.0 } else { n as f64 * pw[n - 1] };
+            for (n, &(i, j, c)) in LOOP_TERMS.iter().enumerate() {
                 let k = 4 - i - j;
-                let c = 24.0 / (FACT[i as usize] * FACT[j as usize] * FACT[k as usize]);
-                let (i, j, k) = (i as i32, j as i32, k as i32);
-                out[0][n] = c * powi(u, i) * powi(v, j) * powi(w, k);
-                out[1][n] = c
-                    * powi(v, j)
-                    * (i as f64 * powi(u, i - 1) * powi(w, k)
-                        - k as f64 * powi(u, i) * powi(w, k - 1));
-                out[2][n] = c
-                    * powi(u, i)
-                    * (j as f64 * powi(v, j - 1) * powi(w, k)
-                        - k as f64 * powi(v, j) * powi(w, k - 1));
+                out[0][n] = c * pu[i] * pv[j] * pw[k];
+                out[1][n] = c * pv[j] * (lower(&pu, i) * pw[k] - pu[i] * lower(&pw, k));
+                out[2][n] = c * pu[i] * (lower(&pv, j) * pw[k] - pv[j] * lower(&pw, k));
             }
         }
     }
     out
 }
+
+/// The quartic Bernstein terms in storage order: exponents of `u` and `v` ([`triangle_indices`])
+/// and the multinomial coefficient `4! / (i! j! k!)`.
+const LOOP_TERMS: [(usize, usize, f64); 15] = {
+    const FACT: [usize; 5] = [1, 1, 2, 6, 24];
+    let mut out = [(0, 0, 0.0); 15];
+    let (mut n, mut j) = (0, 0);
+    while j <= 4 {
+        let mut i = 0;
+        while i <= 4 - j {
+            out[n] = (i, j, (24 / (FACT[i] * FACT[j] * FACT[4 - i - j])) as f64);
+            n += 1;
+            i += 1;
+        }
+        j += 1;
+    }
+    out
+};
+
+/// For every quartic Bézier point `(i, j)` with `i + j ≤ 3`: its index and those of `(i + 1, j)`
+/// and `(i, j + 1)`, in storage order.
+const LOOP_STEPS: [(usize, usize, usize); 10] = {
+    // Row `j` holds 5 − j points, after j (11 − j) / 2 others.
+    const fn index(i: usize, j: usize) -> usize {
+        j * (11 - j) / 2 + i
+    }
+    let mut out = [(0, 0, 0); 10];
+    let (mut m, mut j) = (0, 0);
+    while j <= 3 {
+        let mut i = 0;
+        while i <= 3 - j {
+            out[m] = (index(i, j), index(i + 1, j), index(i, j + 1));
+            m += 1;
+            i += 1;
+        }
+        j += 1;
+    }
+    out
+};
 
 /// The dyadic nodes the fits interpolate at: `{0, ¼, ¾, 1}²` on the square, the quarter
 /// lattice on the triangle.
@@ -201,15 +235,29 @@ impl Bezier {
     }
 
     /// The patches over the children of the reference domain ([`child_domains`], in order):
-    /// de Casteljau halving in both directions for the square (exact, and the hot path of
-    /// segment queries), [`Bezier::restrict`] for the triangle.
-    pub fn children(&self) -> Vec<(Affine, Bezier)> {
+    /// de Casteljau halving in both directions for the square, fixed linear maps for the
+    /// triangle ([`loop_child_maps`]); exact both, and the hot path of segment queries.
+    pub fn children(&self) -> [(Affine, Bezier); 4] {
         let domains = child_domains(self.scheme);
         if self.scheme == Scheme::Loop {
-            return domains
-                .into_iter()
-                .map(|d| (d, self.restrict(&d)))
-                .collect();
+            let maps = loop_child_maps();
+            return std::array::from_fn(|k| {
+                let mut points = [DVec3::ZERO; 16];
+                for (b, row) in maps[k].iter().enumerate() {
+                    for (&w, &p) in row.iter().zip(&self.points) {
+                        if w != 0.0 {
+                            points[b] += w * p;
+                        }
+                    }
+                }
+                (
+                    domains[k],
+                    Bezier {
+                        scheme: self.scheme,
+                        points,
+                    },
+                )
+            });
         }
         // The 7 × 7 net of the four quadrants: halve every row, then every column.
         let mut rows = [[DVec3::ZERO; 7]; 4];
@@ -217,32 +265,23 @@ impl Bezier {
             let p: [DVec3; 4] = std::array::from_fn(|i| self.points[i + 4 * j]);
             *row = halve(p);
         }
-        let mut grid = [[DVec3::ZERO; 7]; 7];
+        let mut grid = [DVec3::ZERO; 49];
         for i in 0..7 {
             let column = halve(std::array::from_fn(|j| rows[j][i]));
             for (j, &q) in column.iter().enumerate() {
-                grid[j][i] = q;
+                grid[i + 7 * j] = q;
             }
         }
-        domains
-            .into_iter()
-            .map(|d| {
-                // Child point (a, b) sits at parameter d(a/3, b/3): on the 7 × 7 net at six times
-                // that.
-                let points = std::array::from_fn(|n| {
-                    let p = d.apply(DVec2::new((n % 4) as f64, (n / 4) as f64) / 3.0) * 6.0;
-                    let (i, j) = (p.x.round() as usize, p.y.round() as usize);
-                    grid[j.min(6)][i.min(6)]
-                });
-                (
-                    d,
-                    Bezier {
-                        scheme: self.scheme,
-                        points,
-                    },
-                )
-            })
-            .collect()
+        let at = square_child_nodes();
+        std::array::from_fn(|k| {
+            (
+                domains[k],
+                Bezier {
+                    scheme: self.scheme,
+                    points: std::array::from_fn(|n| grid[at[k][n]]),
+                },
+            )
+        })
     }
 
     /// The same surface over the part `origin + s·du + t·dv` of the domain, as a patch in
@@ -261,36 +300,39 @@ impl Bezier {
     /// pair of differences has a triple product with `d` of one strict sign, so has
     /// `(S_u × S_v) · d` (the projection along `d` never folds).
     pub fn transversal(&self, d: DVec3) -> bool {
-        let (mut du, mut dv) = (Vec::with_capacity(12), Vec::with_capacity(12));
         let p = &self.points;
-        match self.scheme {
+        // Differences along `u`, and `Δv × d` for the differences along `v`: then each triple
+        // product is one dot product.
+        let mut du = [DVec3::ZERO; 12];
+        let mut dv_d = [DVec3::ZERO; 12];
+        let n = match self.scheme {
             Scheme::CatmullClark => {
                 for j in 0..4 {
                     for i in 0..3 {
-                        du.push(p[i + 1 + 4 * j] - p[i + 4 * j]);
-                        dv.push(p[j + 4 * (i + 1)] - p[j + 4 * i]);
+                        du[3 * j + i] = p[i + 1 + 4 * j] - p[i + 4 * j];
+                        dv_d[3 * j + i] = (p[j + 4 * (i + 1)] - p[j + 4 * i]).cross(d);
                     }
                 }
+                12
             }
             Scheme::Loop => {
-                let index = triangle_indices();
-                let at = |i: u32, j: u32| index.iter().position(|&x| x == (i, j)).unwrap_or(0);
-                for &(i, j) in &index {
-                    if i + j <= 3 {
-                        du.push(p[at(i + 1, j)] - p[at(i, j)]);
-                        dv.push(p[at(i, j + 1)] - p[at(i, j)]);
-                    }
+                for (m, &(at, right, up)) in LOOP_STEPS.iter().enumerate() {
+                    du[m] = p[right] - p[at];
+                    dv_d[m] = (p[up] - p[at]).cross(d);
                 }
+                LOOP_STEPS.len()
             }
+        };
+        let sign = du[0].dot(dv_d[0]);
+        if sign == 0.0 {
+            return false;
         }
-        let mut sign = 0.0;
-        for a in &du {
-            for b in &dv {
-                let s = a.cross(*b).dot(d);
-                if s == 0.0 || (sign != 0.0 && s.signum() != sign) {
+        for a in &du[..n] {
+            for b in &dv_d[..n] {
+                let s = a.dot(*b);
+                if s == 0.0 || (s > 0.0) != (sign > 0.0) {
                     return false;
                 }
-                sign = s.signum();
             }
         }
         true
@@ -401,25 +443,66 @@ pub(crate) fn in_domain(scheme: Scheme, p: DVec2, slack: f64) -> bool {
 
 /// The children of the reference face after one subdivision step, in the order the net's
 /// subdivision creates them, each as its corners in the parent's parameters.
-pub(crate) fn child_domains(scheme: Scheme) -> Vec<Affine> {
-    let c = reference_corners(scheme);
-    let n = c.len();
-    let mid = |a: usize, b: usize| 0.5 * (c[a] + c[b]);
-    let mut out: Vec<Affine> = (0..n)
-        .map(|k| {
+pub(crate) fn child_domains(scheme: Scheme) -> &'static [Affine; 4] {
+    static CACHE: [OnceLock<[Affine; 4]>; 2] = [OnceLock::new(), OnceLock::new()];
+    CACHE[scheme as usize].get_or_init(|| {
+        let c = reference_corners(scheme);
+        let n = c.len();
+        let mid = |a: usize, b: usize| 0.5 * (c[a] + c[b]);
+        std::array::from_fn(|k| {
             let (next, prev) = ((k + 1) % n, (k + n - 1) % n);
             match scheme {
                 Scheme::CatmullClark => {
                     Affine::of_corners(&[c[k], mid(k, next), DVec2::splat(0.5), mid(k, prev)])
                 }
-                Scheme::Loop => Affine::of_corners(&[c[k], mid(k, next), mid(k, prev)]),
+                // The three corner triangles, then the middle one.
+                Scheme::Loop if k < n => Affine::of_corners(&[c[k], mid(k, next), mid(k, prev)]),
+                Scheme::Loop => Affine::of_corners(&[mid(0, 1), mid(1, 2), mid(2, 0)]),
             }
         })
-        .collect();
-    if scheme == Scheme::Loop {
-        out.push(Affine::of_corners(&[mid(0, 1), mid(1, 2), mid(2, 0)]));
-    }
-    out
+    })
+}
+
+/// Where each child's Bézier points sit on the 7 × 7 net of the square's halving (index
+/// `i + 7 j`): point `(a, b)` of child `k` is at parameter `d(a/3, b/3)` of the parent, six
+/// times that on the net.
+fn square_child_nodes() -> &'static [[usize; 16]; 4] {
+    static CACHE: OnceLock<[[usize; 16]; 4]> = OnceLock::new();
+    CACHE.get_or_init(|| {
+        let domains = child_domains(Scheme::CatmullClark);
+        std::array::from_fn(|k| {
+            std::array::from_fn(|n| {
+                let p = domains[k].apply(DVec2::new((n % 4) as f64, (n / 4) as f64) / 3.0) * 6.0;
+                let (i, j) = (p.x.round() as usize, p.y.round() as usize);
+                i.min(6) + 7 * j.min(6)
+            })
+        })
+    })
+}
+
+/// The Bézier points of a quartic triangle's children as weights of its own: `maps[k][b][n]`.
+/// Blossom values at parameters in {0, ½, 1}, so every weight is a multiple of 1/16: the fit's
+/// rounding is removed.
+fn loop_child_maps() -> &'static [[[f64; 15]; 15]; 4] {
+    static CACHE: OnceLock<[[[f64; 15]; 15]; 4]> = OnceLock::new();
+    CACHE.get_or_init(|| {
+        let mut maps = [[[0.0; 15]; 15]; 4];
+        for n in 0..15 {
+            let mut points = [DVec3::ZERO; 16];
+            points[n] = DVec3::X;
+            let unit = Bezier {
+                scheme: Scheme::Loop,
+                points,
+            };
+            for (k, d) in child_domains(Scheme::Loop).iter().enumerate() {
+                let child = unit.restrict(d);
+                for (b, row) in maps[k].iter_mut().enumerate() {
+                    row[n] = (child.points[b].x * 16.0).round() / 16.0;
+                }
+            }
+        }
+        maps
+    })
 }
 
 /// The child (index into [`child_domains`]) whose domain holds `p`.

@@ -9,7 +9,8 @@ use glam::{DMat3, DVec2, DVec3};
 
 /// Splits of a polynomial piece before Newton's method is tried (smaller pieces give a better
 /// start), and at most (when Newton's method does not converge in a piece, it is split more).
-const NEWTON_DEPTH: u32 = 1;
+/// The oracle splits its regular pieces `NEWTON_DEPTH` times ahead ([`crossings`]).
+pub(crate) const NEWTON_DEPTH: u32 = 1;
 const MAX_SPLITS: u32 = 10;
 /// Newton iterations at most.
 const NEWTON_STEPS: u32 = 16;
@@ -69,24 +70,33 @@ impl Query {
 }
 
 /// Every crossing of the query with the surface, appended to `out` (duplicates on shared
-/// borders of pieces are possible; the caller merges them).
+/// borders of pieces are possible; the caller merges them). A regular `surface` is a piece
+/// already split [`NEWTON_DEPTH`] times: Newton's method may start on it.
 pub(crate) fn crossings(scheme: Scheme, surface: &Surface, q: &Query, out: &mut Vec<Crossing>) {
-    visit(scheme, surface, q, 0, out);
+    visit(scheme, surface, q, 0, NEWTON_DEPTH, out);
 }
 
-fn visit(scheme: Scheme, surface: &Surface, q: &Query, depth: u32, out: &mut Vec<Crossing>) {
+/// `split` is how many times a regular `surface` was split already.
+fn visit(
+    scheme: Scheme,
+    surface: &Surface,
+    q: &Query,
+    depth: u32,
+    split: u32,
+    out: &mut Vec<Crossing>,
+) {
     let (lo, hi) = surface.bounds();
     if !q.meets(lo, hi) {
         return;
     }
     match surface {
-        Surface::Regular(b) => visit_piece(b, b, &Affine::IDENTITY, q, 0, out),
+        Surface::Regular(b) => visit_piece(b, b, &Affine::IDENTITY, q, split, out),
         Surface::Irregular(_) if depth >= MAX_DEPTH || (hi - lo).length() <= q.point_size => {
             out.push(q.point_crossing(lo, hi));
         }
-        Surface::Irregular(_) => {
-            for (_, child) in surface.children(scheme) {
-                visit(scheme, &child, q, depth + 1, out);
+        Surface::Irregular(ring) => {
+            for (_, child) in ring.children(scheme) {
+                visit(scheme, child, q, depth + 1, 0, out);
             }
         }
     }

@@ -1,9 +1,9 @@
 //! `SubdivisionOracle`: the domain bounded by the limit surface of a closed control mesh.
 
-use crate::bezier::reference_corners;
+use crate::bezier::{Bezier, reference_corners};
 use crate::control::ControlMesh;
 use crate::crease::{CreasePiece, nearest};
-use crate::intersect::{Crossing, Query, crossings};
+use crate::intersect::{Crossing, NEWTON_DEPTH, Query, crossings};
 use crate::net::Net;
 use crate::patch::{Patch, Surface};
 use crate::{Scheme, SubdivisionError, SubdivisionOptions};
@@ -13,8 +13,9 @@ use delamesh_core::oracle::{
 };
 use delamesh_formats::PolygonMesh;
 use delamesh_piecewise_smooth::{Polyline, chain};
-use delamesh_polyhedral::TriangleTree;
+use delamesh_polyhedral::{Occupancy, TriangleTree};
 use glam::{DVec2, DVec3};
+use std::sync::OnceLock;
 
 /// Points along a crease curve: bisected until the chord is within this × the diagonal of the
 /// curve (at most [`CURVE_LEVELS`] times per control half-edge).
@@ -35,10 +36,15 @@ pub struct SubdivisionOracle {
     scheme: Scheme,
     patches: Vec<Patch>,
     /// What segment queries search: the patches, irregular ones split [`PRESPLIT`] times ahead
-    /// (their rings' boxes are loose and their children are made on the fly otherwise).
+    /// (their rings' boxes are loose), then every regular piece [`NEWTON_DEPTH`] times (queries
+    /// split them that often before Newton's method, and the tree prunes by the smaller boxes).
     pieces: Vec<Patch>,
     /// Over the pieces' boxes, each given as the degenerate triangle `(lo, hi, hi)`.
     tree: TriangleTree,
+    /// The cells no piece's box reaches lie in one subdomain each: found by the first inside
+    /// test in the cell, then read (most cells' circumcentres are far from the surface).
+    occupancy: Occupancy,
+    cell_subdomain: Vec<OnceLock<SubdomainId>>,
     bbox: Aabb,
     initial: Vec<SurfacePoint>,
     curves: Vec<FeatureCurve>,
@@ -106,9 +112,14 @@ impl SubdivisionOracle {
             .collect();
         let (lo, hi) = crate::bezier::bounds(&base.points);
         let bbox = Aabb { min: lo, max: hi };
+        let occupancy = Occupancy::new(lo, hi, &boxes);
         let mut oracle = SubdivisionOracle {
             scheme,
             tree: TriangleTree::new(&boxes),
+            cell_subdomain: (0..occupancy.num_cells())
+                .map(|_| OnceLock::new())
+                .collect(),
+            occupancy,
             patches,
             pieces,
             bbox,
@@ -356,6 +367,24 @@ impl SubdivisionOracle {
         }
     }
 
+    /// Ray parity along fixed directions, by majority of three (a ray grazing the surface
+    /// miscounts; two rays agreeing decide).
+    fn subdomain_by_parity(&self, p: DVec3) -> SubdomainId {
+        // Off every symmetry axis of simple models, so that rays rarely meet a vertex.
+        const DIRECTIONS: [DVec3; 3] = [
+            DVec3::new(0.571, 0.583, 0.577),
+            DVec3::new(-0.267, 0.802, -0.535),
+            DVec3::new(0.816, -0.409, -0.407),
+        ];
+        let (first, second) = (self.parity(p, DIRECTIONS[0]), self.parity(p, DIRECTIONS[1]));
+        let inside = if first == second {
+            first
+        } else {
+            self.parity(p, DIRECTIONS[2])
+        };
+        if inside { SubdomainId(1) } else { OUTSIDE }
+    }
+
     /// Crossings of the segment from `p` out of the box in direction `dir`.
     fn parity(&self, p: DVec3, dir: DVec3) -> bool {
         let reach = 2.0 * (self.bbox.diagonal() + (p - self.bbox.center()).length());
@@ -365,15 +394,30 @@ impl SubdivisionOracle {
     }
 }
 
-/// `surface` as pieces: its regular children, split `levels` times while irregular.
+/// `surface` as pieces: its regular children, split `levels` times while irregular, regular
+/// ones split [`NEWTON_DEPTH`] times.
 fn presplit(scheme: Scheme, surface: Surface, group: u32, levels: u32, out: &mut Vec<Patch>) {
     match surface {
-        Surface::Irregular(_) if levels > 0 => {
-            for (_, child) in surface.children(scheme) {
-                presplit(scheme, child, group, levels - 1, out);
+        Surface::Irregular(ring) if levels > 0 => {
+            for (_, child) in ring.children(scheme) {
+                presplit(scheme, child.clone(), group, levels - 1, out);
             }
         }
+        Surface::Regular(b) => split_regular(b, group, NEWTON_DEPTH, out),
         surface => out.push(Patch { surface, group }),
+    }
+}
+
+fn split_regular(b: Bezier, group: u32, levels: u32, out: &mut Vec<Patch>) {
+    if levels == 0 {
+        out.push(Patch {
+            surface: Surface::Regular(b),
+            group,
+        });
+        return;
+    }
+    for (_, child) in b.children() {
+        split_regular(child, group, levels - 1, out);
     }
 }
 
@@ -403,25 +447,16 @@ impl Oracle for SubdivisionOracle {
         self.bbox
     }
 
-    /// Ray parity along fixed directions, by majority of three (a ray grazing the surface
-    /// miscounts; two rays agreeing decide).
+    /// Read from the cell's known subdomain when no patch comes near the cell, else by ray
+    /// parity.
     fn subdomain(&self, p: DVec3) -> SubdomainId {
-        if !self.bbox.contains(p) {
+        if !p.is_finite() || !self.bbox.contains(p) {
             return OUTSIDE;
         }
-        // Off every symmetry axis of simple models, so that rays rarely meet a vertex.
-        const DIRECTIONS: [DVec3; 3] = [
-            DVec3::new(0.571, 0.583, 0.577),
-            DVec3::new(-0.267, 0.802, -0.535),
-            DVec3::new(0.816, -0.409, -0.407),
-        ];
-        let (first, second) = (self.parity(p, DIRECTIONS[0]), self.parity(p, DIRECTIONS[1]));
-        let inside = if first == second {
-            first
-        } else {
-            self.parity(p, DIRECTIONS[2])
-        };
-        if inside { SubdomainId(1) } else { OUTSIDE }
+        match self.occupancy.empty_cell(p) {
+            Some(k) => *self.cell_subdomain[k].get_or_init(|| self.subdomain_by_parity(p)),
+            None => self.subdomain_by_parity(p),
+        }
     }
 
     fn segment_hits(&self, a: DVec3, b: DVec3, out: &mut Vec<SurfaceHit>) {

@@ -8,6 +8,7 @@ use crate::bezier::{Affine, Bezier, Eval, child_at, child_domains};
 use crate::net::Net;
 use crate::regular::{child_face, regular_patch};
 use glam::{DVec2, DVec3};
+use std::sync::OnceLock;
 
 /// Subdivision steps at most below an irregular corner.
 pub(crate) const MAX_DEPTH: u32 = 60;
@@ -23,7 +24,44 @@ pub(crate) const POINT_SIZE: f64 = 1e-9;
 #[allow(clippy::large_enum_variant)]
 pub(crate) enum Surface {
     Regular(Bezier),
-    Irregular(Net),
+    Irregular(Ring),
+}
+
+/// An irregular patch: the ring of its face, and its children once made. Queries and
+/// evaluations near an extraordinary vertex ask for the same children again and again, and
+/// making them (a subdivision step and four ring layouts) cost more than the rest of a query.
+#[derive(Clone, Debug)]
+pub(crate) struct Ring {
+    pub net: Net,
+    lo: DVec3,
+    hi: DVec3,
+    children: OnceLock<Box<[(Affine, Surface); 4]>>,
+}
+
+impl Ring {
+    fn new(net: Net) -> Ring {
+        let (lo, hi) = crate::bezier::bounds(&net.points);
+        Ring {
+            net,
+            lo,
+            hi,
+            children: OnceLock::new(),
+        }
+    }
+
+    /// The four children (Catmull–Clark and Loop alike) after one step, with their domains.
+    pub fn children(&self, scheme: Scheme) -> &[(Affine, Surface); 4] {
+        self.children.get_or_init(|| {
+            let sub = self.net.subdivide(scheme);
+            let domains = child_domains(scheme);
+            Box::new(std::array::from_fn(|k| {
+                (
+                    domains[k],
+                    Surface::of_ring(scheme, sub.ring_of(child_face(scheme, 0, k))),
+                )
+            }))
+        })
+    }
 }
 
 /// One patch: its surface and the control face's group.
@@ -39,7 +77,7 @@ impl Surface {
     pub fn of_ring(scheme: Scheme, ring: Net) -> Surface {
         match regular_patch(scheme, &ring) {
             Some(b) => Surface::Regular(b),
-            None => Surface::Irregular(ring),
+            None => Surface::Irregular(Ring::new(ring)),
         }
     }
 
@@ -48,71 +86,42 @@ impl Surface {
     pub fn bounds(&self) -> (DVec3, DVec3) {
         match self {
             Surface::Regular(b) => b.bounds(),
-            Surface::Irregular(net) => crate::bezier::bounds(&net.points),
-        }
-    }
-
-    /// The four children (Catmull–Clark and Loop alike) after one step, with their domains.
-    pub fn children(&self, scheme: Scheme) -> Vec<(Affine, Surface)> {
-        let domains = child_domains(scheme);
-        match self {
-            Surface::Regular(b) => b
-                .children()
-                .into_iter()
-                .map(|(d, c)| (d, Surface::Regular(c)))
-                .collect(),
-            Surface::Irregular(net) => {
-                let sub = net.subdivide(scheme);
-                domains
-                    .into_iter()
-                    .enumerate()
-                    .map(|(k, d)| {
-                        (
-                            d,
-                            Surface::of_ring(scheme, sub.ring_of(child_face(scheme, 0, k))),
-                        )
-                    })
-                    .collect()
-            }
+            Surface::Irregular(ring) => (ring.lo, ring.hi),
         }
     }
 
     /// Exact position and derivatives at `p` in the reference domain (within [`POINT_SIZE`] of
     /// an irregular corner: the corner's limit position, and the tangent plane beside it).
     pub fn eval(&self, scheme: Scheme, p: DVec2) -> Eval {
-        let mut net = match self {
+        let mut ring = match self {
             Surface::Regular(b) => return b.eval(p),
-            Surface::Irregular(net) => net.clone(),
+            Surface::Irregular(ring) => ring,
         };
-        let children = child_domains(scheme);
-        // `local` is the parameter in the current child; `scale` the factor from the child's
-        // derivatives to the root's (each step halves the domain).
+        // `local` is the parameter in the current child, `to_root` the child's domain in the
+        // root's.
         let (mut local, mut to_root) = (p, Affine::IDENTITY);
-        let (lo, hi) = crate::bezier::bounds(&net.points);
-        let smallest = POINT_SIZE * (hi - lo).length();
+        let smallest = POINT_SIZE * (ring.hi - ring.lo).length();
         for _ in 0..MAX_DEPTH {
-            let (lo, hi) = crate::bezier::bounds(&net.points);
-            if (hi - lo).length() <= smallest {
+            if (ring.hi - ring.lo).length() <= smallest {
                 break;
             }
-            let k = child_at(scheme, local);
-            net = net.subdivide(scheme).ring_of(child_face(scheme, 0, k));
-            local = children[k].invert(local);
-            to_root = to_root.compose(&children[k]);
-            if let Some(b) = regular_patch(scheme, &net) {
-                return chain(b.eval(local), &to_root);
+            let (domain, child) = &ring.children(scheme)[child_at(scheme, local)];
+            local = domain.invert(local);
+            to_root = to_root.compose(domain);
+            match child {
+                Surface::Regular(b) => return chain(b.eval(local), &to_root),
+                Surface::Irregular(r) => ring = r,
             }
         }
         // Past the last step, the position is that of the corners (a point-sized piece); the tangent
         // plane is that of a regular child one step further, as close to the corner.
-        let mut e = corner_interpolation(scheme, &net, local);
-        let sub = net.subdivide(scheme);
-        for (k, child) in children.iter().enumerate() {
-            if let Some(b) = regular_patch(scheme, &sub.ring_of(child_face(scheme, 0, k))) {
+        let mut e = corner_interpolation(scheme, &ring.net, local);
+        for (domain, child) in ring.children(scheme) {
+            if let Surface::Regular(b) = child {
                 let near = b.eval(DVec2::splat(0.25));
                 e.du = near.du;
                 e.dv = near.dv;
-                return chain(e, &to_root.compose(child));
+                return chain(e, &to_root.compose(domain));
             }
         }
         chain(e, &to_root)
@@ -192,8 +201,10 @@ mod tests {
             sharp: vec![false; 24],
         };
         let base = cube.subdivide(Scheme::CatmullClark);
-        let root = Surface::of_ring(Scheme::CatmullClark, base.ring_of(0));
-        assert!(matches!(root, Surface::Irregular(_)));
+        let Surface::Irregular(root) = Surface::of_ring(Scheme::CatmullClark, base.ring_of(0))
+        else {
+            panic!("the corner patch is irregular");
+        };
         let kinds: Vec<bool> = root
             .children(Scheme::CatmullClark)
             .iter()
