@@ -3,11 +3,20 @@
 //! empty cells it meets no triangle (most dual-edge queries, deep inside or outside the domain),
 //! and otherwise the triangles listed in the cells it covers are the candidates.
 //!
+//! The grid also knows the subdomain of every empty cell: face-adjacent empty cells lie in one
+//! subdomain (the segment between their centres meets no triangle), so each connected region of
+//! empty cells is asked once, at a fixed cell (so the answer does not depend on which query came
+//! first), and then read. Most points a mesher asks about are far from the surface; near it, a
+//! short segment to an empty cell replaces a ray.
+//!
 //! Conservative by construction: the same monotone map from coordinates to cell indices serves
 //! triangles and segments. If a segment meets a triangle, their boxes overlap; the low corner of
 //! the overlap lies in both boxes, so its cell lies in both index ranges and lists the triangle.
 
+use crate::TriangleTree;
+use delamesh_core::oracle::SubdomainId;
 use glam::DVec3;
+use std::sync::OnceLock;
 
 /// Cells along the longest side of the bounding box: about two per triangle (the mean longest
 /// side of their boxes), within these bounds. Finer cells list big triangles many times over;
@@ -16,12 +25,14 @@ const RESOLUTION: (f64, f64) = (16.0, 128.0);
 /// A segment whose box covers more cells than this is left to the tree.
 const MAX_CELLS: usize = 64;
 /// Most candidates gathered for one segment before leaving it to the tree.
-pub(crate) const MAX_CANDIDATES: usize = 64;
+const MAX_CANDIDATES: usize = 64;
 /// Triangle lists are kept while they hold at most this many entries per triangle on average, or
 /// [`ENTRIES_ALWAYS_KEPT`] (a few huge triangles could fill the grid); beyond, cells are only
 /// marked.
 const MAX_ENTRIES_PER_TRIANGLE: usize = 32;
 const ENTRIES_ALWAYS_KEPT: usize = 1 << 20;
+/// The region of a cell that is not empty.
+const NOT_EMPTY: u32 = u32::MAX;
 
 /// The grid: cells of one size over a box, with the triangles (or boxes, given as degenerate
 /// triangles) overlapping each.
@@ -34,10 +45,14 @@ pub struct Occupancy {
     start: Vec<u32>,
     /// The listed triangles, or nothing when the lists were too long to keep.
     items: Vec<u32>,
+    /// The region of each empty cell (`NOT_EMPTY` for the others): connected sets of empty cells.
+    region: Vec<u32>,
+    /// The first cell of each region, where its subdomain is asked, and that subdomain once asked.
+    regions: Vec<(usize, OnceLock<SubdomainId>)>,
 }
 
 /// What the grid knows of a segment.
-pub(crate) enum Near<'a> {
+enum Near<'a> {
     /// It meets no triangle.
     Clear,
     /// It can only meet these triangles (sorted, without repeats).
@@ -70,6 +85,8 @@ impl Occupancy {
             dims,
             start: Vec::new(),
             items: Vec::new(),
+            region: Vec::new(),
+            regions: Vec::new(),
         };
         let ranges: Vec<([usize; 3], [usize; 3])> = triangles
             .iter()
@@ -107,7 +124,46 @@ impl Occupancy {
             // Only the marks are kept: `start[k]` < `start[k + 1]` for a cell with triangles.
             grid.items.clear();
         }
+        grid.find_regions();
         grid
+    }
+
+    /// Labels the connected regions of empty cells (through their faces), in cell order.
+    fn find_regions(&mut self) {
+        let [nx, ny, nz] = self.dims;
+        let mut region = vec![NOT_EMPTY; self.num_cells()];
+        let mut stack = Vec::new();
+        for first in 0..region.len() {
+            if region[first] != NOT_EMPTY || !self.is_empty(first) {
+                continue;
+            }
+            let id = self.regions.len() as u32;
+            self.regions.push((first, OnceLock::new()));
+            region[first] = id;
+            stack.push(first);
+            while let Some(k) = stack.pop() {
+                let (x, y, z) = (k % nx, (k / nx) % ny, k / (nx * ny));
+                let neighbours = [
+                    (x > 0).then(|| k - 1),
+                    (x + 1 < nx).then(|| k + 1),
+                    (y > 0).then(|| k - nx),
+                    (y + 1 < ny).then(|| k + nx),
+                    (z > 0).then(|| k - nx * ny),
+                    (z + 1 < nz).then(|| k + nx * ny),
+                ];
+                for n in neighbours.into_iter().flatten() {
+                    if region[n] == NOT_EMPTY && self.is_empty(n) {
+                        region[n] = id;
+                        stack.push(n);
+                    }
+                }
+            }
+        }
+        self.region = region;
+    }
+
+    fn is_empty(&self, k: usize) -> bool {
+        self.start[k] == self.start[k + 1]
     }
 
     /// Calls `f` with the linear index of every cell in the index box `[a, b]`.
@@ -129,13 +185,62 @@ impl Occupancy {
 
     /// The cell of `p` when no triangle comes near it: all points of such a cell lie in one
     /// subdomain, since the segment between two of them meets no triangle.
-    pub fn empty_cell(&self, p: DVec3) -> Option<usize> {
+    fn empty_cell(&self, p: DVec3) -> Option<usize> {
         let k = self.linear(self.index(p));
-        (self.start[k] == self.start[k + 1]).then_some(k)
+        self.is_empty(k).then_some(k)
+    }
+
+    /// The subdomain of empty cell `k`: `find` answers at the centre of its region's first cell
+    /// the first time.
+    fn subdomain_of(&self, k: usize, find: impl FnOnce(DVec3) -> SubdomainId) -> SubdomainId {
+        let (first, known) = &self.regions[self.region[k] as usize];
+        *known.get_or_init(|| find(self.center(*first)))
+    }
+
+    /// The subdomain of `p` when its cell is empty (see [`Self::subdomain_of`]).
+    pub fn empty_cell_subdomain(
+        &self,
+        p: DVec3,
+        find: impl FnOnce(DVec3) -> SubdomainId,
+    ) -> Option<SubdomainId> {
+        self.empty_cell(p).map(|k| self.subdomain_of(k, find))
+    }
+
+    /// The centre and subdomain of the first empty cell met from `p` along `dir` (in steps of
+    /// half a cell, so a cell barely grazed may be passed over), or `None` when the walk leaves
+    /// the grid first. The segment from `p` to that centre is short where `p` is near the
+    /// surface: its crossings and the cell's subdomain give `p`'s side.
+    pub fn first_empty_along(
+        &self,
+        p: DVec3,
+        dir: DVec3,
+        find: impl FnOnce(DVec3) -> SubdomainId,
+    ) -> Option<(DVec3, SubdomainId)> {
+        let step = dir.normalize_or_zero() * (0.5 / self.inv_cell);
+        let end = self.origin
+            + DVec3::new(
+                self.dims[0] as f64,
+                self.dims[1] as f64,
+                self.dims[2] as f64,
+            ) / self.inv_cell;
+        // Half-cell steps cross the grid's diagonal within twice the sum of its dimensions.
+        let steps = 2 * self.dims.iter().sum::<usize>();
+        let k = (1..=steps)
+            .map(|i| p + step * i as f64)
+            .take_while(|q| q.cmpge(self.origin).all() && q.cmple(end).all())
+            .find_map(|q| self.empty_cell(q))?;
+        Some((self.center(k), self.subdomain_of(k, find)))
+    }
+
+    /// The centre of cell `k`.
+    fn center(&self, k: usize) -> DVec3 {
+        let [nx, ny, _] = self.dims;
+        let at = [k % nx, (k / nx) % ny, k / (nx * ny)].map(|i| i as f64 + 0.5);
+        self.origin + DVec3::new(at[0], at[1], at[2]) / self.inv_cell
     }
 
     /// The number of cells.
-    pub fn num_cells(&self) -> usize {
+    fn num_cells(&self) -> usize {
         self.start.len() - 1
     }
 
@@ -143,8 +248,26 @@ impl Occupancy {
         (z * self.dims[1] + y) * self.dims[0] + x
     }
 
+    /// Calls `visit` with every triangle (or box) of `tree`, the tree over the grid's items,
+    /// that may meet the segment `[a, b]`: none when the segment's cells are empty, the cells'
+    /// lists when they are short, else what the tree finds.
+    pub fn for_each_near_segment(
+        &self,
+        tree: &TriangleTree,
+        a: DVec3,
+        b: DVec3,
+        mut visit: impl FnMut(u32),
+    ) {
+        let mut buffer = [0; MAX_CANDIDATES];
+        match self.near_segment(a, b, &mut buffer) {
+            Near::Clear => {}
+            Near::Candidates(items) => items.iter().for_each(|&t| visit(t)),
+            Near::Unknown => tree.for_each_near_segment(a, b, visit),
+        }
+    }
+
     /// What the grid knows of the segment `[a, b]`; `buffer` holds the candidates.
-    pub(crate) fn near_segment<'b>(
+    fn near_segment<'b>(
         &self,
         a: DVec3,
         b: DVec3,
@@ -291,5 +414,88 @@ mod tests {
                 Near::Unknown => {}
             }
         }
+    }
+
+    /// A convex polyhedron close to the unit sphere (latitude and longitude bands) and its
+    /// exact inside test by its faces' planes.
+    fn convex_sphere() -> (Vec<[DVec3; 3]>, impl Fn(DVec3) -> bool) {
+        let (bands, sectors) = (12, 24);
+        let at = |i: usize, j: usize| {
+            let (theta, phi) = (
+                std::f64::consts::PI * i as f64 / bands as f64,
+                std::f64::consts::TAU * j as f64 / sectors as f64,
+            );
+            DVec3::new(
+                theta.sin() * phi.cos(),
+                theta.sin() * phi.sin(),
+                theta.cos(),
+            )
+        };
+        let mut triangles = Vec::new();
+        for i in 0..bands {
+            for j in 0..sectors {
+                let (a, b, c, d) = (at(i, j), at(i, j + 1), at(i + 1, j), at(i + 1, j + 1));
+                if i > 0 {
+                    triangles.push([a, c, b]);
+                }
+                if i + 1 < bands {
+                    triangles.push([b, c, d]);
+                }
+            }
+        }
+        let planes: Vec<(DVec3, f64)> = triangles
+            .iter()
+            .map(|t| {
+                let n = (t[1] - t[0]).cross(t[2] - t[0]).normalize();
+                (n, n.dot(t[0]))
+            })
+            .collect();
+        (triangles, move |p: DVec3| {
+            planes.iter().all(|&(n, d)| n.dot(p) < d)
+        })
+    }
+
+    /// Every empty cell gets its region's subdomain, which is asked once per region, and the
+    /// walk from a point near the surface ends at an empty cell with its subdomain.
+    #[test]
+    fn empty_regions_are_asked_once_and_answer_for_all_their_cells() {
+        let (triangles, inside) = convex_sphere();
+        let grid = Occupancy::new(DVec3::splat(-1.5), DVec3::splat(1.5), &triangles);
+        let asked = std::cell::Cell::new(0);
+        let find = |c: DVec3| {
+            asked.set(asked.get() + 1);
+            SubdomainId(inside(c) as u32)
+        };
+        let mut rng = StdRng::seed_from_u64(9);
+        let (mut empty, mut walked) = (0, 0);
+        for _ in 0..20_000 {
+            let p = DVec3::new(
+                rng.random_range(-1.5..1.5),
+                rng.random_range(-1.5..1.5),
+                rng.random_range(-1.5..1.5),
+            );
+            let expected = SubdomainId(inside(p) as u32);
+            match grid.empty_cell_subdomain(p, find) {
+                Some(s) => {
+                    empty += 1;
+                    assert_eq!(s, expected, "{p}");
+                }
+                None => {
+                    if let Some((c, s)) = grid.first_empty_along(p, DVec3::new(0.3, 0.5, 0.8), find)
+                    {
+                        walked += 1;
+                        assert_eq!(grid.empty_cell_subdomain(c, find), Some(s));
+                        assert_eq!(s, SubdomainId(inside(c) as u32), "{c}");
+                    }
+                }
+            }
+        }
+        assert!(
+            empty > 10_000 && walked > 100,
+            "{empty} empty, {walked} walked"
+        );
+        // One region inside the surface, one around it.
+        assert_eq!(grid.regions.len(), 2);
+        assert_eq!(asked.get(), 2);
     }
 }

@@ -1,6 +1,6 @@
 //! `PolyhedralOracle`: the `Oracle` of a closed triangle surface.
 
-use crate::occupancy::{MAX_CANDIDATES, Near, Occupancy};
+use crate::occupancy::Occupancy;
 use crate::predicates::{Crossing, orient, segment_crossing};
 use crate::repair::{Repairs, repair};
 use crate::tree::{TriangleTree, closest_point_on_triangle};
@@ -131,8 +131,6 @@ pub struct PolyhedralOracle {
     tree: TriangleTree,
     /// Settles the short segment queries far from the surface without walking the tree.
     occupancy: Occupancy,
-    /// Subdomain of each empty occupancy cell, found by the first inside test in it.
-    cell_subdomain: Vec<OnceLock<SubdomainId>>,
     bbox: Aabb,
     /// Number of other components around each component.
     depth: Vec<u32>,
@@ -269,9 +267,6 @@ impl PolyhedralOracle {
             patch,
             component,
             tree,
-            cell_subdomain: (0..occupancy.num_cells())
-                .map(|_| OnceLock::new())
-                .collect(),
             occupancy,
             bbox,
             depth: vec![0; num_components],
@@ -576,7 +571,7 @@ impl PolyhedralOracle {
             return;
         }
         let start = out.len();
-        let mut visit = |t: u32| {
+        let visit = |t: u32| {
             if only.is_some_and(|k| k != self.component[t as usize]) {
                 return;
             }
@@ -596,12 +591,8 @@ impl PolyhedralOracle {
                 });
             }
         };
-        let mut buffer = [0; MAX_CANDIDATES];
-        match self.occupancy.near_segment(a, b, &mut buffer) {
-            Near::Clear => return,
-            Near::Candidates(triangles) => triangles.iter().for_each(|&t| visit(t)),
-            Near::Unknown => self.tree.for_each_near_segment(a, b, visit),
-        }
+        self.occupancy
+            .for_each_near_segment(&self.tree, a, b, visit);
         let hits = &mut out[start..];
         hits.sort_by(|x, y| x.t.total_cmp(&y.t).then(x.patch.cmp(&y.patch)));
         // A segment through an edge or a vertex meets several triangles at one point.
@@ -800,10 +791,9 @@ impl Oracle for PolyhedralOracle {
         if !p.is_finite() || !self.bbox.contains(p) {
             return OUTSIDE;
         }
-        match self.occupancy.empty_cell(p) {
-            Some(k) => *self.cell_subdomain[k].get_or_init(|| self.subdomain_by_windings(p)),
-            None => self.subdomain_by_windings(p),
-        }
+        self.occupancy
+            .empty_cell_subdomain(p, |c| self.subdomain_by_windings(c))
+            .unwrap_or_else(|| self.subdomain_by_windings(p))
     }
 
     fn segment_hits(&self, a: DVec3, b: DVec3, out: &mut Vec<SurfaceHit>) {

@@ -10,7 +10,7 @@ use glam::{DMat3, DVec2, DVec3};
 /// Splits of a polynomial piece before Newton's method is tried (smaller pieces give a better
 /// start), and at most (when Newton's method does not converge in a piece, it is split more).
 /// The oracle splits its regular pieces `NEWTON_DEPTH` times ahead ([`crossings`]).
-pub(crate) const NEWTON_DEPTH: u32 = 1;
+pub(crate) const NEWTON_DEPTH: u32 = 2;
 const MAX_SPLITS: u32 = 10;
 /// Newton iterations at most.
 const NEWTON_STEPS: u32 = 16;
@@ -131,10 +131,14 @@ fn visit_piece(
         if let Some((uv, t)) = newton(root, map.apply(centre), q) {
             let local = map.invert(uv);
             if in_domain(scheme, local, 1e-6) && in_domain(scheme, uv, 1e-12) {
-                out.push(Crossing {
-                    t,
-                    point: root.eval(uv).point,
-                });
+                // The line crosses the piece here and nowhere else: the segment does when the
+                // crossing lies within it (most short queries beside the surface end before).
+                if (-1e-12..=1.0 + 1e-12).contains(&t) {
+                    out.push(Crossing {
+                        t: t.clamp(0.0, 1.0),
+                        point: root.eval(uv).point,
+                    });
+                }
                 return;
             }
         }
@@ -149,7 +153,8 @@ fn visit_piece(
     }
 }
 
-/// Solves `S(u, v) = a + t d` from `start`; the parameters and `t ∈ [0, 1]` when it converges.
+/// Solves `S(u, v) = a + t d` from `start`: where the query's line crosses the surface (`t`
+/// outside `[0, 1]` off the segment), when it converges.
 fn newton(patch: &Bezier, start: DVec2, q: &Query) -> Option<(DVec2, f64)> {
     let mut uv = start;
     let e = patch.eval(uv);
@@ -175,8 +180,7 @@ fn newton(patch: &Bezier, start: DVec2, q: &Query) -> Option<(DVec2, f64)> {
             .length()
             .max(step.z.abs() * q.d.length());
         if moved <= tol || r.length() <= tol {
-            let t_ok = (-1e-12..=1.0 + 1e-12).contains(&t);
-            return t_ok.then_some((uv, t.clamp(0.0, 1.0)));
+            return Some((uv, t));
         }
     }
     None

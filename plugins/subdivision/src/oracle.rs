@@ -15,7 +15,6 @@ use delamesh_formats::PolygonMesh;
 use delamesh_piecewise_smooth::{Polyline, chain};
 use delamesh_polyhedral::{Occupancy, TriangleTree};
 use glam::{DVec2, DVec3};
-use std::sync::OnceLock;
 
 /// Points along a crease curve: bisected until the chord is within this × the diagonal of the
 /// curve (at most [`CURVE_LEVELS`] times per control half-edge).
@@ -41,10 +40,10 @@ pub struct SubdivisionOracle {
     pieces: Vec<Patch>,
     /// Over the pieces' boxes, each given as the degenerate triangle `(lo, hi, hi)`.
     tree: TriangleTree,
-    /// The cells no piece's box reaches lie in one subdomain each: found by the first inside
-    /// test in the cell, then read (most cells' circumcentres are far from the surface).
+    /// The cells no piece's box reaches lie in one subdomain each: found once by ray parity,
+    /// then read (most cells' circumcentres are far from the surface); a point near the surface
+    /// is compared with such cells through short segments.
     occupancy: Occupancy,
-    cell_subdomain: Vec<OnceLock<SubdomainId>>,
     bbox: Aabb,
     initial: Vec<SurfacePoint>,
     curves: Vec<FeatureCurve>,
@@ -110,15 +109,18 @@ impl SubdivisionOracle {
                 [lo, hi, hi]
             })
             .collect();
-        let (lo, hi) = crate::bezier::bounds(&base.points);
+        // The pieces' boxes hug the limit surface, which lies well inside the control mesh's
+        // box (a Loop icosahedron's limit spans 18 % less): the defaults drawn from the box
+        // must be those of the shape meshed.
+        let (lo, hi) = boxes.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(lo, hi), b| (lo.min(b[0]), hi.max(b[1])),
+        );
         let bbox = Aabb { min: lo, max: hi };
         let occupancy = Occupancy::new(lo, hi, &boxes);
         let mut oracle = SubdivisionOracle {
             scheme,
             tree: TriangleTree::new(&boxes),
-            cell_subdomain: (0..occupancy.num_cells())
-                .map(|_| OnceLock::new())
-                .collect(),
             occupancy,
             patches,
             pieces,
@@ -342,7 +344,7 @@ impl SubdivisionOracle {
         };
         let mut found: Vec<(Crossing, u32)> = Vec::new();
         let mut buffer = Vec::new();
-        self.tree.for_each_near_segment(a, b, |p| {
+        self.occupancy.for_each_near_segment(&self.tree, a, b, |p| {
             let patch = &self.pieces[p as usize];
             buffer.clear();
             crossings(self.scheme, &patch.surface, &q, &mut buffer);
@@ -367,22 +369,29 @@ impl SubdivisionOracle {
         }
     }
 
-    /// Ray parity along fixed directions, by majority of three (a ray grazing the surface
-    /// miscounts; two rays agreeing decide).
-    fn subdomain_by_parity(&self, p: DVec3) -> SubdomainId {
-        // Off every symmetry axis of simple models, so that rays rarely meet a vertex.
-        const DIRECTIONS: [DVec3; 3] = [
-            DVec3::new(0.571, 0.583, 0.577),
-            DVec3::new(-0.267, 0.802, -0.535),
-            DVec3::new(0.816, -0.409, -0.407),
-        ];
-        let (first, second) = (self.parity(p, DIRECTIONS[0]), self.parity(p, DIRECTIONS[1]));
-        let inside = if first == second {
-            first
-        } else {
-            self.parity(p, DIRECTIONS[2])
-        };
-        if inside { SubdomainId(1) } else { OUTSIDE }
+    /// Ray parity: crossings of rays out of the box along fixed directions (for the empty
+    /// cells' centres, each asked once).
+    fn subdomain_by_rays(&self, p: DVec3) -> SubdomainId {
+        majority(|dir| self.parity(p, dir))
+    }
+
+    /// The side of a point near the surface, by the crossings of the segment from it to the
+    /// first empty cell along each direction, whose side is known: a few pieces instead of a
+    /// ray's.
+    fn subdomain_near_surface(&self, p: DVec3) -> SubdomainId {
+        majority(|dir| {
+            match self
+                .occupancy
+                .first_empty_along(p, dir, |c| self.subdomain_by_rays(c))
+            {
+                Some((c, side)) => {
+                    let mut hits = Vec::new();
+                    self.hits(p, c, &mut hits);
+                    (side != OUTSIDE) != (hits.len() % 2 == 1)
+                }
+                None => self.parity(p, dir),
+            }
+        })
     }
 
     /// Crossings of the segment from `p` out of the box in direction `dir`.
@@ -392,6 +401,24 @@ impl SubdivisionOracle {
         self.hits(p, p + reach * dir, &mut hits);
         hits.len() % 2 == 1
     }
+}
+
+/// Inside when two of three parity tests along fixed directions agree on it (a test grazing the
+/// surface miscounts; two agreeing decide).
+fn majority(inside: impl Fn(DVec3) -> bool) -> SubdomainId {
+    // Off every symmetry axis of simple models, so that rays rarely meet a vertex.
+    const DIRECTIONS: [DVec3; 3] = [
+        DVec3::new(0.571, 0.583, 0.577),
+        DVec3::new(-0.267, 0.802, -0.535),
+        DVec3::new(0.816, -0.409, -0.407),
+    ];
+    let (first, second) = (inside(DIRECTIONS[0]), inside(DIRECTIONS[1]));
+    let inside = if first == second {
+        first
+    } else {
+        inside(DIRECTIONS[2])
+    };
+    if inside { SubdomainId(1) } else { OUTSIDE }
 }
 
 /// `surface` as pieces: its regular children, split `levels` times while irregular, regular
@@ -447,16 +474,15 @@ impl Oracle for SubdivisionOracle {
         self.bbox
     }
 
-    /// Read from the cell's known subdomain when no patch comes near the cell, else by ray
-    /// parity.
+    /// Read from the cell's known subdomain when no patch comes near the cell, else by the
+    /// parity of short segments to such cells.
     fn subdomain(&self, p: DVec3) -> SubdomainId {
         if !p.is_finite() || !self.bbox.contains(p) {
             return OUTSIDE;
         }
-        match self.occupancy.empty_cell(p) {
-            Some(k) => *self.cell_subdomain[k].get_or_init(|| self.subdomain_by_parity(p)),
-            None => self.subdomain_by_parity(p),
-        }
+        self.occupancy
+            .empty_cell_subdomain(p, |c| self.subdomain_by_rays(c))
+            .unwrap_or_else(|| self.subdomain_near_surface(p))
     }
 
     fn segment_hits(&self, a: DVec3, b: DVec3, out: &mut Vec<SurfaceHit>) {
