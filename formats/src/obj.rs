@@ -63,20 +63,60 @@ fn append_positions(positions: &mut Vec<DVec3>, mesh: &tobj::Mesh) -> (u32, usiz
     (base, mesh.positions.len() / 3)
 }
 
-/// Feeds each face of the non-empty groups to `add`, with its group's patch and its corners as
-/// indices into `positions`, where each group's own vertex array is appended first.
-fn each_face(
-    models: &[tobj::Model],
-    names: &mut Vec<String>,
-    positions: &mut Vec<DVec3>,
-    mut add: impl FnMut(u32, &[u32]) -> Result<(), Problem>,
-) -> Result<(), Problem> {
+/// What an OBJ file is read into, group by group and face by face: a surface or a polygon
+/// (subdivision control) mesh, so that one loop serves both.
+pub(crate) trait ObjMesh: Default {
+    /// Whether tobj triangulates the polygons.
+    const TRIANGULATE: bool;
+    /// The patch names and the positions, which each group extends.
+    fn names_and_positions(&mut self) -> (&mut Vec<String>, &mut Vec<DVec3>);
+    /// Adds a face of patch `patch`, its corners indexing the positions.
+    fn add_face(&mut self, patch: u32, face: &[u32]) -> Result<(), Problem>;
+}
+
+impl ObjMesh for SurfaceMesh {
+    const TRIANGULATE: bool = true;
+
+    fn names_and_positions(&mut self) -> (&mut Vec<String>, &mut Vec<DVec3>) {
+        (&mut self.patch_names, &mut self.positions)
+    }
+
+    fn add_face(&mut self, patch: u32, face: &[u32]) -> Result<(), Problem> {
+        let &[a, b, c] = face else {
+            return Err(Problem::bad("face not triangulated"));
+        };
+        self.triangles.push([a, b, c]);
+        self.patches.push(PatchId(patch));
+        Ok(())
+    }
+}
+
+impl ObjMesh for PolygonMesh {
+    const TRIANGULATE: bool = false;
+
+    fn names_and_positions(&mut self) -> (&mut Vec<String>, &mut Vec<DVec3>) {
+        (&mut self.group_names, &mut self.positions)
+    }
+
+    fn add_face(&mut self, patch: u32, face: &[u32]) -> Result<(), Problem> {
+        self.faces.push(face.to_vec());
+        self.groups.push(PatchId(patch));
+        Ok(())
+    }
+}
+
+/// The faces of the non-empty groups, each group a patch with its own vertex array appended,
+/// and the warnings. Groups are not welded.
+pub(crate) fn read<M: ObjMesh>(bytes: &[u8]) -> Result<(M, Vec<String>), Problem> {
+    let (models, warnings) = load(bytes, M::TRIANGULATE)?;
+    let mut m = M::default();
     let mut corners = Vec::new();
-    for model in models {
+    for model in &models {
         let mesh = &model.mesh;
         if mesh.indices.is_empty() {
             continue;
         }
+        let (names, positions) = m.names_and_positions();
         let patch = group_patch(names, model);
         let (base, n) = append_positions(positions, mesh);
         let mut rest = &mesh.indices[..];
@@ -96,47 +136,17 @@ fn each_face(
             }
             corners.clear();
             corners.extend(face.iter().map(|&v| base + v));
-            add(patch, &corners)?;
+            m.add_face(patch, &corners)?;
         }
     }
-    Ok(())
+    Ok((m, warnings))
 }
 
 /// The polygons of an OBJ file as written (a subdivision control mesh), groups as patches,
 /// welded by exact position.
 pub(crate) fn read_polygons(bytes: &[u8]) -> Result<(PolygonMesh, Vec<String>), Problem> {
-    let (models, warnings) = load(bytes, false)?;
-    let mut m = PolygonMesh::default();
-    each_face(
-        &models,
-        &mut m.group_names,
-        &mut m.positions,
-        |patch, face| {
-            m.faces.push(face.to_vec());
-            m.groups.push(PatchId(patch));
-            Ok(())
-        },
-    )?;
+    let (mut m, warnings) = read::<PolygonMesh>(bytes)?;
     m.weld();
-    Ok((m, warnings))
-}
-
-pub(crate) fn read(bytes: &[u8]) -> Result<(SurfaceMesh, Vec<String>), Problem> {
-    let (models, warnings) = load(bytes, true)?;
-    let mut m = SurfaceMesh::default();
-    each_face(
-        &models,
-        &mut m.patch_names,
-        &mut m.positions,
-        |patch, face| {
-            let &[a, b, c] = face else {
-                return Err(Problem::bad("face not triangulated"));
-            };
-            m.triangles.push([a, b, c]);
-            m.patches.push(PatchId(patch));
-            Ok(())
-        },
-    )?;
     Ok((m, warnings))
 }
 
@@ -215,7 +225,7 @@ mod tests {
     #[test]
     fn faces_keep_only_their_position_indices() {
         let text = b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/5/7 2/9/-3 3//4\n";
-        let (mesh, _) = super::read(text).unwrap();
+        let (mesh, _) = super::read::<super::SurfaceMesh>(text).unwrap();
         assert_eq!(mesh.triangles.len(), 1);
         assert_eq!(mesh.positions.len(), 3);
     }

@@ -957,14 +957,7 @@ mod tests {
     #[test]
     fn cube_edges_are_chains_between_exact_corners() {
         let (curves, corners) = cube();
-        let p = protect(
-            &curves,
-            &corners,
-            &Sizing::Constant(0.2),
-            &limits(1e-6),
-            &on_polyline,
-        )
-        .expect("protects");
+        let p = protect_polylines(&curves, &corners, 0.2, 1e-6).expect("protects");
         assert_eq!(p.corners, corners);
         for (k, &c) in corners.iter().enumerate() {
             assert_eq!(p.balls[k].center, c);
@@ -989,14 +982,7 @@ mod tests {
                 true,
             ),
         ];
-        let p = protect(
-            &curves,
-            &[],
-            &Sizing::Constant(0.1),
-            &limits(1e-6),
-            &on_polyline,
-        )
-        .expect("protects");
+        let p = protect_polylines(&curves, &[], 0.1, 1e-6).expect("protects");
         assert!(p.corners.is_empty());
         assert_eq!(p.chains.len(), 2);
         assert!(p.chains.iter().all(|c| c.closed && c.balls.len() >= 3));
@@ -1051,14 +1037,7 @@ mod tests {
         ];
         let curves = [curve(1, &hexagon, true), curve(2, &zigzag, false)];
         for size in [0.5, 0.05] {
-            let p = protect(
-                &curves,
-                &[],
-                &Sizing::Constant(size),
-                &limits(1e-9),
-                &on_polyline,
-            )
-            .expect("protects");
+            let p = protect_polylines(&curves, &[], size, 1e-9).expect("protects");
             assert_protects(&p, &curves, size);
             let is_centre = |q: [f64; 3]| {
                 let q = Point3::from_array(q);
@@ -1080,17 +1059,11 @@ mod tests {
             }
         }
         assert!(
-            !protect(
-                &curves,
-                &[],
-                &Sizing::Constant(0.5),
-                &limits(1e-9),
-                &on_polyline
-            )
-            .expect("protects")
-            .balls
-            .iter()
-            .any(|b| b.center == Point3::new(1.25, 0.0, 0.0)),
+            !protect_polylines(&curves, &[], 0.5, 1e-9)
+                .expect("protects")
+                .balls
+                .iter()
+                .any(|b| b.center == Point3::new(1.25, 0.0, 0.0)),
             "a collinear vertex is not a bend"
         );
     }
@@ -1116,14 +1089,7 @@ mod tests {
         let curves = [curve(1, &circle, true), curve(2, &ell, false)];
         let size = 0.15;
         let tolerance = 2e-3;
-        let exact = protect(
-            &curves,
-            &[],
-            &Sizing::Constant(size),
-            &limits(1e-6),
-            &on_polyline,
-        )
-        .expect("protects");
+        let exact = protect_polylines(&curves, &[], size, 1e-6).expect("protects");
         assert!(
             exact.balls.len() >= n,
             "without tolerance every vertex is a centre"
@@ -1172,14 +1138,7 @@ mod tests {
                 curve(2, &[tip, b], false),
                 curve(3, &[a, b], false),
             ];
-            let p = protect(
-                &curves,
-                &[],
-                &Sizing::Constant(0.1),
-                &limits(1e-9),
-                &on_polyline,
-            )
-            .expect("protects");
+            let p = protect_polylines(&curves, &[], 0.1, 1e-9).expect("protects");
             assert_eq!(p.corners.len(), 3);
             assert_protects(&p, &curves, 0.1);
         }
@@ -1192,14 +1151,8 @@ mod tests {
             &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]],
             false,
         )];
-        let p = protect(
-            &curves,
-            &[Point3::new(1.0, 0.0, 0.0)],
-            &Sizing::Constant(0.1),
-            &limits(1e-6),
-            &on_polyline,
-        )
-        .expect("protects");
+        let p =
+            protect_polylines(&curves, &[Point3::new(1.0, 0.0, 0.0)], 0.1, 1e-6).expect("protects");
         assert_eq!(p.corners.len(), 3);
         assert_eq!(p.chains.len(), 2);
         assert_protects(&p, &curves, 0.1);
@@ -1213,32 +1166,36 @@ mod tests {
         }
     }
 
+    /// The protection most tests ask for: curves that are their own polylines, one ball size
+    /// and default guards but the smallest radius.
+    fn protect_polylines(
+        curves: &[FeatureCurve],
+        corners: &[Point3],
+        size: f64,
+        min_radius: f64,
+    ) -> Result<Protection, ProtectError> {
+        protect(
+            curves,
+            corners,
+            &Sizing::Constant(size),
+            &limits(min_radius),
+            &on_polyline,
+        )
+    }
+
     #[test]
     fn touching_curves_are_protected_at_the_smallest_size() {
         let curves = [
             curve(1, &[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]], false),
             curve(2, &[[0.5, -1.0, 0.0], [0.5, 1.0, 0.0]], false),
         ];
-        let p = protect(
-            &curves,
-            &[],
-            &Sizing::Constant(0.1),
-            &limits(1e-3),
-            &on_polyline,
-        )
-        .expect("protects");
+        let p = protect_polylines(&curves, &[], 0.1, 1e-3).expect("protects");
         assert!(p.balls.iter().all(|b| b.radius >= 1e-3 && b.radius <= 0.1));
         // Far from the crossing, the balls keep the requested size.
         assert!(p.balls.iter().any(|b| b.radius == 0.1));
         let bad = [curve(3, &[[0.0, 0.0, 0.0]], false)];
         assert_eq!(
-            protect(
-                &bad,
-                &[],
-                &Sizing::Constant(0.1),
-                &limits(1e-4),
-                &on_polyline
-            ),
+            protect_polylines(&bad, &[], 0.1, 1e-4),
             Err(ProtectError::BadCurve { curve: CurveId(3) })
         );
     }
@@ -1256,7 +1213,7 @@ mod tests {
             Err(ProtectError::TooManyBalls { limit: 1000 })
         );
         // The smallest radius wins over the edge size: 12 edges of length 1 at radius 0.01.
-        let p = protect(&curves, &corners, &tiny, &limits(0.01), &on_polyline).expect("protects");
+        let p = protect_polylines(&curves, &corners, 1e-300, 0.01).expect("protects");
         assert!(p.balls.iter().all(|b| b.radius >= 0.01));
         assert!(p.balls.len() <= 12 * 100 + 8);
         let past = ProtectLimits {

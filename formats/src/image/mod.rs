@@ -71,19 +71,27 @@ pub enum Voxels {
     F64(Vec<f64>),
 }
 
+/// `$body` with `$v` bound to the values of whichever type `$voxels` holds: the methods that do
+/// the same for every type say it once.
+macro_rules! each_type {
+    ($voxels:expr, $v:ident => $body:expr) => {
+        match $voxels {
+            Voxels::U8($v) => $body,
+            Voxels::I8($v) => $body,
+            Voxels::U16($v) => $body,
+            Voxels::I16($v) => $body,
+            Voxels::U32($v) => $body,
+            Voxels::I32($v) => $body,
+            Voxels::F32($v) => $body,
+            Voxels::F64($v) => $body,
+        }
+    };
+}
+
 impl Voxels {
     /// Number of voxels.
     pub fn len(&self) -> usize {
-        match self {
-            Voxels::U8(v) => v.len(),
-            Voxels::I8(v) => v.len(),
-            Voxels::U16(v) => v.len(),
-            Voxels::I16(v) => v.len(),
-            Voxels::U32(v) => v.len(),
-            Voxels::I32(v) => v.len(),
-            Voxels::F32(v) => v.len(),
-            Voxels::F64(v) => v.len(),
-        }
+        each_type!(self, v => v.len())
     }
 
     /// No voxel at all.
@@ -106,17 +114,9 @@ impl Voxels {
     }
 
     /// Value of voxel `i` (x-fastest index) as a double; every stored type converts exactly.
+    #[allow(clippy::useless_conversion, reason = "the f64 arm converts to itself")]
     pub fn value(&self, i: usize) -> f64 {
-        match self {
-            Voxels::U8(v) => f64::from(v[i]),
-            Voxels::I8(v) => f64::from(v[i]),
-            Voxels::U16(v) => f64::from(v[i]),
-            Voxels::I16(v) => f64::from(v[i]),
-            Voxels::U32(v) => f64::from(v[i]),
-            Voxels::I32(v) => f64::from(v[i]),
-            Voxels::F32(v) => f64::from(v[i]),
-            Voxels::F64(v) => v[i],
-        }
+        each_type!(self, v => f64::from(v[i]))
     }
 
     /// Decodes `bytes` (exactly `count × ty.size()` of them) in the given byte order.

@@ -9,7 +9,7 @@
 
 use crate::{ImageLabelOracle, ImageOptions, Interpolation};
 use delamesh_core::plugin::PluginOracle;
-use delamesh_piecewise_smooth::read_config;
+use delamesh_piecewise_smooth::{parse_value, read_config};
 
 /// What the first line names, and the `key=value` lines known.
 const INPUT: &str = "a 3D image";
@@ -22,14 +22,9 @@ impl PluginOracle for ImageLabelOracle {
         let path = read_config(config, INPUT, EXPECTED, |line, kv| {
             match kv {
                 ("background", v) => {
-                    options.background = v
-                        .parse()
-                        .map_err(|_| format!("{line:?}: not a label (non-negative integer)"))?;
+                    options.background = parse_value(line, v, "a label (non-negative integer)")?;
                 }
-                ("isovalue", v) => {
-                    let v = v.parse::<f64>();
-                    options.isovalue = Some(v.map_err(|_| format!("{line:?}: not a number"))?);
-                }
+                ("isovalue", v) => options.isovalue = Some(parse_value(line, v, "a number")?),
                 ("interpolation", "nearest") => options.interpolation = Interpolation::Nearest,
                 ("interpolation", "trilinear") => {
                     options.interpolation = Interpolation::Trilinear;

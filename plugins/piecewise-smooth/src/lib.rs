@@ -29,5 +29,5 @@ pub use features::{
     SNAP_TOLERANCE,
 };
 pub use oracle::{PiecewiseSmoothError, PiecewiseSmoothOracle};
-pub use plugin_export::read_config;
+pub use plugin_export::{parse_value, read_config};
 pub use polylines::{Polyline, PolylineError, parse_polylines, read_polylines};

@@ -10,6 +10,7 @@
 use crate::{FeatureOptions, PiecewiseSmoothOracle, read_polylines};
 use delamesh_core::plugin::PluginOracle;
 use std::path::Path;
+use std::str::FromStr;
 
 /// Reads a plugin configuration: the path of `what` on its first non-blank line, then `key=value`
 /// lines, each handed to `apply` with the whole line, which returns `Ok(false)` for a key it does
@@ -41,6 +42,12 @@ pub fn read_config<'a>(
     Ok(path)
 }
 
+/// `value` of configuration `line` parsed, or an error quoting the line and saying it is not
+/// `what`: one wording for the plugins' bad values.
+pub fn parse_value<T: FromStr>(line: &str, value: &str, what: &str) -> Result<T, String> {
+    value.parse().map_err(|_| format!("{line:?}: not {what}"))
+}
+
 /// What the first line names, and the `key=value` lines known.
 const INPUT: &str = "a closed surface file";
 const EXPECTED: &str = "feature-angle=DEG or features=FILE";
@@ -49,13 +56,9 @@ impl PluginOracle for PiecewiseSmoothOracle {
     fn from_config(config: &str) -> Result<Self, String> {
         let mut options = FeatureOptions::default();
         let mut polylines = Vec::new();
-        let path = read_config(config, INPUT, EXPECTED, |_, kv| {
+        let path = read_config(config, INPUT, EXPECTED, |line, kv| {
             match kv {
-                ("feature-angle", v) => {
-                    options.angle_deg = v
-                        .parse()
-                        .map_err(|_| format!("feature-angle: {v:?} is not a number"))?;
-                }
+                ("feature-angle", v) => options.angle_deg = parse_value(line, v, "a number")?,
                 ("features", v) => {
                     polylines = read_polylines(Path::new(v)).map_err(|e| e.to_string())?;
                 }
