@@ -344,6 +344,15 @@ mod tests {
         })
     }
 
+    /// A point of `[-r, r]³`.
+    fn random_point(rng: &mut StdRng, r: f64) -> DVec3 {
+        DVec3::new(
+            rng.random_range(-r..r),
+            rng.random_range(-r..r),
+            rng.random_range(-r..r),
+        )
+    }
+
     #[test]
     fn a_subnormal_box_gets_one_cell() {
         let s = 1e-310;
@@ -355,13 +364,7 @@ mod tests {
     #[test]
     fn every_triangle_a_segment_meets_is_a_candidate() {
         let mut rng = StdRng::seed_from_u64(7);
-        let mut point = |r: f64| {
-            DVec3::new(
-                rng.random_range(-r..r),
-                rng.random_range(-r..r),
-                rng.random_range(-r..r),
-            )
-        };
+        let mut point = |r: f64| random_point(&mut rng, r);
         let triangles: Vec<[DVec3; 3]> = (0..200)
             .map(|_| {
                 let c = point(1.0);
@@ -373,17 +376,8 @@ mod tests {
         let mut buffer = [0; MAX_CANDIDATES];
         let (mut clear, mut listed) = (0, 0);
         for _ in 0..20_000 {
-            let a = DVec3::new(
-                rng.random_range(-1.5..1.5),
-                rng.random_range(-1.5..1.5),
-                rng.random_range(-1.5..1.5),
-            );
-            let d = 0.05;
-            let b = a + DVec3::new(
-                rng.random_range(-d..d),
-                rng.random_range(-d..d),
-                rng.random_range(-d..d),
-            );
+            let a = random_point(&mut rng, 1.5);
+            let b = a + random_point(&mut rng, 0.05);
             let meeting = |t: &usize| meets(a, b, &triangles[*t]);
             match grid.near_segment(a, b, &mut buffer) {
                 Near::Clear => {
@@ -469,11 +463,7 @@ mod tests {
         let mut rng = StdRng::seed_from_u64(9);
         let (mut empty, mut walked) = (0, 0);
         for _ in 0..20_000 {
-            let p = DVec3::new(
-                rng.random_range(-1.5..1.5),
-                rng.random_range(-1.5..1.5),
-                rng.random_range(-1.5..1.5),
-            );
+            let p = random_point(&mut rng, 1.5);
             let expected = SubdomainId(inside(p) as u32);
             match grid.empty_cell_subdomain(p, find) {
                 Some(s) => {
