@@ -338,6 +338,34 @@ impl Bezier {
         true
     }
 
+    /// Does the line `a + t d` pass beside the patch? Sufficient test: across `d`, the control
+    /// points (whose hull holds the patch) all lie more than `slack` to one side of the line
+    /// along one of four directions 45° apart. Most pieces a short query's box meets lie beside
+    /// it, and this costs less than Newton's method.
+    pub fn misses_line(&self, a: DVec3, d: DVec3, slack: f64) -> bool {
+        let (e1, e2) = d.normalize_or_zero().any_orthonormal_pair();
+        let axes = [e1, e2, e1 + e2, e1 - e2];
+        let mut lo = [f64::INFINITY; 4];
+        let mut hi = [f64::NEG_INFINITY; 4];
+        for p in &self.points[..self.len()] {
+            let r = *p - a;
+            for (k, w) in axes.iter().enumerate() {
+                let s = w.dot(r);
+                lo[k] = lo[k].min(s);
+                hi[k] = hi[k].max(s);
+            }
+        }
+        // The diagonal axes are √2 long: their slack too.
+        (0..4).any(|k| {
+            let slack = if k < 2 {
+                slack
+            } else {
+                slack * std::f64::consts::SQRT_2
+            };
+            lo[k] > slack || hi[k] < -slack
+        })
+    }
+
     /// Box of the control points, which contains the patch (Bernstein bases are non-negative
     /// and sum to one).
     pub fn bounds(&self) -> (DVec3, DVec3) {
@@ -550,6 +578,48 @@ mod tests {
                     assert!(child.eval(p).point.distance(there) < 1e-12, "{scheme:?}");
                 }
             }
+        }
+    }
+
+    /// A line through a point of the patch is never said to pass beside it, whatever its
+    /// direction; a line twice the box's diagonal away from a point of the patch always is (one
+    /// of the four directions lies within 22.5° of the way to it).
+    #[test]
+    fn a_line_through_the_patch_is_never_missed() {
+        let directions = (0..40).map(|k| {
+            let (a, b) = (0.7 * k as f64, 1.3 * k as f64 + 0.2);
+            DVec3::new(a.cos() * b.sin(), a.sin() * b.sin(), b.cos())
+        });
+        let directions: Vec<DVec3> = directions.collect();
+        for scheme in [Scheme::CatmullClark, Scheme::Loop] {
+            let points = std::array::from_fn(|n| {
+                let x = n as f64;
+                DVec3::new((0.9 * x).sin(), (0.4 * x).cos(), 0.1 * x * x)
+            });
+            let patch = Bezier { scheme, points };
+            let (lo, hi) = patch.bounds();
+            let mut tried = 0;
+            for i in 0..=10 {
+                for j in 0..=10 {
+                    let uv = DVec2::new(i as f64, j as f64) / 10.0;
+                    if !in_domain(scheme, uv, 0.0) {
+                        continue;
+                    }
+                    let on = patch.eval(uv).point;
+                    for &d in &directions {
+                        // The queries' slack: rounding, a point on the hull's border.
+                        let slack = 1e-12 * (hi - lo).length();
+                        assert!(
+                            !patch.misses_line(on - 3.0 * d, d, slack),
+                            "{scheme:?} {uv}"
+                        );
+                        let beside = on + d.any_orthogonal_vector() * 2.0 * (hi - lo).length();
+                        assert!(patch.misses_line(beside, d, 1e-12), "{scheme:?} {uv} {d}");
+                        tried += 1;
+                    }
+                }
+            }
+            assert!(tried > 1000, "{scheme:?}: {tried} lines");
         }
     }
 }

@@ -112,7 +112,7 @@ fn visit_piece(
     out: &mut Vec<Crossing>,
 ) {
     let (lo, hi) = piece.bounds();
-    if !q.meets(lo, hi) {
+    if !q.meets(lo, hi) || piece.misses_line(q.a, q.d, q.slack) {
         return;
     }
     let scheme = root.scheme;
@@ -157,10 +157,9 @@ fn visit_piece(
 /// outside `[0, 1]` off the segment), when it converges.
 fn newton(patch: &Bezier, start: DVec2, q: &Query) -> Option<(DVec2, f64)> {
     let mut uv = start;
-    let e = patch.eval(uv);
+    let mut e = patch.eval(uv);
     let mut t = ((e.point - q.a).dot(q.d) / q.d.length_squared()).clamp(0.0, 1.0);
     for _ in 0..NEWTON_STEPS {
-        let e = patch.eval(uv);
         let r = e.point - q.a - t * q.d;
         let j = DMat3::from_cols(e.du, e.dv, -q.d);
         let det = j.determinant();
@@ -182,6 +181,7 @@ fn newton(patch: &Bezier, start: DVec2, q: &Query) -> Option<(DVec2, f64)> {
         if moved <= tol || r.length() <= tol {
             return Some((uv, t));
         }
+        e = patch.eval(uv);
     }
     None
 }
