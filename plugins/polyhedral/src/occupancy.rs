@@ -14,7 +14,7 @@
 //! the overlap lies in both boxes, so its cell lies in both index ranges and lists the triangle.
 
 use crate::TriangleTree;
-use delamesh_core::oracle::SubdomainId;
+use delamesh_core::oracle::{OUTSIDE, SubdomainId};
 use glam::DVec3;
 use std::sync::OnceLock;
 
@@ -39,6 +39,8 @@ const NOT_EMPTY: u32 = u32::MAX;
 #[derive(Clone, Debug)]
 pub struct Occupancy {
     origin: DVec3,
+    /// The far corner of the box the grid was made for (its cells may reach past it).
+    max: DVec3,
     inv_cell: f64,
     dims: [usize; 3],
     /// Cell `k` lists `items[start[k]..start[k + 1]]`; a cell is empty when the range is.
@@ -81,6 +83,7 @@ impl Occupancy {
         let dims = [cells(size.x), cells(size.y), cells(size.z)].map(|d| d.clamp(1, 1 << 10));
         let mut grid = Occupancy {
             origin: min,
+            max,
             inv_cell,
             dims,
             start: Vec::new(),
@@ -195,6 +198,22 @@ impl Occupancy {
     fn subdomain_of(&self, k: usize, find: impl FnOnce(DVec3) -> SubdomainId) -> SubdomainId {
         let (first, known) = &self.regions[self.region[k] as usize];
         *known.get_or_init(|| find(self.center(*first)))
+    }
+
+    /// The subdomain of `p` for a domain inside the grid's box: none outside the box (or for
+    /// no point), its region's in an empty cell (see [`Self::subdomain_of`]), else what `near`
+    /// answers.
+    pub fn subdomain(
+        &self,
+        p: DVec3,
+        find: impl FnOnce(DVec3) -> SubdomainId,
+        near: impl FnOnce(DVec3) -> SubdomainId,
+    ) -> SubdomainId {
+        if !(p.is_finite() && p.cmpge(self.origin).all() && p.cmple(self.max).all()) {
+            return OUTSIDE;
+        }
+        self.empty_cell_subdomain(p, find)
+            .unwrap_or_else(|| near(p))
     }
 
     /// The subdomain of `p` when its cell is empty (see [`Self::subdomain_of`]).

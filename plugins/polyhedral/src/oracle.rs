@@ -788,12 +788,8 @@ impl Oracle for PolyhedralOracle {
     }
 
     fn subdomain(&self, p: DVec3) -> SubdomainId {
-        if !p.is_finite() || !self.bbox.contains(p) {
-            return OUTSIDE;
-        }
-        self.occupancy
-            .empty_cell_subdomain(p, |c| self.subdomain_by_windings(c))
-            .unwrap_or_else(|| self.subdomain_by_windings(p))
+        let windings = |x| self.subdomain_by_windings(x);
+        self.occupancy.subdomain(p, windings, windings)
     }
 
     fn segment_hits(&self, a: DVec3, b: DVec3, out: &mut Vec<SurfaceHit>) {

@@ -477,12 +477,11 @@ impl Oracle for SubdivisionOracle {
     /// Read from the cell's known subdomain when no patch comes near the cell, else by the
     /// parity of short segments to such cells.
     fn subdomain(&self, p: DVec3) -> SubdomainId {
-        if !p.is_finite() || !self.bbox.contains(p) {
-            return OUTSIDE;
-        }
-        self.occupancy
-            .empty_cell_subdomain(p, |c| self.subdomain_by_rays(c))
-            .unwrap_or_else(|| self.subdomain_near_surface(p))
+        self.occupancy.subdomain(
+            p,
+            |c| self.subdomain_by_rays(c),
+            |p| self.subdomain_near_surface(p),
+        )
     }
 
     fn segment_hits(&self, a: DVec3, b: DVec3, out: &mut Vec<SurfaceHit>) {
