@@ -44,7 +44,7 @@ pub struct PreserveOptions {
     pub min_relative_length: f64,
     /// Quality refinement of the cells inside (radius-edge ratio and circumradius), with points
     /// inside the volume and, where their cavities would cross the surface, on it; `None`: the
-    /// recovered tetrahedralisation as it is.
+    /// recovered tetrahedralisation with only its flat cells refined.
     pub cells: Option<CellCriteria>,
     /// Cells whose circumradius is below this, relative to the diagonal of the input's bounding
     /// box, are not refined: a floor under the cell level, whatever the criteria ask.
@@ -179,13 +179,14 @@ pub fn preserve_surface(
     let mut recovery = Recovery::new(points, constraints, options, clock)?;
     let mut faces = Vec::new();
     recovery.run(&mut faces)?;
-    let (cell_steiner, stopped) = match &options.cells {
-        Some(criteria) => {
-            let min_radius = options.min_relative_radius * recovery.diagonal;
-            quality::refine(&mut recovery, &mut faces, oracle, criteria, min_radius)?
-        }
-        None => (0, None),
-    };
+    let min_radius = options.min_relative_radius * recovery.diagonal;
+    let (cell_steiner, stopped) = quality::refine(
+        &mut recovery,
+        &mut faces,
+        oracle,
+        options.cells.as_ref(),
+        min_radius,
+    )?;
     let complex = regions::complex(
         &recovery.dt,
         &faces,

@@ -9,20 +9,24 @@
 //! cells' subdomains found at the start of a round stay true for the centres of that round; the
 //! splits of the surface, which break pieces, wait for the end of the round.
 
-use super::regions::{cell_subdomains, key, piece_facets};
+use super::regions::{cell_subdomains, faces_to_move_across, key, piece_facets};
 use super::{PreserveError, Recovery, facet};
 use crate::kernel::Point3;
 use crate::oracle::{OUTSIDE, Oracle, SubdomainId};
 use crate::refine::RefineError;
 use crate::refine::criteria::CellCriteria;
 use crate::refine::{
-    cell_vertices, facet_vertices, is_same_cell, shortest_edge, triangle_circumcenter,
+    FLAT_CANDIDATES, cell_vertices, facet_vertices, flat_cell_refinement_point, is_flat,
+    is_same_cell, shortest_edge, triangle_circumcenter,
 };
 use crate::triangulation::{CellId, ConflictZone, Triangulation, VertexId};
 use std::collections::{HashMap, HashSet};
 
 /// Most rounds; each refines every bad cell found at its start, so far fewer are needed.
 const MAX_ROUNDS: usize = 200;
+
+/// A piece of an input triangle (its vertices sorted) with that triangle.
+type Piece = ([VertexId; 3], usize);
 
 /// The refinement of one round that breaks pieces, planned while centres are inserted.
 #[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
@@ -33,15 +37,16 @@ enum Split {
     Piece(usize, [VertexId; 3]),
 }
 
-/// Refines the cells inside the domain until each meets `criteria` or has a circumradius below
-/// `min_radius`; `faces` (the pieces of each input triangle) is kept up to date. Returns how many
+/// Refines the cells inside the domain until each meets `criteria` (if any) or has a
+/// circumradius below `min_radius`, and, criteria or not, until no cell away from the outside is
+/// flat; `faces` (the pieces of each input triangle) is kept up to date. Returns how many
 /// centres were inserted, and why it stopped early, if the clock stopped it at a round's start or
 /// at a centre (the pieces are then whole; past that, the run fails).
 pub(super) fn refine(
     r: &mut Recovery,
     faces: &mut Vec<Vec<[VertexId; 3]>>,
     oracle: &dyn Oracle,
-    criteria: &CellCriteria,
+    criteria: Option<&CellCriteria>,
     min_radius: f64,
 ) -> Result<(usize, Option<RefineError>), PreserveError> {
     let mut zone = ConflictZone::default();
@@ -55,7 +60,7 @@ pub(super) fn refine(
         }
         let facet_of = piece_facets(faces);
         let subdomain = cell_subdomains(&r.dt, &facet_of, oracle);
-        let bad = bad_cells(r, &subdomain, criteria, min_radius);
+        let bad = bad_cells(r, &subdomain, &facet_of, criteria, min_radius);
         if bad.is_empty() {
             break;
         }
@@ -67,19 +72,34 @@ pub(super) fn refine(
             if !is_same_cell(&r.dt, cell, &vertices) || kept.contains(&vertices) {
                 continue;
             }
-            let center = r.dt.circumcenter(cell);
-            r.dt.conflict_zone(center, Some(cell), &mut zone);
-            if zone.cells.is_empty() {
+            // The first candidate whose cavity keeps every piece, else the first candidate and
+            // the pieces it would destroy.
+            let mut chosen: Option<(Point3, Vec<Piece>)> = None;
+            for center in refinement_points(r, cell, &vertices) {
+                r.dt.conflict_zone(center, Some(cell), &mut zone);
+                if zone.cells.is_empty() {
+                    continue;
+                }
+                in_zone.resize(r.dt.cell_capacity(), false);
+                for &c in &zone.cells {
+                    in_zone[c.0 as usize] = true;
+                }
+                let destroyed = destroyed_pieces(r, &zone, &in_zone, &facet_of);
+                for &c in &zone.cells {
+                    in_zone[c.0 as usize] = false;
+                }
+                let keeps = destroyed.is_empty();
+                if keeps || chosen.is_none() {
+                    chosen = Some((center, destroyed));
+                }
+                if keeps {
+                    break;
+                }
+            }
+            let Some((center, destroyed)) = chosen else {
+                kept.insert(vertices);
                 continue;
-            }
-            in_zone.resize(r.dt.cell_capacity(), false);
-            for &c in &zone.cells {
-                in_zone[c.0 as usize] = true;
-            }
-            let destroyed = destroyed_pieces(r, &zone, &in_zone, &facet_of);
-            for &c in &zone.cells {
-                in_zone[c.0 as usize] = false;
-            }
+            };
             if destroyed.is_empty() {
                 let v = match r.insert(center, vertices[0]) {
                     Err(PreserveError::Stopped(stop)) => return Ok((inserted, Some(stop))),
@@ -90,7 +110,15 @@ pub(super) fn refine(
                     inserted += 1;
                 }
             } else {
-                let size = criteria.size.at(center, subdomain[cell.0 as usize].0);
+                // A flat cell is refined whatever the surface's resolution (the radius floor
+                // bounds it): no solver can use it.
+                let size = if is_flat(&vertices.map(|v| r.dt.point(v))) {
+                    0.0
+                } else {
+                    criteria.map_or(f64::INFINITY, |c| {
+                        c.size.at(center, subdomain[cell.0 as usize].0)
+                    })
+                };
                 match split_for(r, center, size, &destroyed, &segment_of) {
                     Some(split) => splits.push(split),
                     None => {
@@ -125,22 +153,36 @@ pub(super) fn refine(
     Ok((inserted, None))
 }
 
-/// The cells inside the domain that fail `criteria`, worst first (ties by vertices, so the
-/// order is the same on every run), each with its vertices to tell whether it still exists.
+/// The cells inside the domain that fail `criteria`, and the flat ones that will not move
+/// outside when the complex is built (see [`faces_to_move_across`]), worst first, flat cells
+/// before all (ties by vertices, so the order is the same on every run), each with its vertices
+/// to tell whether it still exists.
 fn bad_cells(
     r: &Recovery,
     subdomain: &[SubdomainId],
-    criteria: &CellCriteria,
+    facet_of: &HashMap<[VertexId; 3], usize>,
+    criteria: Option<&CellCriteria>,
     min_radius: f64,
 ) -> Vec<(CellId, [VertexId; 4])> {
     let mut bad: Vec<(f64, CellId, [VertexId; 4])> = Vec::new();
     for c in r.dt.finite_cells() {
-        let sub = subdomain[c.0 as usize];
-        if sub == OUTSIDE {
+        if subdomain[c.0 as usize] == OUTSIDE {
             continue;
         }
         let vertices = cell_vertices(&r.dt, c);
         let p = vertices.map(|v| r.dt.point(v));
+        if is_flat(&p) {
+            let stays = faces_to_move_across(&r.dt, c, subdomain, facet_of).is_none();
+            let radius = flat_cell_refinement_point(&r.dt, &vertices, 0).map(|(_, r2)| r2.sqrt());
+            if stays && radius.is_some_and(|radius| radius >= min_radius) {
+                bad.push((f64::INFINITY, c, vertices));
+            }
+            continue;
+        }
+        let Some(criteria) = criteria else {
+            continue;
+        };
+        let sub = subdomain[c.0 as usize];
         let center = r.dt.circumcenter(c);
         let radius = center.distance(p[0]);
         if radius.is_nan() || radius < min_radius {
@@ -159,6 +201,20 @@ fn bad_cells(
     }
     bad.sort_unstable_by(|a, b| b.0.total_cmp(&a.0).then(a.2.cmp(&b.2)));
     bad.into_iter().map(|(_, c, v)| (c, v)).collect()
+}
+
+/// The points that destroy `cell`, best first: its circumcentre, or for a flat cell (whose
+/// circumcentre rounding puts anywhere) the points off its plane inside its circumsphere that
+/// the refinement engine tries, on both sides.
+fn refinement_points(r: &Recovery, cell: CellId, vertices: &[VertexId; 4]) -> Vec<Point3> {
+    if is_flat(&vertices.map(|v| r.dt.point(v))) {
+        (0..FLAT_CANDIDATES)
+            .filter_map(|attempt| flat_cell_refinement_point(&r.dt, vertices, attempt))
+            .map(|(p, _)| p)
+            .collect()
+    } else {
+        vec![r.dt.circumcenter(cell)]
+    }
 }
 
 /// Every sub-segment (its vertices sorted) with its input edge.
@@ -180,7 +236,7 @@ fn destroyed_pieces(
     zone: &ConflictZone,
     in_zone: &[bool],
     facet_of: &HashMap<[VertexId; 3], usize>,
-) -> Vec<([VertexId; 3], usize)> {
+) -> Vec<Piece> {
     let mut out = Vec::new();
     for &c in &zone.cells {
         let cell = cell_vertices(&r.dt, c);
@@ -215,7 +271,7 @@ fn split_for(
     r: &Recovery,
     center: Point3,
     size: f64,
-    destroyed: &[([VertexId; 3], usize)],
+    destroyed: &[Piece],
     segment_of: &HashMap<[VertexId; 2], usize>,
 ) -> Option<Split> {
     for &(face, _) in destroyed {

@@ -88,59 +88,67 @@ pub(super) fn complex(
     oracle: &dyn Oracle,
     inside: &[VertexId],
 ) -> MeshComplex {
-    let facet_of = piece_facets(faces);
+    let mut facet_of = piece_facets(faces);
     let mut subdomain = cell_subdomains(dt, &facet_of, oracle);
-    let mut patch_of: HashMap<[VertexId; 3], PatchId> = facet_of
+    move_flat_cells_across(dt, &mut subdomain, &mut facet_of);
+    let patch_of: HashMap<[VertexId; 3], PatchId> = facet_of
         .into_iter()
         .map(|(face, f)| (face, constraints.facets[f].patch))
         .collect();
-    move_flat_cells_across(dt, &mut subdomain, &mut patch_of);
     collect(dt, &subdomain, &patch_of, inside)
 }
 
 /// Steiner points on an input triangle lie on it only up to rounding, so four of them (or with
 /// the triangle's vertices) can make a flat Delaunay cell lying in the triangle's plane. When
-/// such a cell of the domain borders the outside across exactly two faces, those two and its
-/// other two cover the same piece of the plane: the cell moves outside, and its other two
-/// faces, now the boundary, take the patch. Stacked flat cells follow one another; each moves
-/// once. (Between two subdomains either side would keep the cell: it stays.)
+/// such a cell of the domain borders the outside across exactly two faces, both pieces of one
+/// input triangle, those two and its other two cover the same piece of that triangle: the cell
+/// can move outside, its other two faces becoming the triangle's pieces. These are the two
+/// faces (indices in the cell). (Between two subdomains either side would keep the cell; across
+/// pieces of two triangles, its other faces would cross their common edge: it stays, and the
+/// cell level refines it.)
+pub(super) fn faces_to_move_across(
+    dt: &Delaunay3,
+    c: CellId,
+    subdomain: &[SubdomainId],
+    facet_of: &HashMap<[VertexId; 3], usize>,
+) -> Option<[usize; 2]> {
+    let own = subdomain[c.0 as usize];
+    let across: Vec<(usize, SubdomainId)> = (0..4)
+        .map(|i| (i, subdomain[dt.neighbor(c, i).0 as usize]))
+        .filter(|&(_, s)| s != own)
+        .collect();
+    let [(i, other), (j, second)] = across[..] else {
+        return None;
+    };
+    if own == OUTSIDE || other != OUTSIDE || second != OUTSIDE {
+        return None;
+    }
+    let cell = cell_vertices(dt, c);
+    let f = facet_of.get(&key(facet_vertices(&cell, i)))?;
+    (facet_of.get(&key(facet_vertices(&cell, j))) == Some(f)).then_some([i, j])
+}
+
+/// Moves outside the flat cells [`faces_to_move_across`] finds, giving their other two faces
+/// the input triangle. Stacked flat cells follow one another; each moves once.
 fn move_flat_cells_across(
     dt: &Delaunay3,
     subdomain: &mut [SubdomainId],
-    patch_of: &mut HashMap<[VertexId; 3], PatchId>,
+    facet_of: &mut HashMap<[VertexId; 3], usize>,
 ) {
     let mut flat: Vec<CellId> = dt
         .finite_cells()
         .filter(|&c| is_flat(&cell_vertices(dt, c).map(|v| dt.point(v))))
         .collect();
-    let label = |subdomain: &[SubdomainId], c: CellId| {
-        if dt.is_infinite_cell(c) {
-            OUTSIDE
-        } else {
-            subdomain[c.0 as usize]
-        }
-    };
     loop {
         let mut moved = false;
         flat.retain(|&c| {
-            let own = subdomain[c.0 as usize];
-            let across: Vec<(usize, SubdomainId)> = (0..4)
-                .map(|i| (i, label(subdomain, dt.neighbor(c, i))))
-                .filter(|&(_, s)| s != own)
-                .collect();
-            let [(i, other), (j, second)] = across[..] else {
+            let Some([i, j]) = faces_to_move_across(dt, c, subdomain, facet_of) else {
                 return true;
             };
-            if own == OUTSIDE || other != OUTSIDE || second != OUTSIDE {
-                return true;
-            }
             let cell = cell_vertices(dt, c);
-            let patch = [i, j]
-                .into_iter()
-                .find_map(|k| patch_of.get(&key(facet_vertices(&cell, k))).copied());
-            if let Some(patch) = patch {
+            if let Some(&f) = facet_of.get(&key(facet_vertices(&cell, i))) {
                 for k in (0..4).filter(|&k| k != i && k != j) {
-                    patch_of.insert(key(facet_vertices(&cell, k)), patch);
+                    facet_of.insert(key(facet_vertices(&cell, k)), f);
                 }
             }
             subdomain[c.0 as usize] = OUTSIDE;

@@ -27,7 +27,8 @@ pub use engine::{
     Cancel, Candidate, Check, Engine, Limits, MesherLevel, Progress, RefineError, RefineStats,
 };
 pub(crate) use geometry::{
-    cell_vertices, facet_vertices, is_flat, is_same_cell, shortest_edge, triangle_circumcenter,
+    FLAT_CANDIDATES, cell_vertices, facet_vertices, flat_cell_refinement_point, is_flat,
+    is_same_cell, shortest_edge, triangle_circumcenter,
 };
 pub use manifold::Relabelling;
 pub use mesh3::{
