@@ -195,33 +195,40 @@ impl<C: Class> ClassGrid<C> {
         }
     }
 
-    /// CGAL's labellized trilinear interpolation: the class with the largest interpolated
-    /// indicator among the eight voxels around `q`, slightly biased to higher classes so that
-    /// interfaces avoid the exact ties of symmetric voxel patterns.
+    /// CGAL's labellized trilinear interpolation at `q` (in the domain box).
     fn trilinear(&self, q: DVec3) -> u32 {
-        let corner = |v: f64, n: usize| -> (usize, usize, f64) {
-            if n == 1 {
-                return (0, 0, 0.0);
-            }
-            let i = (v.floor().max(0.0) as usize).min(n - 2);
-            (i, i + 1, v - i as f64)
-        };
-        let (x0, x1, fx) = corner(q.x, self.dims[0]);
-        let (y0, y1, fy) = corner(q.y, self.dims[1]);
-        let (z0, z1, fz) = corner(q.z, self.dims[2]);
-        let c = [
-            self.voxel(x0, y0, z0),
-            self.voxel(x1, y0, z0),
-            self.voxel(x0, y1, z0),
-            self.voxel(x1, y1, z0),
-            self.voxel(x0, y0, z1),
-            self.voxel(x1, y0, z1),
-            self.voxel(x0, y1, z1),
-            self.voxel(x1, y1, z1),
-        ];
+        let cell = self.cell_of(q);
+        let f = q - DVec3::from_array(cell.map(|v| v as f64));
+        self.pick(&self.cell_corners(cell), f)
+    }
+
+    /// The lower corner of the unit cell between voxel centres that holds `q`, clamped to the
+    /// image (a point on the upper faces belongs to the last cell).
+    pub fn cell_of(&self, q: DVec3) -> [usize; 3] {
+        let c = |v: f64, n: usize| (v.floor().max(0.0) as usize).min(n.saturating_sub(2));
+        [
+            c(q.x, self.dims[0]),
+            c(q.y, self.dims[1]),
+            c(q.z, self.dims[2]),
+        ]
+    }
+
+    /// The classes of the eight voxels around the unit cell with lower corner `cell`, x fastest
+    /// (on an axis of one voxel, both ends are that voxel).
+    pub fn cell_corners(&self, cell: [usize; 3]) -> [C; 8] {
+        let up = |a: usize| (cell[a] + 1).min(self.dims[a] - 1);
+        let (x, y, z) = ([cell[0], up(0)], [cell[1], up(1)], [cell[2], up(2)]);
+        std::array::from_fn(|n| self.voxel(x[n & 1], y[(n >> 1) & 1], z[n >> 2]))
+    }
+
+    /// The class with the largest interpolated indicator at the fractional position `f` (each
+    /// coordinate in [0, 1]) of a cell whose corners are `c`, slightly biased to higher classes so
+    /// that interfaces avoid the exact ties of symmetric voxel patterns.
+    pub fn pick(&self, c: &[C; 8], f: DVec3) -> u32 {
         if c.iter().all(|&v| v == c[0]) {
             return c[0].index();
         }
+        let (fx, fy, fz) = (f.x, f.y, f.z);
         let w = [
             (1.0 - fx) * (1.0 - fy) * (1.0 - fz),
             fx * (1.0 - fy) * (1.0 - fz),
@@ -255,25 +262,15 @@ impl<C: Class> ClassGrid<C> {
         self.blocks
     }
 
+    /// The block holding the unit cell with lower corner `cell`.
+    pub fn cell_block(&self, cell: [usize; 3]) -> [usize; 3] {
+        std::array::from_fn(|a| (cell[a] / BLOCK).min(self.blocks[a] - 1))
+    }
+
     /// The summary of block `b` (its class or [`MIXED`]).
     pub fn block_summary(&self, b: [usize; 3]) -> u32 {
         let [bx, by, _] = self.blocks;
         self.summary[b[0] + bx * (b[1] + by * b[2])]
-    }
-
-    /// The block whose closed index box contains `q` (clamped to the grid), and whether `q` lies
-    /// inside the region blocks describe (between the outer voxel centres).
-    pub fn block_of(&self, q: DVec3) -> Option<[usize; 3]> {
-        let hi = DVec3::new(
-            self.dims[0] as f64 - 1.0,
-            self.dims[1] as f64 - 1.0,
-            self.dims[2] as f64 - 1.0,
-        );
-        if !(q.cmpge(DVec3::ZERO).all() && q.cmple(hi).all()) {
-            return None;
-        }
-        let b = |v: f64, a: usize| ((v / BLOCK as f64) as usize).min(self.blocks[a] - 1);
-        Some([b(q.x, 0), b(q.y, 1), b(q.z, 2)])
     }
 }
 
@@ -309,7 +306,7 @@ mod tests {
                 // A deterministic scatter over the image, faces included.
                 let f = |k: u32, m: usize| ((n * k) % 997) as f64 / 996.0 * (m - 1) as f64;
                 let q = DVec3::new(f(7, dims[0]), f(13, dims[1]), f(29, dims[2]));
-                let Some(b) = g.block_of(q) else { continue };
+                let b = g.cell_block(g.cell_of(q));
                 let s = g.block_summary(b);
                 if s != MIXED {
                     uniform += 1;

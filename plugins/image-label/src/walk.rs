@@ -1,12 +1,17 @@
-//! Where the class changes along a segment of index space: sample the segment every half voxel,
-//! jumping across blocks of one class and across the outside of the image, then bisect every
-//! change down to a thousandth of a voxel.
+//! Where the class changes along a segment of index space: a walk through the cells the segment
+//! crosses (Amanatides and Woo's traversal), which reads a cell's class from its block or its
+//! corner voxels where those agree, and samples and bisects only the cells with several classes.
+//!
+//! With trilinear interpolation a cell is the unit cube between eight voxel centres, and its
+//! class anywhere depends on those eight voxels alone: a cell whose corners agree has their class
+//! throughout, exactly. With nearest-voxel classes a cell is a voxel, and changes lie on its
+//! faces.
 
-use crate::grid::{BLOCK, Class, ClassGrid, MIXED};
+use crate::grid::{Class, ClassGrid, Interpolation, MIXED};
 use glam::DVec3;
 
-/// Distance between samples in blocks with several classes, in voxels. Finer than a voxel so that
-/// a label one voxel thick is seen.
+/// Distance between samples in cells with several classes, in voxels. Finer than a voxel so that
+/// a label a fraction of a voxel thick inside one cell is seen.
 const STEP: f64 = 0.5;
 /// Bisection stops when the bracket is this short, in voxels.
 const TOLERANCE: f64 = 1e-3;
@@ -30,66 +35,160 @@ pub(crate) fn changes<C: Class>(grid: &ClassGrid<C>, a: DVec3, b: DVec3, out: &m
     let Some((enter, leave)) = clip(a, d, lo, hi) else {
         return;
     };
-    let at = |t: f64| a + t * d;
-    let step = STEP / len;
-    // Every iteration advances by a step, to the next block or across the outside, so the walk
-    // ends after at most ~2 len + 3 len / BLOCK + a few iterations; the cap only guards against
-    // rounding trapping `t` on a block face.
-    let max_iterations = (4.0 * len) as usize + 64;
-    let mut t = 0.0;
-    let mut class = grid.class_at(at(0.0));
+    let walk = Walk { grid, a, d, len };
+    // Outside the box the class is the background.
+    let mut class = if enter > 0.0 { 0 } else { grid.class_at(a) };
+    let nearest = grid.interpolation == Interpolation::Nearest;
+    // A nearest-voxel cell is the voxel around its centre: cells start half a voxel lower.
+    let offset = if nearest { -0.5 } else { 0.0 };
+    let last = grid
+        .dims
+        .map(|n| if nearest { n - 1 } else { n.saturating_sub(2) });
+    let mut cells = Cells::new(a, d, enter, offset);
+    // Each iteration crosses a cell face (of at most ~ len + 1 along each axis); the cap only
+    // guards against rounding.
+    let max_iterations = 3 * (len as usize) + 16;
+    let mut t = enter;
     for _ in 0..max_iterations {
-        if t >= 1.0 {
+        if t >= leave {
             break;
         }
-        let q = at(t);
-        let next = if t < enter {
-            enter
-        } else if t > leave {
-            1.0
+        let (cell, exit) = cells.next();
+        let exit = exit.clamp(t, leave);
+        let cell: [usize; 3] = std::array::from_fn(|k| cell[k].clamp(0, last[k] as i64) as usize);
+        if nearest {
+            let to = grid.voxel(cell[0], cell[1], cell[2]).index();
+            push(out, t, &mut class, to);
         } else {
-            match grid.block_of(q) {
-                Some(blk) if grid.block_summary(blk) != MIXED => {
-                    block_exit(blk, a, d).max(t + step * 1e-3)
-                }
-                _ => t + step,
+            match grid.block_summary(grid.cell_block(cell)) {
+                MIXED => walk.through_cell(cell, (t, exit), &mut class, out),
+                s => push(out, t, &mut class, s),
             }
         }
-        .min(1.0);
-        // In a block of one class the block says it, without reading voxels.
-        let next_class = match grid.block_of(at(next)).map(|b| grid.block_summary(b)) {
-            Some(s) if s != MIXED => s,
-            _ => grid.class_at(at(next)),
-        };
-        // Several changes between two samples (a third label a fraction of a voxel thick): find
-        // them one after the other.
-        let (mut from, mut c) = (t, class);
-        for _ in 0..8 {
-            if c == next_class {
-                break;
-            }
-            let (change, after) = bisect(grid, a, d, (from, c), (next, next_class), len);
-            out.push(change);
-            (from, c) = (after, change.to);
-        }
-        t = next;
-        class = next_class;
+        t = exit;
+    }
+    if leave < 1.0 {
+        push(out, leave, &mut class, 0);
     }
 }
 
-/// The parameter where `a + t d` leaves the closed box of block `blk`.
-fn block_exit(blk: [usize; 3], a: DVec3, d: DVec3) -> f64 {
-    let mut exit = f64::INFINITY;
-    for axis in 0..3 {
-        let (o, v) = (a[axis], d[axis]);
-        if v == 0.0 {
-            continue;
-        }
-        let lo = (blk[axis] * BLOCK) as f64;
-        let face = if v > 0.0 { lo + BLOCK as f64 } else { lo };
-        exit = exit.min((face - o) / v);
+/// Records a change at `t` if the class `to` differs from the running `class`.
+fn push(out: &mut Vec<Change>, t: f64, class: &mut u32, to: u32) {
+    if to != *class {
+        out.push(Change {
+            t,
+            from: *class,
+            to,
+        });
+        *class = to;
     }
-    exit
+}
+
+/// A segment `a + t d` of length `len` across a grid, for the cells with several classes.
+struct Walk<'g, C> {
+    grid: &'g ClassGrid<C>,
+    a: DVec3,
+    d: DVec3,
+    len: f64,
+}
+
+impl<C: Class> Walk<'_, C> {
+    /// The changes of class inside the trilinear cell `cell` between parameters `t0` and `t1`,
+    /// starting from `class`: samples every [`STEP`] and bisection between samples that differ.
+    fn through_cell(
+        &self,
+        cell: [usize; 3],
+        (t0, t1): (f64, f64),
+        class: &mut u32,
+        out: &mut Vec<Change>,
+    ) {
+        let corners = self.grid.cell_corners(cell);
+        let lower = DVec3::from_array(cell.map(|v| v as f64));
+        let class_at = |t: f64| {
+            let f = (self.a + t * self.d - lower).clamp(DVec3::ZERO, DVec3::ONE);
+            self.grid.pick(&corners, f)
+        };
+        // A change at the cell's entry happens only on the domain box's faces (or by rounding
+        // on a cell face).
+        if corners.iter().all(|&c| c == corners[0]) {
+            push(out, t0, class, corners[0].index());
+            return;
+        }
+        push(out, t0, class, class_at(t0));
+        let samples = (((t1 - t0) * self.len / STEP).ceil() as usize).clamp(1, 8);
+        let mut from = t0;
+        for k in 1..=samples {
+            let t = if k == samples {
+                t1
+            } else {
+                t0 + (t1 - t0) * k as f64 / samples as f64
+            };
+            let next = class_at(t);
+            // Several changes between two samples (a third label a fraction of a voxel thick):
+            // find them one after the other.
+            let (mut start, mut c) = (from, *class);
+            for _ in 0..8 {
+                if c == next {
+                    break;
+                }
+                let (change, after) = bisect(&class_at, (start, c), (t, next), self.len);
+                out.push(change);
+                (start, c) = (after, change.to);
+            }
+            *class = next;
+            from = t;
+        }
+    }
+}
+
+/// Amanatides and Woo's traversal of the unit cells (lower corners at `offset` + integers) that
+/// `a + t d` crosses, from parameter `t`.
+struct Cells {
+    cell: [i64; 3],
+    step: [i64; 3],
+    /// The parameter where the segment leaves the current cell across each axis.
+    t_max: [f64; 3],
+    t_delta: [f64; 3],
+}
+
+impl Cells {
+    fn new(a: DVec3, d: DVec3, t: f64, offset: f64) -> Self {
+        let q = a + t * d;
+        let mut cells = Cells {
+            cell: [0; 3],
+            step: [0; 3],
+            t_max: [f64::INFINITY; 3],
+            t_delta: [f64::INFINITY; 3],
+        };
+        for k in 0..3 {
+            let x = q[k] - offset;
+            let mut c = x.floor();
+            // On a face, moving down: the cell below.
+            if d[k] < 0.0 && c == x {
+                c -= 1.0;
+            }
+            cells.cell[k] = c as i64;
+            if d[k] != 0.0 {
+                let face = offset + c + if d[k] > 0.0 { 1.0 } else { 0.0 };
+                cells.step[k] = if d[k] > 0.0 { 1 } else { -1 };
+                cells.t_max[k] = (face - a[k]) / d[k];
+                cells.t_delta[k] = 1.0 / d[k].abs();
+            }
+        }
+        cells
+    }
+
+    /// The current cell and the parameter where the segment leaves it; moves to the next cell.
+    fn next(&mut self) -> ([i64; 3], f64) {
+        let cell = self.cell;
+        let k = (0..3)
+            .min_by(|&i, &j| self.t_max[i].total_cmp(&self.t_max[j]))
+            .unwrap_or(0);
+        let exit = self.t_max[k];
+        self.cell[k] += self.step[k];
+        self.t_max[k] += self.t_delta[k];
+        (cell, exit)
+    }
 }
 
 /// Parameters `[enter, leave]` of the part of `a + t d` inside the box, if any.
@@ -110,24 +209,22 @@ fn clip(a: DVec3, d: DVec3, lo: DVec3, hi: DVec3) -> Option<(f64, f64)> {
     (enter <= leave).then_some((enter, leave))
 }
 
-/// Narrows `[t0, t1]`, whose ends have different classes, to a change of class; also returns
-/// the end of the final bracket, where the class is the change's `to`.
-fn bisect<C: Class>(
-    grid: &ClassGrid<C>,
-    a: DVec3,
-    d: DVec3,
+/// Narrows `[t0, t1]`, whose ends have different classes by `class_at`, to a change of class;
+/// also returns the end of the final bracket, where the class is the change's `to`.
+fn bisect(
+    class_at: &impl Fn(f64) -> u32,
     (mut t0, c0): (f64, u32),
     (mut t1, mut c1): (f64, u32),
     len: f64,
 ) -> (Change, f64) {
     let tolerance = TOLERANCE / len;
-    // Halving a bracket of at most one block's diagonal down to the tolerance takes < 20 steps.
+    // Halving a bracket of at most one cell's diagonal down to the tolerance takes < 12 steps.
     for _ in 0..64 {
         if t1 - t0 <= tolerance {
             break;
         }
         let mid = 0.5 * (t0 + t1);
-        let cm = grid.class_at(a + mid * d);
+        let cm = class_at(mid);
         if cm == c0 {
             t0 = mid;
         } else {
@@ -141,4 +238,96 @@ fn bisect<C: Class>(
         to: c1,
     };
     (change, t1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grid::Interpolation;
+    use delamesh_core::random::XorShift;
+
+    /// Random segments across random images of blobs (some a voxel thin): between two
+    /// consecutive changes the class is the one the walk reports, wherever it is sampled, and
+    /// every change is a real one (the class differs just before and just after it).
+    #[test]
+    fn changes_match_the_class_along_random_segments() {
+        let mut rng = XorShift::new(17);
+        let dims = [23, 19, 14];
+        let n = dims[0] * dims[1] * dims[2];
+        let mut classes = vec![0u8; n];
+        for _ in 0..12 {
+            let c = DVec3::new(
+                rng.next_f64() * 23.0,
+                rng.next_f64() * 19.0,
+                rng.next_f64() * 14.0,
+            );
+            let (r, class) = (0.6 + 4.0 * rng.next_f64(), 1 + rng.below(3) as u8);
+            for (v, slot) in classes.iter_mut().enumerate() {
+                let p = DVec3::new(
+                    (v % dims[0]) as f64,
+                    ((v / dims[0]) % dims[1]) as f64,
+                    (v / (dims[0] * dims[1])) as f64,
+                );
+                if (p - c).length() < r {
+                    *slot = class;
+                }
+            }
+        }
+        for interpolation in [Interpolation::Trilinear, Interpolation::Nearest] {
+            let g = ClassGrid::new(dims, classes.clone(), 4, interpolation);
+            let mut found = Vec::new();
+            let (mut walks, mut seen) = (0, 0);
+            for _ in 0..400 {
+                // Ends inside and outside the image, some segments along grid lines.
+                let mut end = || {
+                    DVec3::new(
+                        rng.next_f64() * 27.0 - 2.0,
+                        rng.next_f64() * 23.0 - 2.0,
+                        rng.next_f64() * 18.0 - 2.0,
+                    )
+                };
+                let (mut a, mut b) = (end(), end());
+                if rng.below(4) == 0 {
+                    // In a plane of voxel centres.
+                    a.y = a.y.round();
+                    b.y = a.y;
+                }
+                if rng.below(4) == 0 {
+                    a = a.round();
+                }
+                found.clear();
+                changes(&g, a, b, &mut found);
+                walks += 1;
+                seen += found.len();
+                let len = (b - a).length();
+                let at = |t: f64| g.class_at(a + t * (b - a));
+                let mut class = at(0.0);
+                let mut last = 0.0;
+                let margin = 4.0 * TOLERANCE / len;
+                for change in &found {
+                    assert_eq!(change.from, class, "{a} {b} {found:?}");
+                    assert!(change.t >= last && change.t <= 1.0);
+                    assert_ne!(change.from, change.to);
+                    // Dense samples away from the changes have the running class.
+                    let steps = ((change.t - last) * len * 8.0) as usize;
+                    for k in 1..steps {
+                        let t = last + (change.t - last) * k as f64 / steps as f64;
+                        if t - last > margin && change.t - t > margin {
+                            assert_eq!(at(t), class, "{a} {b} at {t}: {found:?}");
+                        }
+                    }
+                    class = change.to;
+                    last = change.t;
+                }
+                let steps = ((1.0 - last) * len * 8.0) as usize;
+                for k in 1..=steps {
+                    let t = last + (1.0 - last) * k as f64 / steps as f64;
+                    if t - last > margin {
+                        assert_eq!(at(t), class, "{a} {b} at {t}: {found:?}");
+                    }
+                }
+            }
+            assert!(walks == 400 && seen > 200, "{seen} changes");
+        }
+    }
 }
