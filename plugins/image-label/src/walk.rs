@@ -181,9 +181,14 @@ impl Cells {
     /// The current cell and the parameter where the segment leaves it; moves to the next cell.
     fn next(&mut self) -> ([i64; 3], f64) {
         let cell = self.cell;
-        let k = (0..3)
-            .min_by(|&i, &j| self.t_max[i].total_cmp(&self.t_max[j]))
-            .unwrap_or(0);
+        let m = self.t_max;
+        let k = if m[0] <= m[1] && m[0] <= m[2] {
+            0
+        } else if m[1] <= m[2] {
+            1
+        } else {
+            2
+        };
         let exit = self.t_max[k];
         self.cell[k] += self.step[k];
         self.t_max[k] += self.t_delta[k];
