@@ -1,9 +1,11 @@
 //! What `delamesh info --json` prints about a mesh file: counts, bounding box, patches, the
 //! topology of its surface, labels of a volume mesh, and what `mesh` would find (sharp
-//! features) or repair. Shared by the command line and the bindings (feature `json`).
+//! features) or repair; about a 3D image: its grid, voxel size, values and labels. Shared by the
+//! command line and the bindings (feature `json`).
 
 use crate::error::Error;
 use delamesh_core::mesh::{Aabb, SurfaceMesh, TetMesh, Topology};
+use delamesh_formats::image::{Image, ScalarType, Voxels, is_image_path, read_image};
 use delamesh_formats::{AnyMesh, Format};
 use serde_json::{Value, json};
 use std::collections::BTreeMap;
@@ -13,12 +15,17 @@ use std::path::Path;
 pub struct Info {
     /// The JSON object of `delamesh info --json`.
     pub json: Value,
-    /// The topology of the file's surface (a volume mesh's boundary), for a text summary.
-    pub topology: Topology,
+    /// The topology of the file's surface (a volume mesh's boundary), for a text summary; none
+    /// for an image.
+    pub topology: Option<Topology>,
 }
 
-/// Reads the mesh in `path` (`format` when the extension does not say it) and describes it.
+/// Reads the mesh or 3D image in `path` (`format` when the extension does not say it) and
+/// describes it.
 pub fn describe(path: &Path, format: Option<Format>) -> Result<Info, Error> {
+    if format.is_none() && is_image_path(path) {
+        return Ok(describe_image(path, &read_image(path)?));
+    }
     let read = delamesh_formats::read(path, format)?;
     let (surface, volume, kind) = match &read.mesh {
         AnyMesh::Surface(s) => (s.clone(), None, "surface"),
@@ -46,7 +53,104 @@ pub fn describe(path: &Path, format: Option<Format>) -> Result<Info, Error> {
         "repairs": if volume.is_none() { repairs_json(&surface) } else { Value::Null },
         "warnings": read.warnings,
     });
-    Ok(Info { json, topology })
+    Ok(Info {
+        json,
+        topology: Some(topology),
+    })
+}
+
+/// Distinct values past which an image is described as gray levels rather than labels.
+const MAX_LISTED_LABELS: usize = 65_536;
+
+/// The grid, voxel size, value range and (for integer values) labels of an image.
+fn describe_image(path: &Path, image: &Image) -> Info {
+    let m = image.index_to_world;
+    let voxel_volume = m.matrix3.determinant().abs();
+    let [nx, ny, nz] = image.dims.map(|n| n.saturating_sub(1) as f64);
+    let corners: Vec<glam::DVec3> = (0..8)
+        .map(|k| {
+            let pick = |bit: usize, n: f64| if k & bit == 0 { 0.0 } else { n };
+            m.transform_point3(glam::DVec3::new(pick(1, nx), pick(2, ny), pick(4, nz)))
+        })
+        .collect();
+    let bbox = Aabb::of(&corners);
+    let values = &image.voxels;
+    let (min, max) = (0..values.len())
+        .map(|i| values.value(i))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    let labels = label_counts(values, min, max).map(|counts| {
+        counts
+            .into_iter()
+            .map(|(value, voxels)| {
+                json!({"value": value, "voxels": voxels, "volume": voxels as f64 * voxel_volume})
+            })
+            .collect::<Vec<_>>()
+    });
+    let json = json!({
+        "file": path.display().to_string(),
+        "kind": "image",
+        "dimensions": image.dims,
+        "voxels": values.len(),
+        "voxel_type": scalar_name(values.scalar_type()),
+        "voxel_size": image.spacing().to_array(),
+        "origin": m.translation.to_array(),
+        "bounding_box": bbox_json(bbox),
+        "values": if values.is_empty() { Value::Null } else { json!({"min": min, "max": max}) },
+        "labels": labels,
+    });
+    Info {
+        json,
+        topology: None,
+    }
+}
+
+/// The voxel count of each value, when the values are integers with at most
+/// [`MAX_LISTED_LABELS`] distinct ones (a label map); `None` for gray levels. `min` and `max`
+/// are the values' range.
+fn label_counts(values: &Voxels, min: f64, max: f64) -> Option<BTreeMap<i64, u64>> {
+    // Every stored type converts to f64 exactly; NaN and infinities are not integers.
+    let integral = |v: f64| v.fract() == 0.0;
+    if values.is_empty() || !integral(min) || !integral(max) {
+        return None;
+    }
+    let mut counts = BTreeMap::new();
+    if max - min < (2 * MAX_LISTED_LABELS) as f64 {
+        // A table over the range (at most 2 × MAX_LISTED_LABELS entries), then its non-zero entries.
+        let mut table = vec![0u64; (max - min) as usize + 1];
+        for i in 0..values.len() {
+            let v = values.value(i);
+            if !integral(v) {
+                return None;
+            }
+            table[(v - min) as usize] += 1;
+        }
+        let present = table.iter().enumerate().filter(|&(_, &n)| n > 0);
+        counts.extend(present.map(|(k, &n)| (min as i64 + k as i64, n)));
+    } else {
+        for i in 0..values.len() {
+            let v = values.value(i);
+            if !integral(v) || counts.len() > MAX_LISTED_LABELS {
+                return None;
+            }
+            *counts.entry(v as i64).or_insert(0) += 1;
+        }
+    }
+    (counts.len() <= MAX_LISTED_LABELS).then_some(counts)
+}
+
+fn scalar_name(t: ScalarType) -> &'static str {
+    match t {
+        ScalarType::U8 => "uint8",
+        ScalarType::I8 => "int8",
+        ScalarType::U16 => "uint16",
+        ScalarType::I16 => "int16",
+        ScalarType::U32 => "uint32",
+        ScalarType::I32 => "int32",
+        ScalarType::F32 => "float32",
+        ScalarType::F64 => "float64",
+    }
 }
 
 fn bbox_json(b: Option<Aabb>) -> Value {

@@ -7,21 +7,16 @@ use cli_support::delamesh;
 use std::io::Write;
 use std::path::Path;
 
-/// A gzipped INR image of two nested balls (labels 2 inside 5) in a 20³ grid of 0.5-voxels.
-fn write_nested_balls(path: &Path) {
+/// The labels of two nested balls (2 inside 5, background 0) in a 20³ grid, x fastest.
+fn nested_balls() -> Vec<u8> {
     let n = 20usize;
-    let mut bytes = format!(
-        "#INRIMAGE-4#{{\nXDIM={n}\nYDIM={n}\nZDIM={n}\nVDIM=1\nTYPE=unsigned fixed\nPIXSIZE=8 bits\nCPU=decm\nVX=0.5\nVY=0.5\nVZ=0.5\n"
-    )
-    .into_bytes();
-    bytes.resize(252, b'\n');
-    bytes.extend_from_slice(b"##}\n");
+    let mut labels = Vec::with_capacity(n * n * n);
     for k in 0..n {
         for j in 0..n {
             for i in 0..n {
                 let d = [i, j, k].map(|v| v as f64 - 9.5);
                 let r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-                bytes.push(if r < 4.0 {
+                labels.push(if r < 4.0 {
                     2
                 } else if r < 8.0 {
                     5
@@ -31,9 +26,82 @@ fn write_nested_balls(path: &Path) {
             }
         }
     }
+    labels
+}
+
+/// A gzipped INR image of [`nested_balls`] with voxels of 0.5.
+fn write_nested_balls(path: &Path) {
+    let n = 20usize;
+    let mut bytes = format!(
+        "#INRIMAGE-4#{{\nXDIM={n}\nYDIM={n}\nZDIM={n}\nVDIM=1\nTYPE=unsigned fixed\nPIXSIZE=8 bits\nCPU=decm\nVX=0.5\nVY=0.5\nVZ=0.5\n"
+    )
+    .into_bytes();
+    bytes.resize(252, b'\n');
+    bytes.extend_from_slice(b"##}\n");
+    bytes.extend(nested_balls());
     let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
     gz.write_all(&bytes).expect("in memory");
     std::fs::write(path, gz.finish().expect("in memory")).expect("write image");
+}
+
+/// What `delamesh info --json` says of `path`.
+fn info_json(path: &Path) -> serde_json::Value {
+    let out = delamesh()
+        .args(["info", "--json"])
+        .arg(path)
+        .assert()
+        .success();
+    serde_json::from_slice(&out.get_output().stdout).expect("JSON")
+}
+
+#[test]
+fn info_describes_an_image_grid_and_its_labels() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let image = dir.path().join("balls.inr.gz");
+    write_nested_balls(&image);
+    let info = info_json(&image);
+    assert_eq!(info["kind"], "image");
+    assert_eq!(info["dimensions"], serde_json::json!([20, 20, 20]));
+    assert_eq!(info["voxel_size"], serde_json::json!([0.5, 0.5, 0.5]));
+    assert_eq!(info["voxel_type"], "uint8");
+    assert_eq!(
+        info["bounding_box"]["max"],
+        serde_json::json!([9.5, 9.5, 9.5])
+    );
+    let labels = nested_balls();
+    let listed = info["labels"].as_array().expect("a label map");
+    assert_eq!(listed.len(), 3);
+    for (entry, value) in listed.iter().zip([0u8, 2, 5]) {
+        let count = labels.iter().filter(|&&l| l == value).count() as u64;
+        assert_eq!(entry["value"], u64::from(value));
+        assert_eq!(entry["voxels"], count);
+        assert_eq!(entry["volume"].as_f64(), Some(count as f64 * 0.125));
+    }
+    // The text form says the same, and gray levels are told apart from labels.
+    let text = delamesh()
+        .arg("info")
+        .arg(&image)
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let text = String::from_utf8(text).expect("UTF-8");
+    assert!(
+        text.contains("20 x 20 x 20") && text.contains("label 5: "),
+        "{text}"
+    );
+    let gray = dir.path().join("ramp.nrrd");
+    let mut bytes =
+        b"NRRD0004\ntype: float\ndimension: 3\nsizes: 3 3 3\nencoding: raw\nendian: little\n\n"
+            .to_vec();
+    for i in 0..27 {
+        bytes.extend_from_slice(&(0.25 + 0.5 * i as f32).to_le_bytes());
+    }
+    std::fs::write(&gray, bytes).expect("write image");
+    let info = info_json(&gray);
+    assert_eq!(info["labels"], serde_json::Value::Null);
+    assert_eq!(info["values"]["max"], 13.25);
 }
 
 #[test]

@@ -1,5 +1,6 @@
-//! `delamesh info IN [--json]`: counts, bounding box, labels and the topology of a mesh's surface
-//! (the description is the library's [`delamesh::info`]; this module prints it).
+//! `delamesh info IN [--json]`: counts, bounding box, labels and the topology of a mesh's surface,
+//! or the grid, values and labels of a 3D image (the description is the library's
+//! [`delamesh::info`]; this module prints it).
 
 use super::output::outln;
 use anyhow::Result;
@@ -10,7 +11,7 @@ use std::path::PathBuf;
 
 #[derive(clap::Args)]
 pub struct InfoArgs {
-    /// Mesh to describe
+    /// Mesh or 3D image to describe
     input: PathBuf,
     /// Input format, when the extension does not say it
     #[arg(long, value_name = "F")]
@@ -25,7 +26,56 @@ pub fn run(args: InfoArgs) -> Result<()> {
     if args.json {
         outln!("{}", serde_json::to_string_pretty(&info.json)?)?;
     } else {
-        print_text(&info.json, &info.topology)?;
+        match &info.topology {
+            Some(topology) => print_text(&info.json, topology)?,
+            None => print_image(&info.json)?,
+        }
+    }
+    Ok(())
+}
+
+fn print_image(r: &Value) -> std::io::Result<()> {
+    let d = &r["dimensions"];
+    outln!("{} (image)", r["file"].as_str().unwrap_or_default())?;
+    outln!(
+        "  dimensions: {} x {} x {} ({} voxels of {})",
+        d[0],
+        d[1],
+        d[2],
+        r["voxels"],
+        r["voxel_type"].as_str().unwrap_or_default()
+    )?;
+    outln!(
+        "  voxel size: {}   origin: {}",
+        r["voxel_size"],
+        r["origin"]
+    )?;
+    if let Some(b) = r["bounding_box"].as_object() {
+        outln!(
+            "  bounding box (voxel centres): {} .. {}",
+            b["min"],
+            b["max"]
+        )?;
+    }
+    if let Some(v) = r["values"].as_object() {
+        outln!("  values: {} .. {}", v["min"], v["max"])?;
+    }
+    match r["labels"].as_array() {
+        Some(labels) => {
+            outln!(
+                "  labels: {} (0 is the background by default)",
+                labels.len()
+            )?;
+            for l in labels {
+                outln!(
+                    "    label {}: {} voxels, volume {}",
+                    l["value"],
+                    l["voxels"],
+                    l["volume"]
+                )?;
+            }
+        }
+        None => outln!("  gray levels, not labels: mesh them with --isovalue V")?,
     }
     Ok(())
 }

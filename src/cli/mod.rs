@@ -37,7 +37,8 @@ enum Command {
     Delaunay(delaunay::DelaunayArgs),
     /// Convert a mesh from one file format to another
     Convert(convert::ConvertArgs),
-    /// Describe a mesh: counts, bounding box, patches, closedness, manifoldness, genus
+    /// Describe a mesh (counts, bounding box, patches, closedness, manifoldness, genus) or a 3D
+    /// image (grid, voxel size, values, labels)
     Info(info::InfoArgs),
     /// Subdivide a planar constraint until it is Delaunay-admissible (Pébay) and triangulate it.
     Conform2d(conform2d::Args),
