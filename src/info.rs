@@ -59,8 +59,9 @@ pub fn describe(path: &Path, format: Option<Format>) -> Result<Info, Error> {
     })
 }
 
-/// Distinct values past which an image is described as gray levels rather than labels.
-const MAX_LISTED_LABELS: usize = 65_536;
+/// Distinct values past which an image is described as gray levels rather than labels: the
+/// mesher's limit on labels, plus the background.
+const MAX_LISTED_LABELS: usize = delamesh_image_label::MAX_LABELS + 1;
 
 /// The grid, voxel size, value range and (for integer values) labels of an image.
 fn describe_image(path: &Path, image: &Image) -> Info {
@@ -106,13 +107,13 @@ fn describe_image(path: &Path, image: &Image) -> Info {
     }
 }
 
-/// The voxel count of each value, when the values are integers with at most
-/// [`MAX_LISTED_LABELS`] distinct ones (a label map); `None` for gray levels. `min` and `max`
-/// are the values' range.
-fn label_counts(values: &Voxels, min: f64, max: f64) -> Option<BTreeMap<i64, u64>> {
-    // Every stored type converts to f64 exactly; NaN and infinities are not integers.
-    let integral = |v: f64| v.fract() == 0.0;
-    if values.is_empty() || !integral(min) || !integral(max) {
+/// The voxel count of each value, when the image is a label map as `delamesh mesh` reads one
+/// (non-negative integers below 2³², at most [`MAX_LISTED_LABELS`] distinct ones); `None` for
+/// gray levels. `min` and `max` are the values' range.
+fn label_counts(values: &Voxels, min: f64, max: f64) -> Option<BTreeMap<u32, u64>> {
+    // Every stored type converts to f64 exactly; NaN is in no range.
+    let label = |v: f64| v.fract() == 0.0 && (0.0..f64::from(u32::MAX)).contains(&v);
+    if values.is_empty() || !label(min) || !label(max) {
         return None;
     }
     let mut counts = BTreeMap::new();
@@ -121,20 +122,20 @@ fn label_counts(values: &Voxels, min: f64, max: f64) -> Option<BTreeMap<i64, u64
         let mut table = vec![0u64; (max - min) as usize + 1];
         for i in 0..values.len() {
             let v = values.value(i);
-            if !integral(v) {
+            if !label(v) {
                 return None;
             }
             table[(v - min) as usize] += 1;
         }
         let present = table.iter().enumerate().filter(|&(_, &n)| n > 0);
-        counts.extend(present.map(|(k, &n)| (min as i64 + k as i64, n)));
+        counts.extend(present.map(|(k, &n)| (min as u32 + k as u32, n)));
     } else {
         for i in 0..values.len() {
             let v = values.value(i);
-            if !integral(v) || counts.len() > MAX_LISTED_LABELS {
+            if !label(v) || counts.len() > MAX_LISTED_LABELS {
                 return None;
             }
-            *counts.entry(v as i64).or_insert(0) += 1;
+            *counts.entry(v as u32).or_insert(0) += 1;
         }
     }
     (counts.len() <= MAX_LISTED_LABELS).then_some(counts)

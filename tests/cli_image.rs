@@ -102,6 +102,23 @@ fn info_describes_an_image_grid_and_its_labels() {
     let info = info_json(&gray);
     assert_eq!(info["labels"], serde_json::Value::Null);
     assert_eq!(info["values"]["max"], 13.25);
+    // Negative integers are no labels to the mesher either: gray levels, as `mesh` refuses them.
+    let signed = dir.path().join("signed.nrrd");
+    let mut bytes =
+        b"NRRD0004\ntype: short\ndimension: 3\nsizes: 3 3 3\nencoding: raw\nendian: little\n\n"
+            .to_vec();
+    for i in 0..27i16 {
+        bytes.extend_from_slice(&(i % 5 - 2).to_le_bytes());
+    }
+    std::fs::write(&signed, bytes).expect("write image");
+    assert_eq!(info_json(&signed)["labels"], serde_json::Value::Null);
+    delamesh()
+        .arg("mesh")
+        .arg(&signed)
+        .arg("-o")
+        .arg(dir.path().join("signed.vtu"))
+        .assert()
+        .failure();
 }
 
 #[test]

@@ -248,12 +248,11 @@ fn bisect(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::grid::Interpolation;
     use delamesh_core::random::XorShift;
 
-    /// Random segments across random images of blobs (some a voxel thin): between two
-    /// consecutive changes the class is the one the walk reports, wherever it is sampled, and
-    /// every change is a real one (the class differs just before and just after it).
+    /// Random segments across random images of blobs (some a voxel thin): every change leaves
+    /// the class the walk was in for another one, and between two consecutive changes (and after
+    /// the last) `class_at` gives that class wherever it is sampled, an eighth of a voxel apart.
     #[test]
     fn changes_match_the_class_along_random_segments() {
         let mut rng = XorShift::new(17);
