@@ -14,10 +14,11 @@ use super::repair::{Validity, ValidityOptions, find_defects};
 use crate::complex::MeshComplex;
 use crate::kernel::Point3;
 use crate::optimize::{OptimizeOptions, OptimizeReport, optimize};
-use crate::oracle::{FeatureCurve, Oracle, PatchId};
+use crate::oracle::{FeatureCurve, Oracle, PatchId, SurfacePoint};
 use crate::triangulation::{
     Delaunay3, InsertOutcome, InsertReport, Regular3, Triangulation, TriangulationError, VertexId,
 };
+use rustc_hash::FxHashMap;
 use std::collections::HashMap;
 use std::time::{Duration, Instant};
 
@@ -137,7 +138,7 @@ fn mesh_smooth(
         .smooth_refinement_floor(&oracle.bounding_box());
     let mut surface = SurfaceLevel::new(oracle, options.criteria.facet.clone()).min_radius(floor);
     let cells = CellLevel::new(oracle, options.criteria.cell.clone()).min_radius(floor);
-    let initial = oracle.initial_points();
+    let initial = spread_out(oracle.initial_points(), SAME_POINT * floor);
     if initial.is_empty() {
         return Err(MeshError::NoInitialPoints);
     }
@@ -153,6 +154,40 @@ fn mesh_smooth(
         refine_with_repairs(tr, surface, cells, None, options, initial_points, progress);
     relabel(&mut refined, options);
     collect_and_optimize(oracle, refined, options)
+}
+
+/// Initial points closer than this fraction of the refinement floor are one point (see
+/// [`spread_out`]); farther apart, they may be a small component's only points.
+const SAME_POINT: f64 = 1e-3;
+
+/// The initial points less those within `spacing` of an earlier one. An oracle may find one
+/// surface point twice (two probes crossing the surface at the same spot, a few ulps apart), and
+/// two vertices that close make every cell around them flat: refining those cells only adds
+/// more points in the gap, down to the rounding of coordinates.
+fn spread_out(points: Vec<SurfacePoint>, spacing: f64) -> Vec<SurfacePoint> {
+    if spacing.is_nan() || spacing <= 0.0 {
+        return points;
+    }
+    let key = |p: Point3| (p / spacing).floor().to_array().map(|x| x as i64);
+    // Only looked up, never iterated: the order kept is the oracle's.
+    let mut grid: FxHashMap<[i64; 3], Vec<Point3>> = FxHashMap::default();
+    let mut kept = Vec::with_capacity(points.len());
+    for p in points {
+        let [x, y, z] = key(p.point);
+        let crowded = (-1..=1).any(|dx| {
+            (-1..=1).any(|dy| {
+                (-1..=1).any(|dz| {
+                    grid.get(&[x + dx, y + dy, z + dz])
+                        .is_some_and(|c| c.iter().any(|q| q.distance(p.point) < spacing))
+                })
+            })
+        });
+        if !crowded {
+            grid.entry([x, y, z]).or_default().push(p.point);
+            kept.push(p);
+        }
+    }
+    kept
 }
 
 /// Inserts a protecting ball as a weighted vertex; `None` when the triangulation hides it.
@@ -215,7 +250,7 @@ pub fn mesh_with_features<T: Triangulation<Point = Point3> + Clone>(
                 vertices.push(v);
             }
             let curve_level = CurveLevel::new(protection, vertices);
-            for p in oracle.initial_points() {
+            for p in spread_out(oracle.initial_points(), SAME_POINT * floor) {
                 if curve_level.in_a_ball(p.point) {
                     continue;
                 }
