@@ -13,6 +13,7 @@ use delamesh::core::complex::VertexDimension;
 use delamesh::core::kernel::{Point3, Sign, insphere, orient3d};
 use delamesh::core::mesh::{PatchId, SurfaceMesh};
 use delamesh::core::oracle::OUTSIDE;
+use delamesh::core::quality::enclosed_volume;
 use delamesh::{MeshSettings, Mesher};
 use glam::DVec3;
 use std::collections::{BTreeMap, HashMap};
@@ -37,17 +38,6 @@ fn preserved_with(name: &str, surface: &Surface, settings: MeshSettings) -> dela
 
 fn signed_volume6(p: [Point3; 4]) -> f64 {
     (p[1] - p[0]).cross(p[2] - p[0]).dot(p[3] - p[0])
-}
-
-/// Volume enclosed by a closed outward-oriented surface (divergence theorem).
-fn enclosed_volume(points: &[DVec3], triangles: &[[u32; 3]]) -> f64 {
-    triangles
-        .iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|v| points[v as usize]);
-            a.dot(b.cross(c)) / 6.0
-        })
-        .sum()
 }
 
 fn area(p: [Point3; 3]) -> f64 {

@@ -11,7 +11,7 @@ mod sizing;
 use buffers::{Raw, raw_of_surface, raw_of_tet_mesh, read_f64, read_index, tet_mesh_of_raw};
 use delamesh::formats::image::Image;
 use delamesh::formats::{AnyMesh, WriteOptions};
-use delamesh::{Cancel, Mesher, Point3, Progress, SurfaceMesh};
+use delamesh::{Cancel, MeshSettings, Mesher, Point3, Progress, SurfaceMesh};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
@@ -66,10 +66,9 @@ type Outcome = (Raw, Vec<String>, Option<String>);
 fn run(
     py: Python<'_>,
     source: Source,
-    options: Option<&Bound<'_, PyDict>>,
+    settings: MeshSettings,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Py<PyDict>> {
-    let settings = options::settings(options)?;
     let warnings: Vec<String> = settings.warnings();
     let cancel = Cancel::new();
     let raised: Mutex<Option<PyErr>> = Mutex::new(None);
@@ -127,7 +126,7 @@ fn run(
 /// Meshes `source` through the facade, with `progress` as its hook and `cancel` as its flag.
 fn mesh_source(
     source: Source,
-    settings: delamesh::MeshSettings,
+    settings: MeshSettings,
     warnings: Vec<String>,
     progress: impl FnMut(&Progress),
     cancel: &Cancel,
@@ -188,7 +187,12 @@ fn mesh_file(
     options: Option<&Bound<'_, PyDict>>,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Py<PyDict>> {
-    run(py, Source::File(path), options, progress)
+    run(
+        py,
+        Source::File(path),
+        options::settings(options)?,
+        progress,
+    )
 }
 
 /// Meshes the closed surface of `vertices` (float64, 3 per vertex) and `faces` (int64, 3 per
@@ -214,7 +218,12 @@ fn mesh_surface(
             .map(|t| [t[0], t[1], t[2]])
             .collect(),
     );
-    run(py, Source::Surface(surface), options, progress)
+    run(
+        py,
+        Source::Surface(surface),
+        options::settings(options)?,
+        progress,
+    )
 }
 
 /// Meshes the labels of a 3D image: `dims` voxels (x, y, z) of numpy type `dtype` (`u1`, `i1`,
@@ -234,7 +243,12 @@ fn mesh_image(
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Py<PyDict>> {
     let image = buffers::image(dims, spacing, origin, dtype, voxels)?;
-    run(py, Source::Image(image), options, progress)
+    run(
+        py,
+        Source::Image(image),
+        options::settings(options)?,
+        progress,
+    )
 }
 
 /// The Delaunay tetrahedra of `points` (float64 bytes, 3 per point), as int64 bytes, 4 indices

@@ -11,7 +11,7 @@
 
 use super::SLIVER_DEG;
 use crate::complex::{MeshComplex, VertexDimension};
-use crate::kernel::Point3;
+use crate::kernel::{Point3, WeightedPoint3};
 use crate::oracle::{CurveId, OUTSIDE, PatchId, SubdomainId};
 use crate::quality::tet_volume;
 use crate::refine::criteria::{MeshCriteria, Sizing};
@@ -588,8 +588,7 @@ impl<'o> Workspace<'o> {
             .rt
             .move_vertex_back(
                 change.vertex,
-                change.old_point,
-                change.old_weight,
+                WeightedPoint3::new(change.old_point, change.old_weight),
                 &mut self.report,
             )
             .unwrap_or(false);

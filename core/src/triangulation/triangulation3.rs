@@ -711,7 +711,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
             return self.in_conflict_infinite(v, p, w);
         }
         self.kernel
-            .in_conflict_finite(&self.filter, &self.points, v, p, w)
+            .in_conflict_finite(&self.filter, &self.points, v, WeightedPoint3::new(p, w))
     }
 
     /// [`Self::in_conflict`] for an infinite cell with vertices `v`.
@@ -729,7 +729,8 @@ impl<K: ConflictKernel> Triangulation3<K> {
             }
         }
         let o = self.filter.orient3d(t[0], t[1], t[2], t[3]);
-        self.kernel.beyond_hull_facet(&self.points, tri, o, p, w)
+        self.kernel
+            .beyond_hull_facet(&self.points, tri, o, WeightedPoint3::new(p, w))
     }
 
     /// Grows the conflict zone of the weighted point `q` (weight 0 for Delaunay) from `start`

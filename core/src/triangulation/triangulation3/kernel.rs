@@ -34,24 +34,22 @@ pub trait ConflictKernel: Clone + Debug + Default + Send + Sync + sealed::Sealed
     fn unhide(&mut self, v: u32);
     /// Changes the weight of `v` (which must be in no cell).
     fn set_weight(&mut self, v: u32, weight: f64);
-    /// Whether `(p, w)` conflicts with the positively oriented finite cell `v`.
+    /// Whether `q` conflicts with the positively oriented finite cell `v`.
     fn in_conflict_finite(
         &self,
         filter: &StaticFilter,
         points: &[Point3],
         v: [u32; 4],
-        p: Point3,
-        w: f64,
+        q: WeightedPoint3,
     ) -> bool;
-    /// Whether `(p, w)` conflicts with the infinite cell over hull facet `tri`, where `orient` is
-    /// the orientation of that cell with the infinite vertex replaced by `p`.
+    /// Whether `q` conflicts with the infinite cell over hull facet `tri`, where `orient` is
+    /// the orientation of that cell with the infinite vertex replaced by `q`'s point.
     fn beyond_hull_facet(
         &self,
         points: &[Point3],
         tri: [u32; 3],
         orient: Sign,
-        p: Point3,
-        w: f64,
+        q: WeightedPoint3,
     ) -> bool;
     /// Centre of the (orthogonal) sphere of finite cell `v`.
     fn center(&self, points: &[Point3], v: [u32; 4]) -> Point3;
@@ -92,9 +90,9 @@ impl ConflictKernel for Euclidean {
         filter: &StaticFilter,
         points: &[Point3],
         v: [u32; 4],
-        p: Point3,
-        _w: f64,
+        q: WeightedPoint3,
     ) -> bool {
+        let p = q.point;
         let (a, b, c, d) = (
             points[v[0] as usize],
             points[v[1] as usize],
@@ -113,10 +111,9 @@ impl ConflictKernel for Euclidean {
         points: &[Point3],
         tri: [u32; 3],
         orient: Sign,
-        p: Point3,
-        _w: f64,
+        q: WeightedPoint3,
     ) -> bool {
-        beyond_hull_facet_perturbed(tri.map(|v| points[v as usize]), orient, p)
+        beyond_hull_facet_perturbed(tri.map(|v| points[v as usize]), orient, q.point)
     }
 
     fn center(&self, points: &[Point3], v: [u32; 4]) -> Point3 {
@@ -188,13 +185,9 @@ impl ConflictKernel for Power {
         _filter: &StaticFilter,
         points: &[Point3],
         v: [u32; 4],
-        p: Point3,
-        w: f64,
+        q: WeightedPoint3,
     ) -> bool {
-        power_test_perturbed(
-            v.map(|x| self.weighted(points, x)),
-            WeightedPoint3::new(p, w),
-        )
+        power_test_perturbed(v.map(|x| self.weighted(points, x)), q)
     }
 
     fn beyond_hull_facet(
@@ -202,14 +195,9 @@ impl ConflictKernel for Power {
         points: &[Point3],
         tri: [u32; 3],
         orient: Sign,
-        p: Point3,
-        w: f64,
+        q: WeightedPoint3,
     ) -> bool {
-        power_beyond_hull_facet_perturbed(
-            tri.map(|x| self.weighted(points, x)),
-            orient,
-            WeightedPoint3::new(p, w),
-        )
+        power_beyond_hull_facet_perturbed(tri.map(|x| self.weighted(points, x)), orient, q)
     }
 
     fn center(&self, points: &[Point3], v: [u32; 4]) -> Point3 {

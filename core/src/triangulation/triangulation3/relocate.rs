@@ -91,18 +91,17 @@ impl<K: ConflictKernel> Triangulation3<K> {
         self.relocate(v, p, w, report, true)
     }
 
-    /// Moves finite vertex `v` back to `p` with weight `w`, where it was a vertex of this
-    /// triangulation before a move and every other vertex is where it was then (an undo). Such a
-    /// place is neither on the hull nor on another vertex, so, unlike [`Self::move_vertex`], it is
-    /// not checked (a check that refused it would keep a move the caller wanted undone).
+    /// Moves finite vertex `v` back to `place`, where it was a vertex of this triangulation
+    /// before a move and every other vertex is where it was then (an undo). Such a place is
+    /// neither on the hull nor on another vertex, so, unlike [`Self::move_vertex`], it is not
+    /// checked (a check that refused it would keep a move the caller wanted undone).
     pub fn move_vertex_back(
         &mut self,
         v: VertexId,
-        p: Point3,
-        w: f64,
+        place: WeightedPoint3,
         report: &mut MoveReport,
     ) -> Result<bool, TriangulationError> {
-        self.relocate(v, p, w, report, false)
+        self.relocate(v, place.point, place.weight, report, false)
     }
 
     /// Undoes the move of `v` that `report` records (a [`Self::move_vertex`] that returned
@@ -683,7 +682,8 @@ mod tests {
     #[test]
     fn moving_back_restores_the_cells_of_small_and_large_moves() {
         check_undo(0x2468_ace0_1357_9bdf, 11, |rt, v, p, w, report| {
-            rt.move_vertex_back(v, p, w, report).unwrap()
+            rt.move_vertex_back(v, WeightedPoint3::new(p, w), report)
+                .unwrap()
         });
     }
 
