@@ -6,6 +6,7 @@ use delamesh_core::complex::MeshComplex;
 use delamesh_core::kernel::Point3;
 use delamesh_core::oracle::{
     Aabb, CurveId, FeatureCurve, Oracle, SubdomainId, SurfaceHit, SurfacePoint, UnitBall,
+    UnitBallWithEquator,
 };
 use delamesh_core::refine::criteria::MeshCriteria;
 use delamesh_core::refine::{MeshOptions, mesh_domain};
@@ -47,48 +48,6 @@ impl<O: Oracle> Oracle for Twice<O> {
     }
 }
 
-/// The unit ball with its equator as a feature curve (the protected path of the mesher).
-struct BallWithEquator;
-
-impl Oracle for BallWithEquator {
-    fn bounding_box(&self) -> Aabb {
-        UnitBall.bounding_box()
-    }
-    fn subdomain(&self, p: Point3) -> SubdomainId {
-        UnitBall.subdomain(p)
-    }
-    fn segment_hits(&self, a: Point3, b: Point3, out: &mut Vec<SurfaceHit>) {
-        UnitBall.segment_hits(a, b, out)
-    }
-    fn ray_hits(&self, origin: Point3, dir: Point3, out: &mut Vec<SurfaceHit>) {
-        UnitBall.ray_hits(origin, dir, out)
-    }
-    fn initial_points(&self) -> Vec<SurfacePoint> {
-        UnitBall.initial_points()
-    }
-    fn feature_curves(&self) -> Vec<FeatureCurve> {
-        let points = (0..64)
-            .map(|i| {
-                let a = std::f64::consts::TAU * i as f64 / 64.0;
-                Point3::new(a.cos(), a.sin(), 0.0)
-            })
-            .collect();
-        vec![FeatureCurve {
-            id: CurveId(1),
-            points,
-            closed: true,
-        }]
-    }
-    fn project_to_curve(&self, _: CurveId, p: Point3) -> Point3 {
-        let q = Point3::new(p.x, p.y, 0.0);
-        if q.length() > 0.0 {
-            q.normalize()
-        } else {
-            Point3::X
-        }
-    }
-}
-
 /// The shortest edge of any tet, over the bounding box's diagonal.
 fn shortest_edge_ratio(m: &MeshComplex, diagonal: f64) -> f64 {
     (0..m.tets.len())
@@ -118,5 +77,5 @@ fn smooth_domain_takes_a_point_found_twice_once() {
 
 #[test]
 fn protected_domain_takes_a_point_found_twice_once() {
-    assert_meshes_as_once(&BallWithEquator, &Twice(BallWithEquator));
+    assert_meshes_as_once(&UnitBallWithEquator, &Twice(UnitBallWithEquator));
 }

@@ -318,44 +318,24 @@ pub(super) fn project(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::oracle::{Aabb, SubdomainId, SurfacePoint, UnitBall};
-
-    /// The unit ball with its equator as a feature curve, which it projects onto exactly.
-    struct Equator;
-
-    impl Oracle for Equator {
-        fn bounding_box(&self) -> Aabb {
-            UnitBall.bounding_box()
-        }
-        fn subdomain(&self, p: Point3) -> SubdomainId {
-            UnitBall.subdomain(p)
-        }
-        fn segment_hits(&self, a: Point3, b: Point3, out: &mut Vec<SurfaceHit>) {
-            UnitBall.segment_hits(a, b, out);
-        }
-        fn ray_hits(&self, origin: Point3, dir: Point3, out: &mut Vec<SurfaceHit>) {
-            UnitBall.ray_hits(origin, dir, out);
-        }
-        fn initial_points(&self) -> Vec<SurfacePoint> {
-            UnitBall.initial_points()
-        }
-        fn project_to_curve(&self, _: CurveId, p: Point3) -> Point3 {
-            Point3::new(p.x, p.y, 0.0).normalize()
-        }
-    }
+    use crate::oracle::UnitBallWithEquator;
 
     /// A vertex sliding along a polyline that samples the equator lands on the equator, off
     /// the polyline's chords.
     #[test]
     fn a_slide_puts_the_vertex_on_the_curve_the_polyline_samples() {
-        let at = |k: usize| {
-            let t = std::f64::consts::TAU * k as f64 / 64.0;
-            Point3::new(t.cos(), t.sin(), 0.0)
-        };
-        let line = Polyline::new(&(0..64).map(at).collect::<Vec<_>>(), true).expect("valid");
+        let equator = UnitBallWithEquator.feature_curves().remove(0);
+        let at = |k: usize| equator.points[k];
+        let line = Polyline::new(&equator.points, true).expect("valid");
         // Chords of four segments leave the circle by 1 − cos(π/16) ≈ 0.019.
-        let slide = Slide::new((CurveId(1), &line), &Equator, at(8), [at(6), at(10)], 0.05)
-            .expect("free to slide");
+        let slide = Slide::new(
+            (CurveId(1), &line),
+            &UnitBallWithEquator,
+            at(8),
+            [at(6), at(10)],
+            0.05,
+        )
+        .expect("free to slide");
         for d in [-0.07, -0.02, 0.03, 0.08] {
             let q = slide.to(d).expect("between its neighbours");
             assert!((q.length() - 1.0).abs() < 1e-15, "{q} off the equator");

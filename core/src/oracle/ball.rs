@@ -1,7 +1,9 @@
 //! The unit ball, answered exactly by solving quadratics: the analytic domain (no plugin, no
 //! file) that tests and benches across the workspace share.
 
-use super::{Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint};
+use super::{
+    Aabb, CurveId, FeatureCurve, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,
+};
 use crate::kernel::Point3;
 
 /// The open unit ball at the origin: subdomain 1 inside, its sphere patch 1.
@@ -77,6 +79,60 @@ impl Oracle for UnitBall {
                 }
             })
             .collect()
+    }
+}
+
+/// [`UnitBall`] with its equator as a feature curve (id 1, a polyline of
+/// [`EQUATOR_POINTS`] points), which it projects onto exactly: the analytic domain of the
+/// protected mesher's tests.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct UnitBallWithEquator;
+
+/// Points of the polyline [`UnitBallWithEquator`] gives for its equator.
+pub const EQUATOR_POINTS: usize = 64;
+
+impl Oracle for UnitBallWithEquator {
+    fn bounding_box(&self) -> Aabb {
+        UnitBall.bounding_box()
+    }
+
+    fn subdomain(&self, p: Point3) -> SubdomainId {
+        UnitBall.subdomain(p)
+    }
+
+    fn segment_hits(&self, a: Point3, b: Point3, out: &mut Vec<SurfaceHit>) {
+        UnitBall.segment_hits(a, b, out);
+    }
+
+    fn ray_hits(&self, origin: Point3, dir: Point3, out: &mut Vec<SurfaceHit>) {
+        UnitBall.ray_hits(origin, dir, out);
+    }
+
+    fn initial_points(&self) -> Vec<SurfacePoint> {
+        UnitBall.initial_points()
+    }
+
+    fn feature_curves(&self) -> Vec<FeatureCurve> {
+        let points = (0..EQUATOR_POINTS)
+            .map(|k| {
+                let t = std::f64::consts::TAU * k as f64 / EQUATOR_POINTS as f64;
+                Point3::new(t.cos(), t.sin(), 0.0)
+            })
+            .collect();
+        vec![FeatureCurve {
+            id: CurveId(1),
+            points,
+            closed: true,
+        }]
+    }
+
+    fn project_to_curve(&self, _: CurveId, p: Point3) -> Point3 {
+        let q = Point3::new(p.x, p.y, 0.0);
+        if q.length_squared() > 0.0 {
+            q.normalize()
+        } else {
+            Point3::X
+        }
     }
 }
 

@@ -135,6 +135,16 @@ impl Defects {
     }
 }
 
+/// The facets between two labels, once from each side inside a subdomain: `sides[k]` is the
+/// subdomain of `facets[k]`'s cell, and `once` keeps one side of each facet (the lower label's,
+/// or the only one against the outside).
+struct LabelBoundary {
+    facets: Vec<BoundaryFacet>,
+    triangles: Vec<[u32; 3]>,
+    sides: Vec<SubdomainId>,
+    once: Vec<usize>,
+}
+
 /// Look at the complex the labels of `cells` give. The topology rule is applied only when
 /// `topology` is set (the guards allow it) and the boundary is a 2-manifold.
 pub(crate) fn find_defects<T: Triangulation<Point = Point3>>(
@@ -144,99 +154,8 @@ pub(crate) fn find_defects<T: Triangulation<Point = Point3>>(
     topology: bool,
 ) -> Defects {
     let mut defects = Defects::default();
-    // Every facet between two labels, once from each side inside a subdomain: `sides[k]` is the
-    // subdomain of `boundary[k]`'s cell, and `once` keeps one side of each facet (the lower
-    // label's, or the only one against the outside).
-    let mut boundary: Vec<BoundaryFacet> = Vec::new();
-    let mut triangles: Vec<[u32; 3]> = Vec::new();
-    let mut sides: Vec<SubdomainId> = Vec::new();
-    let mut once: Vec<usize> = Vec::new();
-    for c in tr.finite_cells() {
-        let label = cells.subdomain(c);
-        if label == OUTSIDE {
-            continue;
-        }
-        let cell = cell_vertices(tr, c);
-        if is_flat(&cell.map(|v| tr.point(v))) {
-            defects.flat.push(c);
-        }
-        for i in 0..4 {
-            let n = tr.neighbor(c, i);
-            let other = if tr.is_infinite_cell(n) {
-                OUTSIDE
-            } else {
-                cells.subdomain(n)
-            };
-            if other != label {
-                if other == OUTSIDE || label < other {
-                    once.push(triangles.len());
-                }
-                boundary.push(BoundaryFacet { cell: c, index: i });
-                triangles.push(facet_vertices(&cell, i).map(|v| v.0));
-                sides.push(label);
-            }
-        }
-    }
-    let size = |k: usize| {
-        let [a, b, c] = triangles[k].map(|v| tr.point(crate::triangulation::VertexId(v)));
-        circumradius2(a, b, c)
-    };
-    // Each subdomain's boundary must be a 2-manifold, interfaces included (where three labels
-    // meet along a curve the union of the interfaces is not, and need not be, one), and so must
-    // the domain's (listed under `OUTSIDE`).
-    let mut by_label: BTreeMap<SubdomainId, Vec<usize>> = BTreeMap::new();
-    for (k, &label) in sides.iter().enumerate() {
-        by_label.entry(label).or_default().push(k);
-    }
-    // And the boundary of the whole domain, against the outside (with one subdomain, the same).
-    if by_label.len() > 1 {
-        let outer = once
-            .iter()
-            .copied()
-            .filter(|&k| {
-                let f = boundary[k];
-                let n = tr.neighbor(f.cell, f.index);
-                tr.is_infinite_cell(n) || cells.subdomain(n) == OUTSIDE
-            })
-            .collect();
-        by_label.insert(OUTSIDE, outer);
-    }
-    // Per defect, the facets (of one subdomain's boundary) around it.
-    let mut spots: Vec<Vec<usize>> = Vec::new();
-    let mut pinched: Vec<u32> = Vec::new();
-    for facets in by_label.values() {
-        let soup: Vec<[u32; 3]> = facets.iter().map(|&k| triangles[k]).collect();
-        let (edges, vertices) = non_manifold_elements(&soup);
-        let mut around: BTreeMap<u32, Vec<usize>> = edges
-            .iter()
-            .flatten()
-            .chain(&vertices)
-            .map(|&v| (v, Vec::new()))
-            .collect();
-        if around.is_empty() {
-            continue;
-        }
-        for &k in facets {
-            for v in triangles[k] {
-                if let Some(list) = around.get_mut(&v) {
-                    list.push(k);
-                }
-            }
-        }
-        for e in &edges {
-            spots.push(
-                around[&e[0]]
-                    .iter()
-                    .copied()
-                    .filter(|&k| triangles[k].contains(&e[1]))
-                    .collect(),
-            );
-        }
-        for v in &vertices {
-            spots.push(around[v].clone());
-        }
-        pinched.extend(edges.iter().flatten().chain(&vertices));
-    }
+    let boundary = label_boundary(tr, cells, &mut defects.flat);
+    let (spots, pinched) = non_manifold_spots(tr, cells, &boundary);
     defects.non_manifold = !spots.is_empty();
     defects.stuck = pinched
         .iter()
@@ -247,6 +166,7 @@ pub(crate) fn find_defects<T: Triangulation<Point = Point3>>(
     defects.stuck.dedup();
     if options.manifold && defects.non_manifold {
         // The biggest facet around each spot is refined.
+        let size = |k: usize| circumradius2_of(tr, boundary.triangles[k]);
         let mut chosen: Vec<usize> = spots
             .iter()
             .filter_map(|list| {
@@ -259,61 +179,181 @@ pub(crate) fn find_defects<T: Triangulation<Point = Point3>>(
         chosen.dedup();
         defects
             .facets
-            .extend(chosen.into_iter().map(|k| boundary[k]));
+            .extend(chosen.into_iter().map(|k| boundary.facets[k]));
     }
-    // The topology rule compares the surfaces between labels (each facet once) with the input's.
-    let triangles: Vec<[u32; 3]> = once.iter().map(|&k| triangles[k]).collect();
-    let boundary: Vec<BoundaryFacet> = once.iter().map(|&k| boundary[k]).collect();
-    let size = |k: usize| {
-        let [a, b, c] = triangles[k].map(|v| tr.point(crate::triangulation::VertexId(v)));
-        circumradius2(a, b, c)
-    };
     if !defects.non_manifold
         && let Some(input) = &options.input_euler
     {
-        let (component, euler) = component_euler_characteristics(&triangles);
-        let mut count = vec![0usize; euler.len()];
-        for &k in &component {
-            count[k as usize] += 1;
-        }
-        let (offending, unmatched) = match_components(input, &euler, &count);
-        defects.topology_gap = (euler.iter().sum::<i64>() - input.iter().sum::<i64>())
-            .unsigned_abs()
-            + euler.len().abs_diff(input.len()) as u64;
-        if topology {
-            for &k in &offending {
-                let facets: Vec<usize> = (0..triangles.len())
-                    .filter(|&f| component[f] as usize == k)
-                    .collect();
-                let largest = facets.iter().map(|&f| size(f)).fold(0.0, f64::max);
-                defects.facets.extend(
-                    facets
-                        .into_iter()
-                        .filter(|&f| size(f) >= 0.25 * largest)
-                        .map(|f| boundary[f]),
-                );
-            }
-        }
-        let extra = offending.len().saturating_sub(unmatched.len());
-        defects.extra_components = extra;
-        defects.topology_warnings = unmatched
-            .iter()
-            .copied()
-            .map(|i| {
-                format!(
-                    "input component {} (Euler characteristic {}) is not reproduced by the mesh boundary",
-                    i + 1,
-                    input[i]
-                )
-            })
-            .collect();
-        if extra > 0 {
-            defects.topology_warnings.push(format!(
-                "the mesh boundary has {extra} component(s) more than the input"
-            ));
-        }
+        topology_defects(tr, &boundary, input, topology, &mut defects);
     }
     defects
+}
+
+/// The facets between labels, and the flat cells inside the domain into `flat`.
+fn label_boundary<T: Triangulation<Point = Point3>>(
+    tr: &T,
+    cells: &CellLevel<'_>,
+    flat: &mut Vec<CellId>,
+) -> LabelBoundary {
+    let mut b = LabelBoundary {
+        facets: Vec::new(),
+        triangles: Vec::new(),
+        sides: Vec::new(),
+        once: Vec::new(),
+    };
+    for c in tr.finite_cells() {
+        let label = cells.subdomain(c);
+        if label == OUTSIDE {
+            continue;
+        }
+        let cell = cell_vertices(tr, c);
+        if is_flat(&cell.map(|v| tr.point(v))) {
+            flat.push(c);
+        }
+        for i in 0..4 {
+            let n = tr.neighbor(c, i);
+            let other = if tr.is_infinite_cell(n) {
+                OUTSIDE
+            } else {
+                cells.subdomain(n)
+            };
+            if other != label {
+                if other == OUTSIDE || label < other {
+                    b.once.push(b.triangles.len());
+                }
+                b.facets.push(BoundaryFacet { cell: c, index: i });
+                b.triangles.push(facet_vertices(&cell, i).map(|v| v.0));
+                b.sides.push(label);
+            }
+        }
+    }
+    b
+}
+
+/// Squared circumradius of the triangle of vertices `t`.
+fn circumradius2_of<T: Triangulation<Point = Point3>>(tr: &T, t: [u32; 3]) -> f64 {
+    let [a, b, c] = t.map(|v| tr.point(VertexId(v)));
+    circumradius2(a, b, c)
+}
+
+/// Where a boundary is not a 2-manifold: per spot (a non-manifold edge or vertex), the facets
+/// around it, by index into `b`; and the vertices of those edges and the vertices themselves.
+/// Each subdomain's boundary must be a 2-manifold, interfaces included (where three labels meet
+/// along a curve the union of the interfaces is not, and need not be, one), and so must the
+/// domain's (listed under `OUTSIDE`).
+fn non_manifold_spots<T: Triangulation<Point = Point3>>(
+    tr: &T,
+    cells: &CellLevel<'_>,
+    b: &LabelBoundary,
+) -> (Vec<Vec<usize>>, Vec<u32>) {
+    let mut by_label: BTreeMap<SubdomainId, Vec<usize>> = BTreeMap::new();
+    for (k, &label) in b.sides.iter().enumerate() {
+        by_label.entry(label).or_default().push(k);
+    }
+    // And the boundary of the whole domain, against the outside (with one subdomain, the same).
+    if by_label.len() > 1 {
+        let outer = b
+            .once
+            .iter()
+            .copied()
+            .filter(|&k| {
+                let f = b.facets[k];
+                let n = tr.neighbor(f.cell, f.index);
+                tr.is_infinite_cell(n) || cells.subdomain(n) == OUTSIDE
+            })
+            .collect();
+        by_label.insert(OUTSIDE, outer);
+    }
+    let mut spots: Vec<Vec<usize>> = Vec::new();
+    let mut pinched: Vec<u32> = Vec::new();
+    for facets in by_label.values() {
+        let soup: Vec<[u32; 3]> = facets.iter().map(|&k| b.triangles[k]).collect();
+        let (edges, vertices) = non_manifold_elements(&soup);
+        let mut around: BTreeMap<u32, Vec<usize>> = edges
+            .iter()
+            .flatten()
+            .chain(&vertices)
+            .map(|&v| (v, Vec::new()))
+            .collect();
+        if around.is_empty() {
+            continue;
+        }
+        for &k in facets {
+            for v in b.triangles[k] {
+                if let Some(list) = around.get_mut(&v) {
+                    list.push(k);
+                }
+            }
+        }
+        for e in &edges {
+            spots.push(
+                around[&e[0]]
+                    .iter()
+                    .copied()
+                    .filter(|&k| b.triangles[k].contains(&e[1]))
+                    .collect(),
+            );
+        }
+        for v in &vertices {
+            spots.push(around[v].clone());
+        }
+        pinched.extend(edges.iter().flatten().chain(&vertices));
+    }
+    (spots, pinched)
+}
+
+/// The topology rule: the surfaces between labels (each facet once) against the `input`'s
+/// Euler characteristics. The gap and the warnings go into `defects`, and with `refine` the
+/// biggest facets of each offending component too.
+fn topology_defects<T: Triangulation<Point = Point3>>(
+    tr: &T,
+    b: &LabelBoundary,
+    input: &[i64],
+    refine: bool,
+    defects: &mut Defects,
+) {
+    let triangles: Vec<[u32; 3]> = b.once.iter().map(|&k| b.triangles[k]).collect();
+    let size = |k: usize| circumradius2_of(tr, triangles[k]);
+    let (component, euler) = component_euler_characteristics(&triangles);
+    let mut count = vec![0usize; euler.len()];
+    for &k in &component {
+        count[k as usize] += 1;
+    }
+    let (offending, unmatched) = match_components(input, &euler, &count);
+    defects.topology_gap = (euler.iter().sum::<i64>() - input.iter().sum::<i64>()).unsigned_abs()
+        + euler.len().abs_diff(input.len()) as u64;
+    if refine {
+        for &k in &offending {
+            let facets: Vec<usize> = (0..triangles.len())
+                .filter(|&f| component[f] as usize == k)
+                .collect();
+            let largest = facets.iter().map(|&f| size(f)).fold(0.0, f64::max);
+            defects.facets.extend(
+                facets
+                    .into_iter()
+                    .filter(|&f| size(f) >= 0.25 * largest)
+                    .map(|f| b.facets[b.once[f]]),
+            );
+        }
+    }
+    let extra = offending.len().saturating_sub(unmatched.len());
+    defects.extra_components = extra;
+    defects.topology_warnings = unmatched
+        .iter()
+        .copied()
+        .map(|i| {
+            format!(
+                "input component {} (Euler characteristic {}) is not reproduced by the mesh boundary",
+                i + 1,
+                input[i]
+            )
+        })
+        .collect();
+    if extra > 0 {
+        defects.topology_warnings.push(format!(
+            "the mesh boundary has {extra} component(s) more than the input"
+        ));
+    }
 }
 
 /// Match the mesh's boundary components to the input's closed components by Euler
