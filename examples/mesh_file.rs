@@ -8,7 +8,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let settings = MeshSettings::builder().facet_angle(25.0).build()?;
     let mut meshed = Mesher::new(settings).mesh_file(input.as_ref())?;
     meshed.write(output.as_ref(), &Default::default())?;
-    let report = meshed.report().ok_or("no input surface")?;
+    let report = meshed.report();
     let (tets, angle) = (report.counts.tets, report.quality.min_dihedral_deg);
     println!("{output}: {tets} tetrahedra, smallest dihedral angle {angle:.1}°");
     Ok(())

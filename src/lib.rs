@@ -15,9 +15,9 @@
 //! let mut meshed = Mesher::new(settings).mesh_file("models/sphere.off".as_ref())?;
 //! let dir = tempfile::tempdir().expect("a temporary directory");
 //! meshed.write(&dir.path().join("sphere.vtu"), &Default::default())?;
-//! let report = meshed.report().expect("a surface input has a report");
+//! let report = meshed.report();
 //! let b = &report.boundary;
-//! assert!(b.closed && b.manifold && b.euler_characteristic == b.input_euler_characteristic);
+//! assert!(b.closed && b.manifold && Some(b.euler_characteristic) == b.input_euler_characteristic);
 //! assert_eq!(report.quality.inverted_tets, 0);
 //! # Ok::<(), delamesh::Error>(())
 //! ```
@@ -125,7 +125,7 @@ pub use delaunay::{Tetrahedralization, delaunay};
 pub use domain::Domain;
 pub use error::Error;
 pub use pipeline::{Meshed, Mesher, ProgressFn, mesh_file};
-pub use report::{Report, Times};
+pub use report::{Report, SubdomainReport, Times};
 pub use settings::{
     FeatureSettings, ImageSettings, MeshSettings, MeshSettingsBuilder, SettingsError,
 };

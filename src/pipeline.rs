@@ -4,7 +4,7 @@
 use crate::domain::Domain;
 use crate::error::Error;
 use crate::plugins::load_domain;
-use crate::report::{Report, ReportInput, Times};
+use crate::report::{InputSurface, Report, ReportInput, Times};
 use crate::settings::{FeatureSettings, MeshSettings};
 use crate::sizing::{Fields, grade};
 use delamesh_core::complex::MeshComplex;
@@ -556,18 +556,27 @@ impl Meshed {
         Ok(())
     }
 
-    /// The report comparing the mesh with the input surface; `None` for a plugin's domain, which
-    /// has no input surface.
-    pub fn report(&mut self) -> Option<Report> {
+    /// The report of the mesh: counts, times, quality, volumes, boundary topology, and for an
+    /// input triangle surface how closely the mesh follows it.
+    pub fn report(&mut self) -> Report {
         let t = Instant::now();
-        let input = self.input.as_ref()?;
-        let polyhedral = self.domain.polyhedral()?;
+        let surface = match (&self.input, self.domain.polyhedral()) {
+            (Some(input), Some(polyhedral)) => Some(InputSurface {
+                points: &input.positions,
+                triangles: &input.triangles,
+                polyhedral,
+            }),
+            _ => None,
+        };
+        let input_euler = match &self.domain {
+            Domain::Subdivision(o) => Some(o.euler_characteristics()),
+            _ => None,
+        };
         let mut report = Report::new(&ReportInput {
             input: &self.name,
             output: self.output.as_deref().unwrap_or_default(),
-            input_points: &input.positions,
-            input_triangles: &input.triangles,
-            polyhedral,
+            surface,
+            input_euler,
             domain: self.domain.oracle(),
             criteria: &self.criteria,
             complex: &self.complex,
@@ -577,7 +586,7 @@ impl Meshed {
         self.times.quality = t.elapsed();
         self.times.total = self.started.elapsed();
         report.times_s = self.times.seconds();
-        Some(report)
+        report
     }
 }
 

@@ -1,6 +1,7 @@
-//! The report of a meshing run: counts, timings, quality, approximation of the input and topology
-//! of the boundary, as plain data (serialisable with the `serde` feature; the command line writes
-//! it as JSON with `--report`).
+//! The report of a meshing run: counts, timings, quality, volume per subdomain, topology of the
+//! boundary and, for an input triangle surface, how closely the mesh approximates it, as plain
+//! data (serialisable with the `serde` feature; the command line writes it as JSON with
+//! `--report`).
 
 use delamesh_core::complex::{MeshComplex, VertexDimension};
 use delamesh_core::kernel::Point3;
@@ -15,7 +16,7 @@ use std::time::Duration;
 #[cfg(feature = "serde")]
 use serde::Serialize;
 
-/// Everything `--report` says about a mesh of a surface's inside.
+/// Everything `--report` says about a mesh.
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(Serialize))]
 pub struct Report {
@@ -35,8 +36,12 @@ pub struct Report {
     pub quality: QualityReport,
     /// Quality before and after each optimisation step.
     pub optimization: OptimizationReport,
-    /// How close the mesh is to the input.
-    pub approximation: Approximation,
+    /// Tets and volume of each subdomain, by label.
+    pub subdomains: Vec<SubdomainReport>,
+    /// How close the mesh is to the input triangle surface; absent for a domain without one (an
+    /// image, a subdivision surface, a plugin's domain).
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub approximation: Option<Approximation>,
     /// Topology of the mesh boundary and of the input.
     pub boundary: BoundaryReport,
     /// What was repaired or reinterpreted in the input surface (empty when nothing was).
@@ -193,7 +198,8 @@ pub struct CriteriaReport {
     pub cell_size: f64,
 }
 
-/// Sizes of the input and of the mesh.
+/// Sizes of the input and of the mesh (the input's are 0 for a domain without an input triangle
+/// surface).
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(Serialize))]
 #[allow(missing_docs)]
@@ -242,6 +248,18 @@ pub struct QualityReport {
     pub min_dihedral_histogram: Vec<u64>,
 }
 
+/// One subdomain of the mesh.
+#[derive(Clone, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(Serialize))]
+pub struct SubdomainReport {
+    /// Its label (an image's label value).
+    pub subdomain: u32,
+    /// Its tetrahedra.
+    pub tets: usize,
+    /// Their volume.
+    pub volume: f64,
+}
+
 /// How close the mesh is to the input.
 #[derive(Clone, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(Serialize))]
@@ -272,21 +290,31 @@ pub struct BoundaryReport {
     pub euler_characteristic: i64,
     /// Connected components of the boundary.
     pub components: usize,
-    /// V - E + F of the input.
-    pub input_euler_characteristic: i64,
-    /// Connected components of the input.
-    pub input_components: usize,
+    /// V - E + F of the input surface (of the control mesh for a subdivision surface); absent
+    /// for a domain without one.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub input_euler_characteristic: Option<i64>,
+    /// Connected components of the input surface; absent for a domain without one.
+    #[cfg_attr(feature = "serde", serde(skip_serializing_if = "Option::is_none"))]
+    pub input_components: Option<usize>,
     /// Boundary facets whose dual Voronoi edge the surface level did not find crossing the input.
     pub unrestricted_facets: usize,
+}
+
+/// The input triangle surface and its oracle, which the approximation is measured against.
+pub(crate) struct InputSurface<'a> {
+    pub points: &'a [Point3],
+    pub triangles: &'a [[u32; 3]],
+    pub polyhedral: &'a PolyhedralOracle,
 }
 
 /// What the report is computed from.
 pub(crate) struct ReportInput<'a> {
     pub input: &'a str,
     pub output: &'a str,
-    pub input_points: &'a [Point3],
-    pub input_triangles: &'a [[u32; 3]],
-    pub polyhedral: &'a PolyhedralOracle,
+    pub surface: Option<InputSurface<'a>>,
+    /// Euler characteristic of each closed component of the input, when it has a topology.
+    pub input_euler: Option<&'a [i64]>,
     pub domain: &'a dyn Oracle,
     pub criteria: &'a MeshCriteria,
     pub complex: &'a MeshComplex,
@@ -370,16 +398,20 @@ impl Report {
     /// The report of a mesh; `times_s` is left to the caller, which knows when the run ended.
     pub(crate) fn new(r: &ReportInput<'_>) -> Report {
         let c = r.complex;
-        let oracle = r.polyhedral;
         let criteria = r.criteria;
-        let center = oracle.bounding_box().center();
+        let center = r.domain.bounding_box().center();
         let q: TetQuality = quality::tet_quality((0..c.tets.len()).map(|t| c.tet_points(t)));
-        let (to_input, to_mesh) = hausdorff(c, oracle);
-        let input_topology = quality::surface_topology(r.input_triangles);
         let topology = quality::surface_topology(&c.facets);
-        let mut subdomains = c.tet_subdomain.clone();
-        subdomains.sort_unstable();
-        subdomains.dedup();
+        let subdomains = subdomain_volumes(c);
+        let input_topology = r
+            .surface
+            .as_ref()
+            .map(|s| quality::surface_topology(s.triangles));
+        let (input_euler, input_components) = match (&input_topology, r.input_euler) {
+            (Some(t), _) => (Some(t.euler_characteristic), Some(t.components)),
+            (None, Some(e)) => (Some(e.iter().sum()), Some(e.len())),
+            (None, None) => (None, None),
+        };
         Report {
             input: r.input.to_string(),
             output: r.output.to_string(),
@@ -391,8 +423,8 @@ impl Report {
                 cell_size: criteria.cell.size.at(center, 1),
             },
             counts: Counts {
-                input_vertices: r.input_points.len(),
-                input_triangles: r.input_triangles.len(),
+                input_vertices: r.surface.as_ref().map_or(0, |s| s.points.len()),
+                input_triangles: r.surface.as_ref().map_or(0, |s| s.triangles.len()),
                 vertices: c.num_vertices(),
                 surface_vertices: c
                     .vertex_dimension
@@ -420,27 +452,53 @@ impl Report {
                 min_dihedral_histogram: q.min_dihedral_histogram.counts.clone(),
             },
             optimization: OptimizationReport::new(r.optimization),
-            approximation: Approximation {
-                hausdorff_mesh_to_input: to_input,
-                hausdorff_input_to_mesh: to_mesh,
-                hausdorff: to_input.max(to_mesh),
-                volume: q.volume,
-                input_volume: oracle.domain_volume(),
-                volume_ratio: q.volume / oracle.domain_volume(),
-            },
+            subdomains,
+            approximation: r.surface.as_ref().map(|s| {
+                let (to_input, to_mesh) = hausdorff(c, s.polyhedral);
+                Approximation {
+                    hausdorff_mesh_to_input: to_input,
+                    hausdorff_input_to_mesh: to_mesh,
+                    hausdorff: to_input.max(to_mesh),
+                    volume: q.volume,
+                    input_volume: s.polyhedral.domain_volume(),
+                    volume_ratio: q.volume / s.polyhedral.domain_volume(),
+                }
+            }),
             boundary: BoundaryReport {
                 closed: topology.border_edges == 0,
                 manifold: topology.non_manifold_edges == 0 && topology.non_manifold_vertices == 0,
                 euler_characteristic: topology.euler_characteristic,
                 components: topology.components,
-                input_euler_characteristic: input_topology.euler_characteristic,
-                input_components: input_topology.components,
+                input_euler_characteristic: input_euler,
+                input_components,
                 unrestricted_facets: c.facet_patch.iter().filter(|&&p| p.0 == 0).count(),
             },
-            repairs: oracle.repairs().describe(),
+            repairs: r
+                .surface
+                .as_ref()
+                .map(|s| s.polyhedral.repairs().describe())
+                .unwrap_or_default(),
             features: FeaturesReport::new(r.domain, criteria, c),
         }
     }
+}
+
+/// Tets and volume of each subdomain, by increasing label.
+fn subdomain_volumes(c: &MeshComplex) -> Vec<SubdomainReport> {
+    let mut by_label: std::collections::BTreeMap<u32, (usize, f64)> = Default::default();
+    for (t, s) in c.tet_subdomain.iter().enumerate() {
+        let entry = by_label.entry(s.0).or_default();
+        entry.0 += 1;
+        entry.1 += quality::tet_volume(&c.tet_points(t));
+    }
+    by_label
+        .into_iter()
+        .map(|(subdomain, (tets, volume))| SubdomainReport {
+            subdomain,
+            tets,
+            volume,
+        })
+        .collect()
 }
 
 /// The two sides of the sampled Hausdorff distance between the mesh boundary and the input.

@@ -127,14 +127,43 @@ fn an_image_is_meshed_with_its_label_values_as_subdomains() {
     let image = dir.path().join("balls.inr.gz");
     write_nested_balls(&image);
     let out = dir.path().join("balls.mesh");
+    let report = dir.path().join("balls.json");
     delamesh()
         .args(["mesh", "-q"])
         .arg(&image)
         .arg("-o")
         .arg(&out)
-        .args(["--cell-size-per-label", "2=0.8"])
+        .args(["--cell-size-per-label", "2=0.8", "--report"])
+        .arg(&report)
         .assert()
         .success();
+    // The report gives each label's volume: balls of 4 and 8 voxels of 0.5 (the shell is the
+    // big ball less the small one), to a tenth (the interpolation and the facets cut the
+    // corners of a ball four voxels wide); no input surface to compare with.
+    let r: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&report).expect("report written")).expect("JSON");
+    let ball = |radius: f64| 4.0 / 3.0 * std::f64::consts::PI * radius.powi(3);
+    let volumes: Vec<(u64, f64)> = r["subdomains"]
+        .as_array()
+        .expect("subdomains")
+        .iter()
+        .map(|s| {
+            (
+                s["subdomain"].as_u64().expect("label"),
+                s["volume"].as_f64().expect("volume"),
+            )
+        })
+        .collect();
+    assert_eq!(volumes.iter().map(|v| v.0).collect::<Vec<_>>(), [2, 5]);
+    for ((_, volume), expected) in volumes.iter().zip([ball(2.0), ball(4.0) - ball(2.0)]) {
+        assert!(
+            (volume / expected - 1.0).abs() < 0.1,
+            "{volume} vs {expected}"
+        );
+    }
+    assert!(r.get("approximation").is_none());
+    assert_eq!(r["boundary"]["closed"], true);
+    assert_eq!(r["quality"]["inverted_tets"], 0);
     let text = std::fs::read_to_string(&out).expect("output written");
     // MEDIT tetrahedra lines end with their subdomain: the labels 2 and 5 themselves.
     let tets = text.split("Tetrahedra").nth(1).expect("tetrahedra");

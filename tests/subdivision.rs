@@ -44,7 +44,7 @@ fn settings_for(m: &PolygonMesh, options: SubdivisionOptions) -> MeshSettings {
 #[test]
 fn closed_control_meshes_give_closed_manifold_boundaries_of_their_topology() {
     for m in [cube(), octahedron(), torus_grid(8, 6), genus_two()] {
-        let meshed = mesh(&m, SubdivisionOptions::default());
+        let mut meshed = mesh(&m, SubdivisionOptions::default());
         let c = &meshed.complex;
         let t = surface_topology(&c.facets);
         assert_eq!(t.border_edges, 0, "open boundary");
@@ -52,6 +52,10 @@ fn closed_control_meshes_give_closed_manifold_boundaries_of_their_topology() {
         assert_eq!(t.components, 1);
         assert_eq!(t.euler_characteristic, euler_characteristic(&m));
         assert!(meshed.warnings.is_empty(), "{:?}", meshed.warnings);
+        // The report compares the boundary with the control mesh's topology.
+        let b = meshed.report().boundary;
+        assert_eq!(b.input_euler_characteristic, Some(euler_characteristic(&m)));
+        assert_eq!((b.input_components, b.components), (Some(1), 1));
     }
 }
 

@@ -6,7 +6,6 @@ use anyhow::{Result, bail};
 use clap::Args;
 use delamesh::{Error, FeatureSettings, MeshSettings, Meshed, Mesher, WriteOptions};
 use delamesh_core::refine::Progress;
-use delamesh_formats::image::is_image_path;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 use std::io::IsTerminal;
@@ -170,20 +169,6 @@ impl MeshArgs {
 }
 
 pub fn run(args: &MeshArgs) -> Result<()> {
-    if args.plugin.plugin.is_some() && args.report.is_some() {
-        bail!(
-            "--report compares the mesh with an input surface and is not available with --plugin"
-        );
-    }
-    let image = args.input.as_deref().is_some_and(is_image_path);
-    if image && args.report.is_some() {
-        bail!("--report compares the mesh with an input surface and is not available for images");
-    }
-    if args.subdivision.is_some() && args.report.is_some() {
-        bail!(
-            "--report compares the mesh with an input surface and is not available with --subdivision"
-        );
-    }
     // Every output is checked before any work: a typo in a folder name costs nothing.
     delamesh_formats::check_mesh_output(&args.output, None)?;
     if let Some(report) = &args.report {
@@ -300,10 +285,7 @@ fn progress_bar(quiet: bool) -> ProgressBar {
 /// The library's report as JSON, written like the meshes (atomically, same permissions): readers
 /// never see half a report.
 fn write_report(path: &Path, meshed: &mut Meshed) -> Result<()> {
-    let Some(report) = meshed.report() else {
-        bail!("--report needs an input surface");
-    };
-    write_json_atomically(path, &report)
+    write_json_atomically(path, &meshed.report())
 }
 
 fn write_json_atomically(path: &Path, value: &impl Serialize) -> Result<()> {
