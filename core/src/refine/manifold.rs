@@ -16,6 +16,7 @@ use super::geometry::{cell_vertices, is_flat};
 use crate::complex::signed_volume;
 use crate::kernel::Point3;
 use crate::oracle::{OUTSIDE, SubdomainId};
+use crate::quality::dihedral_angles_deg;
 use crate::triangulation::{CellId, Triangulation, VertexId};
 use crate::union_find::UnionFind;
 use std::collections::{BTreeMap, BTreeSet};
@@ -334,6 +335,61 @@ pub(crate) fn remove_stray_pieces<T: Triangulation<Point = Point3>>(
 /// Largest piece [`remove_stray_pieces`] relabels, as a fraction of the domain's volume.
 pub const STRAY_VOLUME: f64 = 1e-3;
 
+/// Smallest dihedral angle (degrees) under which a cell alone in its subdomain is given the label
+/// around it ([`absorb_sliver_islands`]).
+const ISLAND_SLIVER_DEG: f64 = 5.0;
+
+/// Give the label around it to each cell that is a component of its subdomain on its own (its
+/// four neighbours all of one other label) and a sliver (smallest dihedral angle under
+/// [`ISLAND_SLIVER_DEG`]). Such a cell is all refinement made of a blob below its floor (a
+/// speckle voxel of an image): four boundary points nearly in a plane, with next to no volume,
+/// which no optimiser can mend since each of its vertices lies on its boundary. Cells are taken
+/// in order and see the labels given before them. Returns how many were relabelled.
+pub(crate) fn absorb_sliver_islands<T: Triangulation<Point = Point3>>(
+    tr: &T,
+    cells: &mut CellLevel<'_>,
+    result: &mut Relabelling,
+) -> usize {
+    let label = |cells: &CellLevel<'_>, c: CellId| {
+        if tr.is_infinite_cell(c) {
+            OUTSIDE
+        } else {
+            cells.subdomain(c)
+        }
+    };
+    let candidates: Vec<CellId> = tr.finite_cells().collect();
+    let mut absorbed = 0;
+    for c in candidates {
+        let own = cells.subdomain(c);
+        if own == OUTSIDE {
+            continue;
+        }
+        let around = (0..4).map(|i| label(cells, tr.neighbor(c, i)));
+        let Some(to) = around.clone().next() else {
+            continue;
+        };
+        if to == own || around.into_iter().any(|l| l != to) {
+            continue;
+        }
+        let p = cell_vertices(tr, c).map(|w| tr.point(w));
+        let smallest = dihedral_angles_deg(&p)
+            .into_iter()
+            .fold(f64::INFINITY, f64::min);
+        if smallest.is_nan() || smallest >= ISLAND_SLIVER_DEG {
+            continue;
+        }
+        if to == OUTSIDE {
+            result.cells_out += 1;
+            result.volume_change -= volume_of(tr, c);
+        } else {
+            result.cells_across += 1;
+        }
+        cells.set_subdomain(c, to);
+        absorbed += 1;
+    }
+    absorbed
+}
+
 fn volume_of<T: Triangulation<Point = Point3>>(tr: &T, c: CellId) -> f64 {
     signed_volume(&cell_vertices(tr, c).map(|w| tr.point(w))).abs()
 }
@@ -554,5 +610,74 @@ mod tests {
         }
         // Moves that change the characteristic were among those checked.
         assert!(checked > 10, "{checked}");
+    }
+
+    /// Cells alone in subdomain 2 amid subdomain 1 of a random Delaunay triangulation: the
+    /// slivers among them take label 1, the others keep theirs, and so does every cell of a
+    /// pair of neighbours in subdomain 2.
+    #[test]
+    fn sliver_islands_take_the_label_around_them() {
+        let mut rng = XorShift::new(0x9e37_79b9_7f4a_7c15);
+        let mut next = || rng.next_f64();
+        let points: Vec<Point3> = (0..300)
+            .map(|_| Point3::new(next(), next(), next()))
+            .collect();
+        let tr = Delaunay3::from_points(&points).expect("points in general position");
+        let criteria = CellCriteria {
+            radius_edge_ratio: 0.0,
+            size: Sizing::Constant(f64::INFINITY),
+        };
+        let mut cells = CellLevel::new(&Everywhere(UNIT_BOX), criteria);
+        cells.scan(&tr);
+        let smallest = |c: CellId| {
+            let p = cell_vertices(&tr, c).map(|w| tr.point(w));
+            dihedral_angles_deg(&p)
+                .into_iter()
+                .fold(f64::INFINITY, f64::min)
+        };
+        let interior = |c: CellId| (0..4).all(|i| !tr.is_infinite_cell(tr.neighbor(c, i)));
+        let mut taken = vec![false; tr.cell_capacity()];
+        let (mut islands, mut pairs) = (Vec::new(), Vec::new());
+        for c in tr.finite_cells() {
+            let free = |x: CellId| !taken[x.0 as usize] && interior(x);
+            let nbs: Vec<CellId> = (0..4).map(|i| tr.neighbor(c, i)).collect();
+            if !free(c) || nbs.iter().any(|&n| taken[n.0 as usize]) {
+                continue;
+            }
+            // Every third choice, a sliver with a neighbour in subdomain 2 too: no island.
+            if smallest(c) < ISLAND_SLIVER_DEG && pairs.len() < 3 && free(nbs[0]) {
+                let n = nbs[0];
+                if (0..4).all(|i| !taken[tr.neighbor(n, i).0 as usize]) {
+                    for x in [c, n] {
+                        taken[x.0 as usize] = true;
+                        cells.set_subdomain(x, SubdomainId(2));
+                        pairs.push(x);
+                    }
+                    continue;
+                }
+            }
+            taken[c.0 as usize] = true;
+            cells.set_subdomain(c, SubdomainId(2));
+            islands.push(c);
+        }
+        let slivers = islands
+            .iter()
+            .filter(|&&c| smallest(c) < ISLAND_SLIVER_DEG)
+            .count();
+        assert!(slivers > 0 && slivers < islands.len() && !pairs.is_empty());
+        let mut result = Relabelling::default();
+        assert_eq!(absorb_sliver_islands(&tr, &mut cells, &mut result), slivers);
+        assert_eq!(result.cells_across, slivers);
+        for &c in &islands {
+            let expected = if smallest(c) < ISLAND_SLIVER_DEG {
+                1
+            } else {
+                2
+            };
+            assert_eq!(cells.subdomain(c), SubdomainId(expected));
+        }
+        for &c in &pairs {
+            assert_eq!(cells.subdomain(c), SubdomainId(2));
+        }
     }
 }

@@ -8,7 +8,9 @@ use super::engine::{Engine, Limits, Progress, RefineError, RefineStats};
 use super::facets::SurfaceLevel;
 use super::geometry::is_flat;
 use super::guard::CurveLevel;
-use super::manifold::{relabel_interfaces, relabel_to_manifold, remove_stray_pieces};
+use super::manifold::{
+    absorb_sliver_islands, relabel_interfaces, relabel_to_manifold, remove_stray_pieces,
+};
 use super::protect::{ProtectError, ProtectLimits, protect};
 use super::repair::{Validity, ValidityOptions, find_defects};
 use crate::complex::MeshComplex;
@@ -520,6 +522,15 @@ fn relabel<T: Triangulation<Point = Point3>>(refined: &mut Refined<'_, T>, optio
         remove_stray_pieces(tr, cells, validity.extra_components, &mut relabelling);
         *validity = find_defects(tr, cells, &options.validity, false).validity();
         validity.relabelling = relabelling;
+    }
+    // Without an input topology to hold to (an image), a one-cell component that is a sliver is
+    // noise below the floor; with one, the topology rule refined such components instead.
+    if options.validity.input_euler.is_none() {
+        let mut relabelling = validity.relabelling;
+        if absorb_sliver_islands(tr, cells, &mut relabelling) > 0 {
+            *validity = find_defects(tr, cells, &options.validity, false).validity();
+            validity.relabelling = relabelling;
+        }
     }
 }
 
