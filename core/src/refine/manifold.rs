@@ -563,14 +563,11 @@ mod tests {
             .sum()
     }
 
-    /// On random labellings of a random Delaunay triangulation, the change predicted for moving
-    /// any movable region around any vertex is the change of the whole domain's characteristic.
-    #[test]
-    fn predicted_euler_change_is_the_domains() {
-        let mut rng = XorShift::new(0x2545_f491_4f6c_dd1d);
-        let mut next = || rng.next_f64();
-        let points: Vec<Point3> = (0..80)
-            .map(|_| Point3::new(next(), next(), next()))
+    /// The Delaunay triangulation of `n` random points of the unit box, and a cell level that
+    /// refines nothing, its cells labelled 1.
+    fn random_cells(rng: &mut XorShift, n: usize) -> (Delaunay3, CellLevel<'static>) {
+        let points: Vec<Point3> = (0..n)
+            .map(|_| Point3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()))
             .collect();
         let tr = Delaunay3::from_points(&points).expect("points in general position");
         let criteria = CellCriteria {
@@ -578,6 +575,17 @@ mod tests {
             size: Sizing::Constant(f64::INFINITY),
         };
         let mut cells = CellLevel::new(&Everywhere(UNIT_BOX), criteria);
+        cells.scan(&tr);
+        (tr, cells)
+    }
+
+    /// On random labellings of a random Delaunay triangulation, the change predicted for moving
+    /// any movable region around any vertex is the change of the whole domain's characteristic.
+    #[test]
+    fn predicted_euler_change_is_the_domains() {
+        let mut rng = XorShift::new(0x2545_f491_4f6c_dd1d);
+        let (tr, mut cells) = random_cells(&mut rng, 80);
+        let mut next = || rng.next_f64();
         let all: Vec<CellId> = tr.finite_cells().collect();
         let moved = vec![false; tr.cell_capacity()];
         let mut around = Vec::new();
@@ -617,18 +625,7 @@ mod tests {
     /// pair of neighbours in subdomain 2.
     #[test]
     fn sliver_islands_take_the_label_around_them() {
-        let mut rng = XorShift::new(0x9e37_79b9_7f4a_7c15);
-        let mut next = || rng.next_f64();
-        let points: Vec<Point3> = (0..300)
-            .map(|_| Point3::new(next(), next(), next()))
-            .collect();
-        let tr = Delaunay3::from_points(&points).expect("points in general position");
-        let criteria = CellCriteria {
-            radius_edge_ratio: 0.0,
-            size: Sizing::Constant(f64::INFINITY),
-        };
-        let mut cells = CellLevel::new(&Everywhere(UNIT_BOX), criteria);
-        cells.scan(&tr);
+        let (tr, mut cells) = random_cells(&mut XorShift::new(0x9e37_79b9_7f4a_7c15), 300);
         let smallest = |c: CellId| {
             let p = cell_vertices(&tr, c).map(|w| tr.point(w));
             dihedral_angles_deg(&p)
