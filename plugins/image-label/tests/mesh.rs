@@ -677,3 +677,75 @@ fn a_single_cube_of_four_labels_keeps_its_junction_and_volumes() {
     }
     assert_closed_regions(&c, &[1, 2, 3], Some(2));
 }
+
+#[test]
+fn random_label_images_give_no_cluster_of_vertices_nor_flat_tets() {
+    // Seeded images nobody laid out: balls, boxes and speckle of up to four labels on grids of
+    // 8 to 23 voxels a side, anisotropic voxels, meshed with the image's default criteria (and
+    // optimisation). Near-coincident surface points (one crossing found by two probes) used to
+    // leave cells flat and pack vertices into the gap, 1e-7 apart.
+    let mut rng = XorShift::new(0x5851_f42d_4c95_7f2d);
+    let mut meshed = 0;
+    for _ in 0..24 {
+        let mut next = || rng.next_f64();
+        let dims = [0; 3].map(|_: usize| 8 + (next() * 16.0) as usize);
+        let spacing = DVec3::new(0.3 + 1.7 * next(), 0.3 + 1.7 * next(), 0.3 + 1.7 * next());
+        let extent = DVec3::new(dims[0] as f64, dims[1] as f64, dims[2] as f64) * spacing;
+        let shapes: Vec<(u8, DVec3, DVec3, u8)> = (0..1 + (next() * 5.0) as usize)
+            .map(|_| {
+                let kind = (next() * 3.0) as u8;
+                let c = DVec3::new(next(), next(), next()) * extent;
+                let r = extent.min_element() * (0.1 + 0.4 * next());
+                let half = DVec3::new(r, r * (0.3 + 0.7 * next()), r * (0.3 + 0.7 * next()));
+                (kind, c, half, 1 + (next() * 4.0) as u8)
+            })
+            .collect();
+        // Speckle: 2 % of the voxels, drawn per voxel ahead (the labelling is a plain function).
+        let speckle: Vec<bool> = (0..dims[0] * dims[1] * dims[2])
+            .map(|_| next() < 0.02)
+            .collect();
+        let img = image(dims, spacing, |p| {
+            let i = (p / spacing).round().as_uvec3();
+            let voxel = i.x as usize + dims[0] * (i.y as usize + dims[1] * i.z as usize);
+            let mut l = 0;
+            for &(kind, c, half, label) in &shapes {
+                let inside = match kind {
+                    0 => p.distance(c) < half.x,
+                    1 => ((p - c).abs() - half).max_element() < 0.0,
+                    _ => speckle[voxel],
+                };
+                if inside {
+                    l = label;
+                }
+            }
+            l
+        });
+        let Ok(oracle) = ImageLabelOracle::new(&img, &ImageOptions::default()) else {
+            continue;
+        };
+        let Ok(outcome) = mesh_domain(
+            &oracle,
+            &MeshOptions::new(oracle.default_criteria()),
+            &mut |_| {},
+        ) else {
+            continue;
+        };
+        let c = outcome.complex;
+        let edges = |t: usize| {
+            let p = c.tet_points(t);
+            (0..4).flat_map(move |i| (i + 1..4).map(move |j| p[i].distance(p[j])))
+        };
+        let longest = (0..c.tets.len()).flat_map(edges).fold(0.0, f64::max);
+        for t in 0..c.tets.len() {
+            let shortest = edges(t).fold(f64::INFINITY, f64::min);
+            assert!(
+                shortest > 1e-3 * longest,
+                "tet {t}: edge {shortest:e} of {longest}"
+            );
+            let volume = quality::tet_volume(&c.tet_points(t));
+            assert!(volume > 1e-12 * longest.powi(3), "tet {t} flat: {volume:e}");
+        }
+        meshed += 1;
+    }
+    assert!(meshed >= 16, "{meshed} images meshed");
+}
