@@ -7,6 +7,7 @@ use crate::error::Error;
 use delamesh_core::mesh::{Aabb, SurfaceMesh, TetMesh, Topology};
 use delamesh_formats::image::{Image, ScalarType, Voxels, is_image_path, read_image};
 use delamesh_formats::{AnyMesh, Format};
+use delamesh_image_label::label_value;
 use serde_json::{Value, json};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -111,31 +112,25 @@ fn describe_image(path: &Path, image: &Image) -> Info {
 /// (non-negative integers below 2³², at most [`MAX_LISTED_LABELS`] distinct ones); `None` for
 /// gray levels. `min` and `max` are the values' range.
 fn label_counts(values: &Voxels, min: f64, max: f64) -> Option<BTreeMap<u32, u64>> {
-    // Every stored type converts to f64 exactly; NaN is in no range.
-    let label = |v: f64| v.fract() == 0.0 && (0.0..f64::from(u32::MAX)).contains(&v);
-    if values.is_empty() || !label(min) || !label(max) {
+    let (lo, hi) = (label_value(min)?, label_value(max)?);
+    if values.is_empty() {
         return None;
     }
     let mut counts = BTreeMap::new();
-    if max - min < (2 * MAX_LISTED_LABELS) as f64 {
+    if ((hi - lo) as usize) < 2 * MAX_LISTED_LABELS {
         // A table over the range (at most 2 × MAX_LISTED_LABELS entries), then its non-zero entries.
-        let mut table = vec![0u64; (max - min) as usize + 1];
+        let mut table = vec![0u64; (hi - lo) as usize + 1];
         for i in 0..values.len() {
-            let v = values.value(i);
-            if !label(v) {
-                return None;
-            }
-            table[(v - min) as usize] += 1;
+            table[(label_value(values.value(i))? - lo) as usize] += 1;
         }
         let present = table.iter().enumerate().filter(|&(_, &n)| n > 0);
-        counts.extend(present.map(|(k, &n)| (min as u32 + k as u32, n)));
+        counts.extend(present.map(|(k, &n)| (lo + k as u32, n)));
     } else {
         for i in 0..values.len() {
-            let v = values.value(i);
-            if !label(v) || counts.len() > MAX_LISTED_LABELS {
+            if counts.len() > MAX_LISTED_LABELS {
                 return None;
             }
-            *counts.entry(v as u32).or_insert(0) += 1;
+            *counts.entry(label_value(values.value(i))?).or_insert(0) += 1;
         }
     }
     (counts.len() <= MAX_LISTED_LABELS).then_some(counts)

@@ -83,6 +83,10 @@ pub struct Meshed {
     domain: Domain,
     name: String,
     input: Option<SurfaceMesh>,
+    /// Euler characteristic of each closed component the validity repairs held the boundary to
+    /// (the input surface's, the control mesh's; none for an image or a kept surface), for the
+    /// report where there is no input surface to measure.
+    input_euler: Option<Vec<i64>>,
     output: Option<String>,
     started: Instant,
 }
@@ -365,6 +369,7 @@ impl<'p> Mesher<'p> {
             optimization,
             domain,
             name,
+            input_euler: None,
             input: Some(surface),
             output: None,
             started,
@@ -524,6 +529,7 @@ impl<'p> Mesher<'p> {
             domain,
             name,
             input,
+            input_euler: options.validity.input_euler,
             output: None,
             started,
         })
@@ -568,15 +574,11 @@ impl Meshed {
             }),
             _ => None,
         };
-        let input_euler = match &self.domain {
-            Domain::Subdivision(o) => Some(o.euler_characteristics()),
-            _ => None,
-        };
         let mut report = Report::new(&ReportInput {
             input: &self.name,
             output: self.output.as_deref().unwrap_or_default(),
             surface,
-            input_euler,
+            input_euler: self.input_euler.as_deref(),
             domain: self.domain.oracle(),
             criteria: &self.criteria,
             complex: &self.complex,

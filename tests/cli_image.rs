@@ -155,6 +155,21 @@ fn an_image_is_meshed_with_its_label_values_as_subdomains() {
         })
         .collect();
     assert_eq!(volumes.iter().map(|v| v.0).collect::<Vec<_>>(), [2, 5]);
+    // They are the written mesh's: its tets of each label, summed here.
+    let mesh = delamesh_formats::read_tet_mesh(&out, None).expect("mesh readable");
+    for &(label, volume) in &volumes {
+        let summed: f64 = (0..mesh.tets.len())
+            .filter(|&t| u64::from(mesh.subdomains[t].0) == label)
+            .map(|t| {
+                let [a, b, c, d] = mesh.tets[t].map(|v| mesh.positions[v as usize]);
+                (b - a).cross(c - a).dot(d - a) / 6.0
+            })
+            .sum();
+        assert!(
+            (summed - volume).abs() <= 1e-9 * volume,
+            "{summed} vs {volume}"
+        );
+    }
     for ((_, volume), expected) in volumes.iter().zip([ball(2.0), ball(4.0) - ball(2.0)]) {
         assert!(
             (volume / expected - 1.0).abs() < 0.1,

@@ -13,7 +13,7 @@ mod ball;
 mod everywhere;
 
 pub use crate::mesh::Aabb;
-pub use ball::{EQUATOR_POINTS, UnitBall, UnitBallWithEquator};
+pub use ball::{UnitBall, UnitBallWithEquator};
 #[cfg(test)]
 pub(crate) use everywhere::Everywhere;
 

@@ -82,14 +82,14 @@ impl Oracle for UnitBall {
     }
 }
 
-/// [`UnitBall`] with its equator as a feature curve (id 1, a polyline of
-/// [`EQUATOR_POINTS`] points), which it projects onto exactly: the analytic domain of the
+/// [`UnitBall`] with its equator as a feature curve (id 1, a polyline of 64 points), which it
+/// projects onto exactly: the analytic domain of the
 /// protected mesher's tests.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct UnitBallWithEquator;
 
 /// Points of the polyline [`UnitBallWithEquator`] gives for its equator.
-pub const EQUATOR_POINTS: usize = 64;
+const EQUATOR_POINTS: usize = 64;
 
 impl Oracle for UnitBallWithEquator {
     fn bounding_box(&self) -> Aabb {

@@ -364,11 +364,9 @@ pub(crate) fn absorb_sliver_islands<T: Triangulation<Point = Point3>>(
         if own == OUTSIDE {
             continue;
         }
-        let around = (0..4).map(|i| label(cells, tr.neighbor(c, i)));
-        let Some(to) = around.clone().next() else {
-            continue;
-        };
-        if to == own || around.into_iter().any(|l| l != to) {
+        let around: [SubdomainId; 4] = std::array::from_fn(|i| label(cells, tr.neighbor(c, i)));
+        let to = around[0];
+        if to == own || around.iter().any(|&l| l != to) {
             continue;
         }
         let p = cell_vertices(tr, c).map(|w| tr.point(w));

@@ -10,6 +10,13 @@ use delamesh_formats::image::{Image, Voxels};
 /// `u32` (65 535 labels give about 2.1 × 10⁹ pairs).
 pub const MAX_LABELS: usize = 65_535;
 
+/// A voxel value as a label: a non-negative integer below 2³² (every stored type converts to
+/// `f64` exactly; NaN is none). The one rule of what is a label, for the mesher and for
+/// `delamesh info`.
+pub fn label_value(v: f64) -> Option<u32> {
+    (v.fract() == 0.0 && (0.0..f64::from(u32::MAX)).contains(&v)).then_some(v as u32)
+}
+
 /// The class grid in the narrowest type that holds every class.
 pub(crate) enum Field {
     U8(ClassGrid<u8>),
@@ -124,11 +131,7 @@ pub(crate) fn classify_labels(
     let n = image.voxels.len();
     let label_of = |i: usize| -> Result<u32, ImageLabelError> {
         let v = image.voxels.value(i);
-        if v.fract() == 0.0 && (0.0..f64::from(u32::MAX)).contains(&v) {
-            Ok(v as u32)
-        } else {
-            Err(ImageLabelError::NotALabel { value: v, voxel: i })
-        }
+        label_value(v).ok_or(ImageLabelError::NotALabel { value: v, voxel: i })
     };
     // The distinct labels, sorted: direct histograms for bytes and shorts, a sort otherwise.
     let mut present: Vec<u32> = match &image.voxels {

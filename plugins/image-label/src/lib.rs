@@ -23,7 +23,7 @@ mod plugin_export;
 mod walk;
 
 pub use grid::Interpolation;
-pub use labels::MAX_LABELS;
+pub use labels::{MAX_LABELS, label_value};
 pub use oracle::ImageLabelOracle;
 
 /// How an image becomes a domain.
