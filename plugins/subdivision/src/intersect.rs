@@ -69,49 +69,57 @@ impl Query {
     }
 }
 
-/// Every crossing of the query with the surface, appended to `out` (duplicates on shared
-/// borders of pieces are possible; the caller merges them). A regular `surface` is a piece
-/// already split [`NEWTON_DEPTH`] times: Newton's method may start on it.
-pub(crate) fn crossings(scheme: Scheme, surface: &Surface, q: &Query, out: &mut Vec<Crossing>) {
-    visit(scheme, surface, q, 0, NEWTON_DEPTH, out);
+/// Every crossing of the query with the surface, whose box is `bounds`, appended to `out`
+/// (duplicates on shared borders of pieces are possible; the caller merges them). A regular
+/// `surface` is a piece already split [`NEWTON_DEPTH`] times: Newton's method may start on it.
+pub(crate) fn crossings(
+    scheme: Scheme,
+    surface: &Surface,
+    bounds: (DVec3, DVec3),
+    q: &Query,
+    out: &mut Vec<Crossing>,
+) {
+    visit(scheme, surface, bounds, q, 0, NEWTON_DEPTH, out);
 }
 
-/// `split` is how many times a regular `surface` was split already.
+/// `split` is how many times a regular `surface` was split already. The boxes travel with the
+/// pieces: a Bézier piece's box is a pass over its control points, and every query asks for
+/// it.
 fn visit(
     scheme: Scheme,
     surface: &Surface,
+    (lo, hi): (DVec3, DVec3),
     q: &Query,
     depth: u32,
     split: u32,
     out: &mut Vec<Crossing>,
 ) {
-    let (lo, hi) = surface.bounds();
     if !q.meets(lo, hi) {
         return;
     }
     match surface {
-        Surface::Regular(b) => visit_piece(b, b, &Affine::IDENTITY, q, split, out),
+        Surface::Regular(b) => visit_piece(b, b, &Affine::IDENTITY, (lo, hi), q, split, out),
         Surface::Irregular(_) if depth >= MAX_DEPTH || (hi - lo).length() <= q.point_size => {
             out.push(q.point_crossing(lo, hi));
         }
         Surface::Irregular(ring) => {
             for (_, child) in ring.children(scheme) {
-                visit(scheme, child, q, depth + 1, 0, out);
+                visit(scheme, child, child.bounds(), q, depth + 1, 0, out);
             }
         }
     }
 }
 
-/// `piece` is `root` over the part `map` of its domain.
+/// `piece`, whose box is `[lo, hi]`, is `root` over the part `map` of its domain.
 fn visit_piece(
     root: &Bezier,
     piece: &Bezier,
     map: &Affine,
+    (lo, hi): (DVec3, DVec3),
     q: &Query,
     depth: u32,
     out: &mut Vec<Crossing>,
 ) {
-    let (lo, hi) = piece.bounds();
     if !q.meets(lo, hi) || piece.misses_line(q.a, q.d, q.slack) {
         return;
     }
@@ -149,7 +157,15 @@ fn visit_piece(
         }
     }
     for (d, sub) in piece.children() {
-        visit_piece(root, &sub, &map.compose(&d), q, depth + 1, out);
+        visit_piece(
+            root,
+            &sub,
+            &map.compose(&d),
+            sub.bounds(),
+            q,
+            depth + 1,
+            out,
+        );
     }
 }
 

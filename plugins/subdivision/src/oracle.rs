@@ -38,6 +38,8 @@ pub struct SubdivisionOracle {
     /// (their rings' boxes are loose), then every regular piece [`NEWTON_DEPTH`] times (queries
     /// split them that often before Newton's method, and the tree prunes by the smaller boxes).
     pieces: Vec<Patch>,
+    /// The box of each piece.
+    bounds: Vec<(DVec3, DVec3)>,
     /// Over the pieces' boxes, each given as the degenerate triangle `(lo, hi, hi)`.
     tree: TriangleTree,
     /// The cells no piece's box reaches lie in one subdomain each: found once by ray parity,
@@ -102,13 +104,8 @@ impl SubdivisionOracle {
         for p in &patches {
             presplit(scheme, p.surface.clone(), p.group, PRESPLIT, &mut pieces);
         }
-        let boxes: Vec<[DVec3; 3]> = pieces
-            .iter()
-            .map(|p| {
-                let (lo, hi) = p.surface.bounds();
-                [lo, hi, hi]
-            })
-            .collect();
+        let bounds: Vec<(DVec3, DVec3)> = pieces.iter().map(|p| p.surface.bounds()).collect();
+        let boxes: Vec<[DVec3; 3]> = bounds.iter().map(|&(lo, hi)| [lo, hi, hi]).collect();
         // The pieces' boxes hug the limit surface, which lies well inside the control mesh's
         // box (a Loop icosahedron's limit spans 18 % less): the defaults drawn from the box
         // must be those of the shape meshed.
@@ -124,6 +121,7 @@ impl SubdivisionOracle {
             occupancy,
             patches,
             pieces,
+            bounds,
             bbox,
             initial: Vec::new(),
             curves: Vec::new(),
@@ -347,7 +345,13 @@ impl SubdivisionOracle {
         self.occupancy.for_each_near_segment(&self.tree, a, b, |p| {
             let patch = &self.pieces[p as usize];
             buffer.clear();
-            crossings(self.scheme, &patch.surface, &q, &mut buffer);
+            crossings(
+                self.scheme,
+                &patch.surface,
+                self.bounds[p as usize],
+                &q,
+                &mut buffer,
+            );
             found.extend(buffer.iter().map(|&c| (c, patch.group)));
         });
         found.sort_by(|x, y| x.0.t.total_cmp(&y.0.t).then(x.1.cmp(&y.1)));
