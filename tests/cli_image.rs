@@ -160,10 +160,7 @@ fn an_image_is_meshed_with_its_label_values_as_subdomains() {
     for &(label, volume) in &volumes {
         let summed: f64 = (0..mesh.tets.len())
             .filter(|&t| u64::from(mesh.subdomains[t].0) == label)
-            .map(|t| {
-                let [a, b, c, d] = mesh.tets[t].map(|v| mesh.positions[v as usize]);
-                (b - a).cross(c - a).dot(d - a) / 6.0
-            })
+            .map(|t| mesh.tet_volume(t))
             .sum();
         assert!(
             (summed - volume).abs() <= 1e-9 * volume,

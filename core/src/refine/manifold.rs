@@ -357,9 +357,8 @@ pub(crate) fn absorb_sliver_islands<T: Triangulation<Point = Point3>>(
             cells.subdomain(c)
         }
     };
-    let candidates: Vec<CellId> = tr.finite_cells().collect();
     let mut absorbed = 0;
-    for c in candidates {
+    for c in tr.finite_cells() {
         let own = cells.subdomain(c);
         if own == OUTSIDE {
             continue;
