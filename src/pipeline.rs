@@ -269,8 +269,10 @@ impl<'p> Mesher<'p> {
         self.mesh_domain(name, domain, Some(surface), started, oracle_times(read, t))
     }
 
-    /// `--preserve-surface`: the surface, refused unless it bounds a volume as given, kept in a
-    /// conforming Delaunay tetrahedralisation; the polyhedral oracle names the subdomains.
+    /// `--preserve-surface`: the surface kept in a conforming Delaunay tetrahedralisation; the
+    /// polyhedral oracle names the subdomains. A surface that does not bound a volume as given
+    /// (refused with `--strict`) is repaired as for resampling, and the boundary of its
+    /// winding-number domain is kept: the input's triangles, cut along their crossings.
     fn mesh_preserving(
         &mut self,
         name: String,
@@ -284,16 +286,34 @@ impl<'p> Mesher<'p> {
             problem,
         };
         weld_exact(&mut surface.positions, &mut surface.triangles);
-        refuse_defects(&surface_defects(&surface.positions, &surface.triangles))
-            .map_err(|e| unmeshable(format!("--preserve-surface: {e}")))?;
+        let defects = surface_defects(&surface.positions, &surface.triangles);
+        if self.settings.strict {
+            refuse_defects(&defects).map_err(|e| unmeshable(format!("--preserve-surface: {e}")))?;
+        }
         let smooth = FeatureSettings {
             enabled: false,
             ..FeatureSettings::default()
         };
-        let domain = Domain::from_surface(&name, &surface, &smooth, true)?;
+        let domain = Domain::from_surface(&name, &surface, &smooth, defects.is_empty())?;
+        // A surface that does not bound a volume as given keeps the boundary of its
+        // winding-number domain: its triangles cut where they cross, less the buried sheets.
+        let kept = match domain.polyhedral() {
+            Some(p) if !defects.is_empty() => Some(
+                p.winding_boundary()
+                    .map_err(|e| unmeshable(format!("--preserve-surface: {e}")))?,
+            ),
+            _ => None,
+        };
         let mut times = oracle_times(read, t);
         let t = Instant::now();
-        let patches = surface.oracle_patches();
+        let (positions, triangles, patches) = match kept {
+            Some(b) => (b.points, b.triangles, b.patches),
+            None => (
+                surface.positions.clone(),
+                surface.triangles.clone(),
+                surface.oracle_patches(),
+            ),
+        };
         let bbox = domain.oracle().bounding_box();
         let criteria = self.settings.criteria(&bbox);
         let settings = &self.settings;
@@ -308,9 +328,7 @@ impl<'p> Mesher<'p> {
                 } else {
                     RECOVERY_MIN_BUDGET
                 };
-                base.saturating_add(
-                    STEINER_BUDGET_PER_INPUT_VERTEX.saturating_mul(surface.positions.len()),
-                )
+                base.saturating_add(STEINER_BUDGET_PER_INPUT_VERTEX.saturating_mul(positions.len()))
             }),
             cells: (sized || shaped).then(|| CellCriteria {
                 radius_edge_ratio: settings.cell_radius_edge_ratio.unwrap_or(0.0),
@@ -324,17 +342,12 @@ impl<'p> Mesher<'p> {
             cancel: self.cancel.clone(),
             ..PreserveOptions::default()
         };
-        let preserved = match preserve_surface(
-            &surface.positions,
-            &surface.triangles,
-            &patches,
-            domain.oracle(),
-            &options,
-        ) {
-            Ok(p) => p,
-            Err(PreserveError::Stopped(source)) => return Err(Error::Stopped { name, source }),
-            Err(e) => return Err(unmeshable(format!("--preserve-surface: {e}"))),
-        };
+        let preserved =
+            match preserve_surface(&positions, &triangles, &patches, domain.oracle(), &options) {
+                Ok(p) => p,
+                Err(PreserveError::Stopped(source)) => return Err(Error::Stopped { name, source }),
+                Err(e) => return Err(unmeshable(format!("--preserve-surface: {e}"))),
+            };
         times.refinement = t.elapsed();
         // The cell level stopped early: its mesh keeps the surface, so it is the partial mesh.
         if let Some(source) = preserved.stopped.clone()

@@ -59,6 +59,31 @@ fn lies_in(p: Point3, t: [Point3; 3], input_vertex: bool, tolerance: f64) -> boo
     (0..3).all(|k| unit.dot((t[(k + 1) % 3] - t[k]).cross(p - t[k])) >= -tolerance)
 }
 
+/// Positive tetrahedra (output convention: the opposite of Shewchuk's orient3d sign), none flat
+/// (|6V| at most 1e-12 of its longest edge cubed): Steiner points rounded off their triangle's
+/// plane make such cells on the boundary, which go outside, and four boundary points nearly
+/// cospherical make them inside, which are refined. Returns the total volume.
+fn assert_positive_not_flat(name: &str, c: &delamesh::core::complex::MeshComplex) -> f64 {
+    let mut total = 0.0;
+    for (t, tet) in c.tets.iter().enumerate() {
+        let p = tet.map(|v| c.points[v as usize]);
+        assert_eq!(
+            orient3d(p[0], p[1], p[2], p[3]),
+            Sign::Negative,
+            "{name}: tet {t} not positive"
+        );
+        let longest = (0..4)
+            .flat_map(|i| (i + 1..4).map(move |j| p[i].distance(p[j])))
+            .fold(0.0, f64::max);
+        assert!(
+            signed_volume6(p).abs() > 1e-12 * longest.powi(3),
+            "{name}: tet {t} is flat"
+        );
+        total += signed_volume6(p) / 6.0;
+    }
+    total
+}
+
 /// Every property of a kept surface; `subdomain_volumes` maps each expected subdomain volume.
 fn check(name: &str, surface: &Surface, meshed: &delamesh::Meshed, subdomain_volumes: &[f64]) {
     let c = &meshed.complex;
@@ -94,25 +119,7 @@ fn check(name: &str, surface: &Surface, meshed: &delamesh::Meshed, subdomain_vol
             .map(|p| set.contains(&p.to_array().map(f64::to_bits)))
             .collect()
     };
-    // Positive tetrahedra (output convention: the opposite of Shewchuk's orient3d sign), none
-    // flat (|6V| at most 1e-12 of its longest edge cubed): Steiner points rounded off their
-    // triangle's plane make such cells on the boundary, which go outside, and four boundary
-    // points nearly cospherical make them inside, which are refined.
-    for (t, tet) in c.tets.iter().enumerate() {
-        let p = tet.map(|v| c.points[v as usize]);
-        assert_eq!(
-            orient3d(p[0], p[1], p[2], p[3]),
-            Sign::Negative,
-            "{name}: tet {t} not positive"
-        );
-        let longest = (0..4)
-            .flat_map(|i| (i + 1..4).map(move |j| p[i].distance(p[j])))
-            .fold(0.0, f64::max);
-        assert!(
-            signed_volume6(p).abs() > 1e-12 * longest.powi(3),
-            "{name}: tet {t} is flat"
-        );
-    }
+    assert_positive_not_flat(name, c);
     // Locally Delaunay: across every face shared by two tetrahedra, the far vertex is not
     // strictly inside the other's circumsphere.
     let mut faces: HashMap<[u32; 3], Vec<(usize, u32)>> = HashMap::new();
@@ -337,8 +344,116 @@ fn random_csg_parts_keep_their_triangles() {
     }
 }
 
+/// Checks a mesh that keeps the boundary of a dirty surface's winding-number domain: tets
+/// positive and not flat, boundary facets a closed 2-manifold of Euler characteristic `euler`
+/// lying on the triangles of `on` (the input, or the surface it should be repaired into), and
+/// the volume.
+fn check_kept_boundary(name: &str, surface: &Surface, on: &Surface, volume: f64, euler: i64) {
+    let meshed = preserved(name, surface);
+    let c = &meshed.complex;
+    let diagonal = 3f64.sqrt() * 2.0;
+    let total = assert_positive_not_flat(name, c);
+    assert!(
+        (total - volume).abs() <= 1e-9 * volume,
+        "{name}: volume {total}, expected {volume}"
+    );
+    let mut uses: HashMap<[u32; 2], i32> = HashMap::new();
+    for f in &c.facets {
+        for k in 0..3 {
+            let (a, b) = (f[k], f[(k + 1) % 3]);
+            *uses.entry([a.min(b), a.max(b)]).or_default() += if a < b { 1 } else { -1 };
+        }
+        for &v in f {
+            let p = c.points[v as usize];
+            let near = on
+                .triangles
+                .iter()
+                .map(|t| {
+                    let tri = t.map(|v| on.points[v as usize]);
+                    delamesh::polyhedral::closest_point_on_triangle(p, &tri).distance(p)
+                })
+                .fold(f64::MAX, f64::min);
+            assert!(
+                near <= 1e-9 * diagonal,
+                "{name}: facet vertex {p} off the input"
+            );
+        }
+    }
+    // Each edge in two facets traversed in opposite directions: closed, oriented.
+    let mut edge_count: HashMap<[u32; 2], usize> = HashMap::new();
+    for f in &c.facets {
+        for k in 0..3 {
+            let (a, b) = (f[k], f[(k + 1) % 3]);
+            *edge_count.entry([a.min(b), a.max(b)]).or_default() += 1;
+        }
+    }
+    assert!(
+        edge_count.values().all(|&n| n == 2),
+        "{name}: not edge-manifold"
+    );
+    assert!(uses.values().all(|&n| n == 0), "{name}: not oriented");
+    let vertices: std::collections::HashSet<u32> = c.facets.iter().flatten().copied().collect();
+    let chi = vertices.len() as i64 - edge_count.len() as i64 + c.facets.len() as i64;
+    assert_eq!(chi, euler, "{name}: Euler characteristic");
+}
+
+/// Volume of the union of axis-aligned boxes, by inclusion–exclusion.
+fn union_volume(boxes: &[(DVec3, DVec3)]) -> f64 {
+    let mut total = 0.0;
+    for mask in 1u32..(1 << boxes.len()) {
+        let (mut lo, mut hi) = (DVec3::splat(f64::MIN), DVec3::splat(f64::MAX));
+        for (i, b) in boxes.iter().enumerate() {
+            if mask & (1 << i) != 0 {
+                lo = lo.max(b.0);
+                hi = hi.min(b.1);
+            }
+        }
+        let size = (hi - lo).max(DVec3::ZERO);
+        let sign = if mask.count_ones() % 2 == 1 {
+            1.0
+        } else {
+            -1.0
+        };
+        total += sign * size.x * size.y * size.z;
+    }
+    total
+}
+
 #[test]
-fn open_and_self_intersecting_surfaces_are_refused() {
+fn crossing_boxes_keep_the_boundary_of_their_union() {
+    // Corners off every face diagonal of the others, so that every contact is a crossing.
+    let boxes = [
+        (DVec3::ZERO, DVec3::ONE),
+        (DVec3::new(0.31, 0.27, 0.23), DVec3::new(1.31, 1.27, 1.23)),
+        (DVec3::new(0.62, -0.19, 0.44), DVec3::new(1.62, 0.81, 1.44)),
+    ];
+    let two = cuboid(boxes[0].0, boxes[0].1).merge(cuboid(boxes[1].0, boxes[1].1));
+    check_kept_boundary("two boxes", &two, &two, union_volume(&boxes[..2]), 2);
+    // Three boxes: their faces meet at triple points, where three cut triangles share a point.
+    let three = two.merge(cuboid(boxes[2].0, boxes[2].1));
+    check_kept_boundary("three boxes", &three, &three, union_volume(&boxes), 2);
+}
+
+#[test]
+fn reoriented_open_and_duplicated_surfaces_are_kept_repaired() {
+    let cube = cuboid(DVec3::ZERO, DVec3::ONE);
+    let mut shuffled = cube.clone();
+    for t in shuffled.triangles.iter_mut().step_by(3) {
+        t.swap(1, 2);
+    }
+    check_kept_boundary("shuffled", &shuffled, &cube, 1.0, 2);
+    // A missing face is capped by a fan from its centroid.
+    let mut open = cube.clone();
+    open.triangles.pop();
+    check_kept_boundary("open", &open, &cube, 1.0, 2);
+    let mut duplicated = cube.clone();
+    duplicated.triangles.push(duplicated.triangles[0]);
+    duplicated.triangles.push([0, 0, 1]);
+    check_kept_boundary("duplicated", &duplicated, &cube, 1.0, 2);
+}
+
+#[test]
+fn dirty_surfaces_are_refused_with_strict() {
     let dir = tempfile::tempdir().expect("temp dir");
     let mut open = cuboid(DVec3::ZERO, DVec3::ONE);
     open.triangles.pop();
@@ -352,7 +467,7 @@ fn open_and_self_intersecting_surfaces_are_refused() {
         std::fs::write(&input, surface.to_off()).expect("write input");
         let out = dir.path().join(format!("{name}.vtu"));
         let assert = delamesh()
-            .args(["mesh", "-q", "--preserve-surface"])
+            .args(["mesh", "-q", "--preserve-surface", "--strict"])
             .arg(&input)
             .arg("-o")
             .arg(&out)

@@ -89,7 +89,9 @@ pub struct MeshArgs {
     pub crease_angle: Option<f64>,
     /// Keep the input surface exactly: every input vertex is a mesh vertex and every input triangle
     /// a union of boundary facets (Steiner points on input edges and triangles where the Delaunay
-    /// tetrahedralisation misses them). The surface must be closed and not self-intersecting.
+    /// tetrahedralisation misses them). A surface that does not bound a volume as given is
+    /// repaired as without the option, and the boundary of its winding-number domain is kept:
+    /// its triangles cut where they cross, buried parts dropped (--strict refuses it instead).
     /// With --cell-radius-edge-ratio / --cell-size the volume is then refined.
     #[arg(long)]
     pub preserve_surface: bool,

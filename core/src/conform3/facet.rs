@@ -247,6 +247,7 @@ impl Plan {
                         .insert(frame.lift(at), near)?
                         .ok_or(PreserveError::Coincident(f))?;
                     r.constraints.facets[f].interior.push(v);
+                    r.join_facet(v, f);
                     r.facet_steiner += 1;
                 }
             }

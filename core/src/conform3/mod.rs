@@ -33,6 +33,7 @@ use crate::triangulation::{
 };
 use constraints::Constraints;
 use facet::{FacetStep, facet_step};
+use std::collections::BTreeSet;
 
 /// Options of [`preserve_surface`].
 #[derive(Clone, Debug)]
@@ -221,14 +222,16 @@ struct Recovery {
     edge_steiner: usize,
     facet_steiner: usize,
     rounds: usize,
-    /// Insertions so far, plus one: the clock of `touched` and `checked`.
-    epoch: u64,
-    /// Per vertex, the last insertion that changed a cell around it (a face is destroyed only
-    /// with a cell around each of its vertices, all of which the new cells then touch).
-    touched: Vec<u64>,
-    /// Per input edge, then per input triangle (after the edges), the epoch it was last found
-    /// present at; 0: never.
-    checked: Vec<u64>,
+    /// Per vertex, the constraints (input edges, then input triangles numbered after the edges)
+    /// whose presence depends on it: an edge on its chain, a triangle on its corners, its
+    /// interior and its edges' chains.
+    members: Vec<Vec<u32>>,
+    /// Per input edge, the input triangles it bounds.
+    edge_facets: Vec<Vec<u32>>,
+    /// The constraints not found present since an insertion changed a cell around one of their
+    /// vertices (a face is destroyed only with a cell around each of its vertices, all of which
+    /// the new cells then touch): the only ones a pass visits.
+    stale: BTreeSet<u32>,
 }
 
 impl Recovery {
@@ -245,7 +248,24 @@ impl Recovery {
             return Err(PreserveError::DuplicateVertex(a, b));
         }
         constraints.attach(&vertices);
-        let constraints_len = constraints.edges.len() + constraints.facets.len();
+        let edges = constraints.edges.len() as u32;
+        let mut members: Vec<Vec<u32>> = vec![Vec::new(); dt.num_vertices()];
+        let mut edge_facets = vec![Vec::new(); constraints.edges.len()];
+        for (e, edge) in constraints.edges.iter().enumerate() {
+            for &(_, v) in &edge.chain {
+                members[v.0 as usize].push(e as u32);
+            }
+        }
+        for (f, facet) in constraints.facets.iter().enumerate() {
+            let k = edges + f as u32;
+            for v in facet.corners {
+                members[v.0 as usize].push(k);
+            }
+            for e in facet.edges {
+                edge_facets[e as usize].push(k);
+            }
+        }
+        let stale = (0..edges + constraints.facets.len() as u32).collect();
         let diagonal = crate::mesh::Aabb::of(&used).map_or(0.0, |b| (b.max - b.min).length());
         Ok(Recovery {
             dt,
@@ -260,54 +280,50 @@ impl Recovery {
             edge_steiner: 0,
             facet_steiner: 0,
             rounds: 0,
-            epoch: 1,
-            touched: vec![1; vertices.len()],
-            checked: vec![0; constraints_len],
+            members,
+            edge_facets,
+            stale,
         })
     }
 
-    /// Passes over every constraint until one inserts nothing; `faces` (one list per input
-    /// triangle, kept from the last call: a triangle untouched since is not searched again)
-    /// then holds the faces making up each input triangle.
+    /// Passes over the stale constraints, in order, until one inserts nothing; `faces` (one list
+    /// per input triangle, kept from the last call: a triangle not stale since is not searched
+    /// again) then holds the faces making up each input triangle.
     fn run(&mut self, faces: &mut Vec<Vec<[VertexId; 3]>>) -> Result<(), PreserveError> {
         faces.resize(self.constraints.facets.len(), Vec::new());
+        let edges = self.constraints.edges.len() as u32;
         loop {
             self.rounds += 1;
             let mut changed = false;
-            let edges = self.constraints.edges.len();
-            for e in 0..edges {
-                let chain = &self.constraints.edges[e].chain;
-                if self.untouched(e, chain.iter().map(|&(_, v)| v)) {
-                    continue;
-                }
-                let mut i = 0;
-                while i + 1 < self.constraints.edges[e].chain.len() {
-                    let (u, v) = {
-                        let chain = &self.constraints.edges[e].chain;
-                        (chain[i].1, chain[i + 1].1)
-                    };
-                    if self.has_edge(u, v) {
-                        i += 1;
-                    } else {
-                        self.split(e, [u, v])?;
-                        changed = true;
+            // Constraints made stale behind the pass wait for the next one.
+            let mut next = 0;
+            while let Some(&k) = self.stale.range(next..).next() {
+                next = k + 1;
+                if k < edges {
+                    let e = k as usize;
+                    let mut i = 0;
+                    while i + 1 < self.constraints.edges[e].chain.len() {
+                        let (u, v) = {
+                            let chain = &self.constraints.edges[e].chain;
+                            (chain[i].1, chain[i + 1].1)
+                        };
+                        if self.has_edge(u, v) {
+                            i += 1;
+                        } else {
+                            self.split(e, [u, v])?;
+                            changed = true;
+                        }
                     }
-                }
-                self.checked[e] = self.epoch;
-            }
-            for (f, pieces) in faces.iter_mut().enumerate() {
-                let facet = &self.constraints.facets[f];
-                let on = facet.corners.iter().chain(&facet.interior).copied();
-                let along = (0..3).flat_map(|k| self.constraints.facet_edge(f, k));
-                if self.untouched(edges + f, on.chain(along)) {
+                    self.stale.remove(&k);
                     continue;
                 }
-                // One step per facet and round: the edges' pass in between is far cheaper than
+                let f = (k - edges) as usize;
+                // One step per facet and pass: the edges' pass in between is far cheaper than
                 // another in-plane triangulation of a facet whose edges are still being split.
                 match facet_step(self, f)? {
                     FacetStep::Recovered(found) => {
-                        *pieces = found;
-                        self.checked[edges + f] = self.epoch;
+                        faces[f] = found;
+                        self.stale.remove(&k);
                     }
                     FacetStep::Refined => changed = true,
                 }
@@ -318,10 +334,27 @@ impl Recovery {
         }
     }
 
-    /// Whether constraint `k` was found present and none of its vertices has been touched since.
-    fn untouched(&self, k: usize, mut vertices: impl Iterator<Item = VertexId>) -> bool {
-        let at = self.checked[k];
-        at != 0 && vertices.all(|v| self.touched[v.0 as usize] <= at)
+    /// Records that vertex `v` (just inserted) is on constraint `k`, which is then stale.
+    fn join(&mut self, v: VertexId, k: u32) {
+        if let Some(list) = self.members.get_mut(v.0 as usize) {
+            list.push(k);
+        }
+        self.stale.insert(k);
+    }
+
+    /// Records that vertex `v` (just inserted) splits input edge `e`: the edge and the triangles
+    /// it bounds depend on it.
+    fn join_edge(&mut self, v: VertexId, e: usize) {
+        self.join(v, e as u32);
+        for i in 0..self.edge_facets[e].len() {
+            let k = self.edge_facets[e][i];
+            self.join(v, k);
+        }
+    }
+
+    /// Records that vertex `v` (just inserted) lies inside input triangle `f`.
+    fn join_facet(&mut self, v: VertexId, f: usize) {
+        self.join(v, (self.constraints.edges.len() + f) as u32);
     }
 
     /// Whether `u` and `v` are joined by an edge of the triangulation.
@@ -354,12 +387,13 @@ impl Recovery {
         let hint = self.dt.vertex_cell(near);
         match self.dt.insert_reporting(p, hint, &mut self.report)? {
             InsertOutcome::Inserted(v) => {
-                self.epoch += 1;
-                self.touched.resize(self.dt.num_vertices(), self.epoch);
+                if self.members.len() <= v.0 as usize {
+                    self.members.resize(v.0 as usize + 1, Vec::new());
+                }
                 for &c in &self.report.created {
                     for u in self.dt.cell(c) {
-                        if let Some(t) = self.touched.get_mut(u.0 as usize) {
-                            *t = self.epoch;
+                        if let Some(list) = self.members.get(u.0 as usize) {
+                            self.stale.extend(list);
                         }
                     }
                 }
@@ -391,6 +425,7 @@ impl Recovery {
         match self.insert(p, from)? {
             Some(v) => {
                 self.constraints.edges[e].chain.insert(i + 1, (t, v));
+                self.join_edge(v, e);
                 self.edge_steiner += 1;
                 Ok(())
             }

@@ -25,6 +25,11 @@ use std::collections::{HashMap, HashSet};
 /// Most rounds; each refines every bad cell found at its start, so far fewer are needed.
 const MAX_ROUNDS: usize = 200;
 
+/// The floor under flat cells, relative to the one under the criteria: a flat cell is a defect,
+/// not a shape to improve, and the ones rounding makes among the points where crossing input
+/// triangles were cut are far smaller than the floor the criteria keep.
+const FLAT_FLOOR: f64 = 1e-3;
+
 /// A piece of an input triangle (its vertices sorted) with that triangle.
 type Piece = ([VertexId; 3], usize);
 
@@ -174,7 +179,7 @@ fn bad_cells(
         if is_flat(&p) {
             let stays = faces_to_move_across(&r.dt, c, subdomain, facet_of).is_none();
             let radius = flat_cell_refinement_point(&r.dt, &vertices, 0).map(|(_, r2)| r2.sqrt());
-            if stays && radius.is_some_and(|radius| radius >= min_radius) {
+            if stays && radius.is_some_and(|radius| radius >= FLAT_FLOOR * min_radius) {
                 bad.push((f64::INFINITY, c, vertices));
             }
             continue;

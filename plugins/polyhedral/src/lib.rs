@@ -19,7 +19,10 @@ mod tree;
 mod validate;
 
 pub use occupancy::Occupancy;
-pub use oracle::{PolyhedralError, PolyhedralOptions, PolyhedralOracle, diagnose, refuse_defects};
+pub use oracle::{
+    ArrangementError, PolyhedralError, PolyhedralOptions, PolyhedralOracle, WindingBoundary,
+    diagnose, refuse_defects,
+};
 pub use repair::Repairs;
 pub use tree::{TriangleTree, closest_point_on_triangle};
 pub use validate::{SurfaceDefects, surface_defects};

@@ -1,10 +1,13 @@
 //! `PolyhedralOracle`: the `Oracle` of a closed triangle surface.
 
+mod arrangement;
+
 use crate::occupancy::Occupancy;
 use crate::predicates::{Crossing, orient, segment_crossing};
 use crate::repair::{Repairs, repair};
 use crate::tree::{TriangleTree, closest_point_on_triangle};
 use crate::validate::{SurfaceDefects, crossed_triangles, surface_defects_in};
+pub use arrangement::{ArrangementError, WindingBoundary};
 use delamesh_core::mesh::{component_euler_characteristics, first_out_of_range};
 use delamesh_core::oracle::{
     Aabb, OUTSIDE, Oracle, PatchId, SubdomainId, SurfaceHit, SurfacePoint,

@@ -138,7 +138,7 @@ fn canonical(t: &[u32; 3]) -> ([u32; 3], bool) {
 
 /// Every use of every edge as (low vertex, high vertex, triangle, traversed low→high), sorted so
 /// that the uses of an edge are consecutive.
-fn edge_uses(triangles: &[[u32; 3]]) -> Vec<(u32, u32, u32, bool)> {
+pub(crate) fn edge_uses(triangles: &[[u32; 3]]) -> Vec<(u32, u32, u32, bool)> {
     let mut uses = Vec::with_capacity(3 * triangles.len());
     for (i, t) in triangles.iter().enumerate() {
         for k in 0..3 {

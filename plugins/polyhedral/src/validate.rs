@@ -100,9 +100,9 @@ pub(crate) fn crossed_triangles(
 }
 
 /// The crossing pairs of triangles and what finding them cost.
-struct Crossings {
+pub(crate) struct Crossings {
     /// `(i, j)`, i < j, sorted.
-    pairs: Vec<(usize, usize)>,
+    pub(crate) pairs: Vec<(usize, usize)>,
     /// Candidates examined: triangle pairs, and triangles weighed against a whole flat region.
     /// Tests bound it to show the search stays near-linear on fans of long thin triangles.
     work: usize,
@@ -220,7 +220,7 @@ impl FlatRegion {
 
 /// All crossing pairs of triangles: triangles of small flat regions pair through the tree,
 /// large flat regions are weighed whole against the triangles near them (see [`FlatRegion`]).
-fn crossing_pairs(
+pub(crate) fn crossing_pairs(
     triangles: &[[u32; 3]],
     geometry: &[[DVec3; 3]],
     tree: &TriangleTree,
