@@ -357,12 +357,7 @@ fn check_kept_boundary(name: &str, surface: &Surface, on: &Surface, volume: f64,
         (total - volume).abs() <= 1e-9 * volume,
         "{name}: volume {total}, expected {volume}"
     );
-    let mut uses: HashMap<[u32; 2], i32> = HashMap::new();
     for f in &c.facets {
-        for k in 0..3 {
-            let (a, b) = (f[k], f[(k + 1) % 3]);
-            *uses.entry([a.min(b), a.max(b)]).or_default() += if a < b { 1 } else { -1 };
-        }
         for &v in f {
             let p = c.points[v as usize];
             let near = on
@@ -379,22 +374,47 @@ fn check_kept_boundary(name: &str, surface: &Surface, on: &Surface, volume: f64,
             );
         }
     }
-    // Each edge in two facets traversed in opposite directions: closed, oriented.
-    let mut edge_count: HashMap<[u32; 2], usize> = HashMap::new();
+    assert_eq!(
+        closed_oriented_euler(name, c),
+        euler,
+        "{name}: Euler characteristic"
+    );
+}
+
+/// Asserts that the boundary facets form a closed, oriented 2-manifold (every edge in two
+/// facets, traversed in opposite directions, no pinched vertex) and returns its Euler
+/// characteristic.
+fn closed_oriented_euler(name: &str, c: &delamesh::core::complex::MeshComplex) -> i64 {
+    let mut uses: HashMap<[u32; 2], (usize, i32)> = HashMap::new();
+    let mut fans: HashMap<u32, Vec<[u32; 2]>> = HashMap::new();
     for f in &c.facets {
         for k in 0..3 {
             let (a, b) = (f[k], f[(k + 1) % 3]);
-            *edge_count.entry([a.min(b), a.max(b)]).or_default() += 1;
+            let entry = uses.entry([a.min(b), a.max(b)]).or_default();
+            entry.0 += 1;
+            entry.1 += if a < b { 1 } else { -1 };
+            fans.entry(f[k]).or_default().push([b, f[(k + 2) % 3]]);
         }
     }
-    assert!(
-        edge_count.values().all(|&n| n == 2),
-        "{name}: not edge-manifold"
-    );
-    assert!(uses.values().all(|&n| n == 0), "{name}: not oriented");
-    let vertices: std::collections::HashSet<u32> = c.facets.iter().flatten().copied().collect();
-    let chi = vertices.len() as i64 - edge_count.len() as i64 + c.facets.len() as i64;
-    assert_eq!(chi, euler, "{name}: Euler characteristic");
+    assert!(uses.values().all(|u| u.0 == 2), "{name}: not edge-manifold");
+    assert!(uses.values().all(|u| u.1 == 0), "{name}: not oriented");
+    // Around each vertex, the facets' far edges make one cycle.
+    for (v, link) in &fans {
+        let mut next: HashMap<u32, u32> = link.iter().map(|e| (e[0], e[1])).collect();
+        let start = link[0][0];
+        let mut at = start;
+        let mut steps = 0;
+        while let Some(n) = next.remove(&at) {
+            at = n;
+            steps += 1;
+        }
+        assert!(
+            at == start && steps == link.len(),
+            "{name}: vertex {v} pinched"
+        );
+    }
+    let vertices = fans.len() as i64;
+    vertices - uses.len() as i64 + c.facets.len() as i64
 }
 
 /// Volume of the union of axis-aligned boxes, by inclusion–exclusion.
@@ -525,4 +545,54 @@ fn the_cli_writes_the_kept_surface() {
     assert_eq!(r["quality"]["inverted_tets"], 0);
     let ratio = r["approximation"]["volume_ratio"].as_f64().expect("number");
     assert!((ratio - 1.0).abs() < 1e-12, "volume ratio {ratio}");
+}
+
+#[test]
+fn random_overlapping_boxes_keep_the_boundary_of_their_union() {
+    use delamesh::core::random::XorShift;
+    use glam::DQuat;
+    for seed in 1..=6u64 {
+        let mut rng = XorShift::new(seed);
+        let mut union: Option<Surface> = None;
+        let mut largest: f64 = 0.0;
+        let mut sum = 0.0;
+        for _ in 0..3 {
+            let mut r = || rng.next_f64();
+            let half = DVec3::new(0.3 + 0.4 * r(), 0.3 + 0.4 * r(), 0.3 + 0.4 * r());
+            let axis = DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5).normalize();
+            let turn = DQuat::from_axis_angle(axis, std::f64::consts::TAU * r());
+            let shift = DVec3::new(r() - 0.5, r() - 0.5, r() - 0.5) * 0.6;
+            let mut part = cuboid(-half, half);
+            for p in &mut part.points {
+                *p = turn * *p + shift;
+            }
+            let volume = 8.0 * half.x * half.y * half.z;
+            largest = largest.max(volume);
+            sum += volume;
+            union = Some(match union {
+                Some(u) => u.merge(part),
+                None => part,
+            });
+        }
+        let surface = union.expect("three boxes");
+        let name = format!("boxes {seed}");
+        let mut meshed = preserved(&name, &surface);
+        // The winding-number volume of the input, integrated along a grid of exact lines.
+        let want = meshed
+            .report()
+            .approximation
+            .expect("a surface input")
+            .input_volume;
+        assert!(want > largest && want < sum, "{name}: union volume {want}");
+        let got = assert_positive_not_flat(&name, &meshed.complex);
+        let euler = closed_oriented_euler(&name, &meshed.complex);
+        assert!(
+            euler % 2 == 0 && euler <= 6,
+            "{name}: Euler characteristic {euler}"
+        );
+        assert!(
+            (got - want).abs() <= 2e-3 * want,
+            "{name}: volume {got}, winding volume {want}"
+        );
+    }
 }
