@@ -33,7 +33,8 @@ use crate::triangulation::{
 };
 use constraints::Constraints;
 use facet::{FacetStep, facet_step};
-use std::collections::BTreeSet;
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
 
 /// Options of [`preserve_surface`].
 #[derive(Clone, Debug)]
@@ -231,7 +232,14 @@ struct Recovery {
     /// The constraints not found present since an insertion changed a cell around one of their
     /// vertices (a face is destroyed only with a cell around each of its vertices, all of which
     /// the new cells then touch): the only ones a pass visits.
-    stale: BTreeSet<u32>,
+    stale: Vec<bool>,
+    /// Stale constraints the current pass has still to visit (at or after `cursor`), smallest
+    /// first.
+    ahead: BinaryHeap<Reverse<u32>>,
+    /// Stale constraints for the next pass.
+    behind: Vec<u32>,
+    /// Where the current pass is (0 between passes).
+    cursor: u32,
 }
 
 impl Recovery {
@@ -265,7 +273,7 @@ impl Recovery {
                 edge_facets[e as usize].push(k);
             }
         }
-        let stale = (0..edges + constraints.facets.len() as u32).collect();
+        let count = edges + constraints.facets.len() as u32;
         let diagonal = crate::mesh::Aabb::of(&used).map_or(0.0, |b| (b.max - b.min).length());
         Ok(Recovery {
             dt,
@@ -282,7 +290,10 @@ impl Recovery {
             rounds: 0,
             members,
             edge_facets,
-            stale,
+            stale: vec![true; count as usize],
+            ahead: (0..count).map(Reverse).collect(),
+            behind: Vec::new(),
+            cursor: 0,
         })
     }
 
@@ -296,9 +307,8 @@ impl Recovery {
             self.rounds += 1;
             let mut changed = false;
             // Constraints made stale behind the pass wait for the next one.
-            let mut next = 0;
-            while let Some(&k) = self.stale.range(next..).next() {
-                next = k + 1;
+            while let Some(Reverse(k)) = self.ahead.pop() {
+                self.cursor = k + 1;
                 if k < edges {
                     let e = k as usize;
                     let mut i = 0;
@@ -314,7 +324,7 @@ impl Recovery {
                             changed = true;
                         }
                     }
-                    self.stale.remove(&k);
+                    self.stale[e] = false;
                     continue;
                 }
                 let f = (k - edges) as usize;
@@ -323,13 +333,29 @@ impl Recovery {
                 match facet_step(self, f)? {
                     FacetStep::Recovered(found) => {
                         faces[f] = found;
-                        self.stale.remove(&k);
+                        self.stale[k as usize] = false;
                     }
-                    FacetStep::Refined => changed = true,
+                    FacetStep::Refined => {
+                        changed = true;
+                        self.behind.push(k);
+                    }
                 }
             }
+            self.cursor = 0;
+            self.ahead.extend(self.behind.drain(..).map(Reverse));
             if !changed {
                 return Ok(());
+            }
+        }
+    }
+
+    /// Marks constraint `k` stale, for this pass if it is still ahead, else for the next.
+    fn mark(&mut self, k: u32) {
+        if !std::mem::replace(&mut self.stale[k as usize], true) {
+            if k >= self.cursor {
+                self.ahead.push(Reverse(k));
+            } else {
+                self.behind.push(k);
             }
         }
     }
@@ -339,7 +365,7 @@ impl Recovery {
         if let Some(list) = self.members.get_mut(v.0 as usize) {
             list.push(k);
         }
-        self.stale.insert(k);
+        self.mark(k);
     }
 
     /// Records that vertex `v` (just inserted) splits input edge `e`: the edge and the triangles
@@ -390,10 +416,11 @@ impl Recovery {
                 if self.members.len() <= v.0 as usize {
                     self.members.resize(v.0 as usize + 1, Vec::new());
                 }
-                for &c in &self.report.created {
-                    for u in self.dt.cell(c) {
-                        if let Some(list) = self.members.get(u.0 as usize) {
-                            self.stale.extend(list);
+                for i in 0..self.report.created.len() {
+                    for u in self.dt.cell(self.report.created[i]) {
+                        for j in 0..self.members.get(u.0 as usize).map_or(0, Vec::len) {
+                            let k = self.members[u.0 as usize][j];
+                            self.mark(k);
                         }
                     }
                 }
