@@ -306,8 +306,19 @@ impl<'p> Mesher<'p> {
         };
         let mut times = oracle_times(read, t);
         let t = Instant::now();
+        let mut warnings = Vec::new();
         let (positions, triangles, patches) = match kept {
-            Some(b) => (b.points, b.triangles, b.patches),
+            Some(b) => {
+                if b.cut + b.dropped + b.separated > 0 {
+                    warnings.push(format!(
+                        "kept the boundary of the winding-number domain: {} triangles cut \
+                         along their crossings, {} triangles or pieces dropped (buried or \
+                         outside), {} points where sheets touched parted",
+                        b.cut, b.dropped, b.separated
+                    ));
+                }
+                (b.points, b.triangles, b.patches)
+            }
             None => (
                 surface.positions.clone(),
                 surface.triangles.clone(),
@@ -375,7 +386,7 @@ impl<'p> Mesher<'p> {
                 ],
                 ..RefineStats::default()
             },
-            warnings: Vec::new(),
+            warnings,
             stopped: preserved.stopped,
             criteria,
             times,

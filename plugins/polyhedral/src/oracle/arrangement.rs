@@ -141,41 +141,47 @@ impl PolyhedralOracle {
         let mut coords = Vec::with_capacity(index.len());
         for (name, i) in index.iter_mut() {
             *i = coords.len() as u32;
-            coords.push(match *name {
-                Name::Corner(c) => corners[c as usize],
-                other => points.at[&other],
-            });
+            coords.push(points.get(*name, corners));
         }
         let triangles: Vec<[u32; 3]> = pieces
             .iter()
             .map(|(names, _)| names.map(|n| index[&n]))
             .collect();
         let sheet = sheets(&triangles);
+        // Each sheet is decided at the centroid of its largest piece: far from the sheet's
+        // rim, where rounding could put the centroid of a sliver on the wrong side of another.
+        let area = |t: &[u32; 3]| {
+            let [a, b, c] = t.map(|v| coords[v as usize]);
+            (b - a).cross(c - a).length()
+        };
+        let mut largest: BTreeMap<u32, (f64, usize)> = BTreeMap::new();
+        for (k, t) in triangles.iter().enumerate() {
+            let entry = largest.entry(sheet[k]).or_insert((-1.0, k));
+            if area(t) > entry.0 {
+                *entry = (area(t), k);
+            }
+        }
         let mut side: HashMap<u32, Option<bool>> = HashMap::new();
+        for (&s, &(_, k)) in &largest {
+            let [a, b, c] = triangles[k].map(|v| coords[v as usize]);
+            let x = (a + b + c) / 3.0;
+            let (behind, front) = self
+                .windings_across(pieces[k].1, x)
+                .ok_or(ArrangementError::Undecided(x.x, x.y, x.z))?;
+            let keep = match (behind >= 1, front >= 1) {
+                (true, false) => Some(false),
+                (false, true) => Some(true),
+                _ => None,
+            };
+            side.insert(s, keep);
+        }
         let mut out = WindingBoundary {
             cut,
             ..WindingBoundary::default()
         };
         for (k, tri) in triangles.iter().enumerate() {
             let source = pieces[k].1;
-            let keep = match side.get(&sheet[k]) {
-                Some(&keep) => keep,
-                None => {
-                    let [a, b, c] = tri.map(|v| coords[v as usize]);
-                    let x = (a + b + c) / 3.0;
-                    let (behind, front) = self
-                        .windings_across(source, x)
-                        .ok_or(ArrangementError::Undecided(x.x, x.y, x.z))?;
-                    let keep = match (behind >= 1, front >= 1) {
-                        (true, false) => Some(false),
-                        (false, true) => Some(true),
-                        _ => None,
-                    };
-                    side.insert(sheet[k], keep);
-                    keep
-                }
-            };
-            match keep {
+            match side[&sheet[k]] {
                 Some(flip) => {
                     out.triangles
                         .push(if flip { [tri[0], tri[2], tri[1]] } else { *tri });
