@@ -7,6 +7,7 @@ use crate::kernel::predicates2d::{circumcenter, dot_sign, orient2d};
 use crate::kernel::{Point2, Point3};
 use crate::triangulation::{Delaunay2, Triangulation, VertexId};
 use std::cmp::Ordering;
+use std::collections::HashSet;
 
 /// What one step on a facet did.
 pub(super) enum FacetStep {
@@ -116,6 +117,8 @@ fn pieces(
         *slot = i;
     }
     let (mut faces, mut missing) = (Vec::new(), Vec::new());
+    let (checked, known) = std::mem::take(&mut r.present[f]);
+    let mut found = HashSet::with_capacity(known.len());
     for c in dt2.finite_cells() {
         let tri = dt2.cell(c).map(|v| local[v.0 as usize]);
         if on[tri[0]].edges & on[tri[1]].edges & on[tri[2]].edges != 0 {
@@ -123,12 +126,17 @@ fn pieces(
             continue;
         }
         let face = tri.map(|i| on[i].vertex);
-        if r.has_face(face) {
+        let mut key = face;
+        key.sort_unstable();
+        let kept = known.contains(&key) && key.iter().all(|v| r.touched[v.0 as usize] <= checked);
+        if kept || r.has_face(face) {
             faces.push(face);
+            found.insert(key);
         } else {
             missing.push(tri);
         }
     }
+    r.present[f] = (r.epoch, found);
     Ok((on, faces, missing))
 }
 

@@ -34,7 +34,7 @@ use crate::triangulation::{
 use constraints::Constraints;
 use facet::{FacetStep, facet_step};
 use std::cmp::Reverse;
-use std::collections::BinaryHeap;
+use std::collections::{BinaryHeap, HashSet};
 
 /// Options of [`preserve_surface`].
 #[derive(Clone, Debug)]
@@ -240,6 +240,14 @@ struct Recovery {
     behind: Vec<u32>,
     /// Where the current pass is (0 between passes).
     cursor: u32,
+    /// Insertions so far: the clock of `touched` and `present`.
+    epoch: u64,
+    /// Per vertex, the last insertion that changed a cell around it.
+    touched: Vec<u64>,
+    /// Per input triangle, its pieces (vertices sorted) last found to be faces, and when: one
+    /// whose vertices no insertion has touched since is still a face (see `stale`), so only the
+    /// pieces near the last insertions are searched for in the triangulation again.
+    present: Vec<(u64, HashSet<[VertexId; 3]>)>,
 }
 
 impl Recovery {
@@ -274,6 +282,7 @@ impl Recovery {
             }
         }
         let count = edges + constraints.facets.len() as u32;
+        let constraints_facets = constraints.facets.len();
         let diagonal = crate::mesh::Aabb::of(&used).map_or(0.0, |b| (b.max - b.min).length());
         Ok(Recovery {
             dt,
@@ -294,6 +303,9 @@ impl Recovery {
             ahead: (0..count).map(Reverse).collect(),
             behind: Vec::new(),
             cursor: 0,
+            epoch: 0,
+            touched: vec![0; vertices.len()],
+            present: vec![(0, HashSet::new()); constraints_facets],
         })
     }
 
@@ -416,8 +428,15 @@ impl Recovery {
                 if self.members.len() <= v.0 as usize {
                     self.members.resize(v.0 as usize + 1, Vec::new());
                 }
+                self.epoch += 1;
+                if self.touched.len() <= v.0 as usize {
+                    self.touched.resize(v.0 as usize + 1, self.epoch);
+                }
                 for i in 0..self.report.created.len() {
                     for u in self.dt.cell(self.report.created[i]) {
+                        if let Some(t) = self.touched.get_mut(u.0 as usize) {
+                            *t = self.epoch;
+                        }
                         for j in 0..self.members.get(u.0 as usize).map_or(0, Vec::len) {
                             let k = self.members[u.0 as usize][j];
                             self.mark(k);
