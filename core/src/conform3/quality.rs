@@ -16,8 +16,9 @@ use crate::oracle::{OUTSIDE, Oracle, SubdomainId};
 use crate::refine::RefineError;
 use crate::refine::criteria::CellCriteria;
 use crate::refine::{
-    FLAT_CANDIDATES, cell_vertices, facet_vertices, flat_cell_refinement_point, is_flat,
-    is_same_cell, shortest_edge, triangle_circumcenter,
+    CHECKER_FLAT_VOLUME, FLAT_CANDIDATES, cell_vertices, facet_vertices,
+    flat_cell_refinement_point, is_flat, is_flat_within, is_same_cell, shortest_edge,
+    triangle_circumcenter,
 };
 use crate::triangulation::{CellId, ConflictZone, Triangulation, VertexId};
 use std::collections::{HashMap, HashSet};
@@ -25,9 +26,11 @@ use std::collections::{HashMap, HashSet};
 /// Most rounds; each refines every bad cell found at its start, so far fewer are needed.
 const MAX_ROUNDS: usize = 200;
 
-/// The floor under flat cells, relative to the one under the criteria: a flat cell is a defect,
-/// not a shape to improve, and the ones rounding makes among the points where crossing input
-/// triangles were cut are far smaller than the floor the criteria keep.
+/// The floor under the cells that checkers count as flat, relative to the one under the
+/// criteria: such a cell is a defect, not a shape to improve, and the ones rounding makes among
+/// the points where crossing input triangles were cut are far smaller than the floor the criteria
+/// keep. Cells only nearly that flat keep the criteria's floor: on CAD parts they are many, and
+/// refining them all below it multiplies the vertices.
 const FLAT_FLOOR: f64 = 1e-3;
 
 /// A piece of an input triangle (its vertices sorted) with that triangle.
@@ -179,7 +182,12 @@ fn bad_cells(
         if is_flat(&p) {
             let stays = faces_to_move_across(&r.dt, c, subdomain, facet_of).is_none();
             let radius = flat_cell_refinement_point(&r.dt, &vertices, 0).map(|(_, r2)| r2.sqrt());
-            if stays && radius.is_some_and(|radius| radius >= FLAT_FLOOR * min_radius) {
+            let floor = if is_flat_within(&p, CHECKER_FLAT_VOLUME) {
+                FLAT_FLOOR * min_radius
+            } else {
+                min_radius
+            };
+            if stays && radius.is_some_and(|radius| radius >= floor) {
                 bad.push((f64::INFINITY, c, vertices));
             }
             continue;

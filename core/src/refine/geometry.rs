@@ -133,8 +133,16 @@ pub(crate) fn triangle_min_angle_deg(a: Point3, b: Point3, c: Point3) -> f64 {
 /// margin catches the cells that rounding in a later stage could push below that.
 pub(crate) const FLAT_VOLUME: f64 = 1e-9;
 
+/// What checkers (and the tests) count as flat: |6V| ≤ `CHECKER_FLAT_VOLUME` · (longest edge)³.
+pub(crate) const CHECKER_FLAT_VOLUME: f64 = 1e-12;
+
 /// Is the tetrahedron `p` flat (see [`FLAT_VOLUME`])?
 pub(crate) fn is_flat(p: &[Point3; 4]) -> bool {
+    is_flat_within(p, FLAT_VOLUME)
+}
+
+/// Is |6V| of the tetrahedron `p` at most `ratio` times its longest edge cubed?
+pub(crate) fn is_flat_within(p: &[Point3; 4], ratio: f64) -> bool {
     let mut longest2 = 0.0f64;
     for i in 0..4 {
         for j in i + 1..4 {
@@ -142,7 +150,7 @@ pub(crate) fn is_flat(p: &[Point3; 4]) -> bool {
         }
     }
     let v6 = (p[1] - p[0]).cross(p[2] - p[0]).dot(p[3] - p[0]);
-    v6.abs() <= FLAT_VOLUME * longest2 * longest2.sqrt()
+    v6.abs() <= ratio * longest2 * longest2.sqrt()
 }
 
 /// Candidate refinement points of a flat cell: four facets times [`FLAT_HEIGHTS`], then four

@@ -27,8 +27,9 @@ pub use engine::{
     Cancel, Candidate, Check, Engine, Limits, MesherLevel, Progress, RefineError, RefineStats,
 };
 pub(crate) use geometry::{
-    FLAT_CANDIDATES, cell_vertices, facet_vertices, flat_cell_refinement_point, is_flat,
-    is_same_cell, shortest_edge, triangle_circumcenter,
+    CHECKER_FLAT_VOLUME, FLAT_CANDIDATES, cell_vertices, facet_vertices,
+    flat_cell_refinement_point, is_flat, is_flat_within, is_same_cell, shortest_edge,
+    triangle_circumcenter,
 };
 pub use manifold::Relabelling;
 pub use mesh3::{
