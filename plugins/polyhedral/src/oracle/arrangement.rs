@@ -52,7 +52,7 @@ const SEPARATION: f64 = 1e-4;
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum ArrangementError {
     /// A contact that is not a proper crossing: a corner on another triangle, two edges through
-    /// each other, or three triangles through one edge.
+    /// each other, or a crossing segment through an edge of a third triangle.
     #[error("triangles touch without crossing cleanly near ({0:.6e}, {1:.6e}, {2:.6e})")]
     Degenerate(f64, f64, f64),
     /// The winding number beside a sheet could not be found by any ray.
@@ -114,7 +114,7 @@ impl PolyhedralOracle {
                 None => pieces.push((names, t as u32)),
                 Some(list) => {
                     cut += 1;
-                    for piece in cut_triangle(&geometry[t], tri, list, &points)? {
+                    for piece in cut_triangle(&geometry[t], tri, list, &points, &corners)? {
                         pieces.push((piece, t as u32));
                     }
                 }
@@ -312,6 +312,7 @@ fn cut_triangle(
     ids: &[u32; 3],
     chains: &[Vec<Name>],
     points: &Points,
+    corners: &[DVec3],
 ) -> Result<Vec<[Name; 3]>, ArrangementError> {
     let normal = (g[1] - g[0]).cross(g[2] - g[0]);
     let axis = normal.abs().max_position();
@@ -319,10 +320,7 @@ fn cut_triangle(
     if normal[axis] < 0.0 {
         std::mem::swap(&mut u, &mut v);
     }
-    let at = |name: Name| match name {
-        Name::Corner(c) => g[ids.iter().position(|&x| x == c).unwrap_or(0)],
-        other => points.at[&other],
-    };
+    let at = |name: Name| points.get(name, corners);
     let flat = |p: DVec3| {
         let d = p - g[0];
         DVec2::new(d[u], d[v])
