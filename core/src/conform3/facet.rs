@@ -5,9 +5,28 @@
 use super::{PreserveError, Recovery};
 use crate::kernel::predicates2d::{circumcenter, dot_sign, orient2d};
 use crate::kernel::{Point2, Point3};
-use crate::triangulation::{Delaunay2, Triangulation, VertexId};
+use crate::triangulation::{CellId, Delaunay2, InsertOutcome, Triangulation, VertexId};
+use rustc_hash::FxHashSet;
 use std::cmp::Ordering;
-use std::collections::HashSet;
+
+/// Facets with at least this many vertices keep their in-plane triangulation between steps.
+const KEPT_PLANE: usize = 8;
+
+/// The in-plane Delaunay triangulation of a facet with many vertices, kept between its steps
+/// (facets at a small angle can take thousands of steps, each adding a vertex or two): the
+/// vertices on a facet are only ever added to, so the new ones are inserted instead of the whole
+/// triangulation being built again.
+pub(super) struct Plane {
+    dt: Delaunay2,
+    /// Per vertex of `dt`: the triangulation vertex and its edge bits.
+    vertices: Vec<(VertexId, u8)>,
+    /// The triangulation vertices in `dt`.
+    known: FxHashSet<VertexId>,
+    /// Per cell of `dt`: the insertion epoch at which its piece was last found to be a face. A
+    /// cell made by a later insertion into `dt` has a vertex newer than that, so a stamp left
+    /// on a reused cell is never trusted.
+    found: Vec<Option<u64>>,
+}
 
 /// What one step on a facet did.
 pub(super) enum FacetStep {
@@ -97,6 +116,9 @@ fn pieces(
     f: usize,
 ) -> Result<(Vec<OnFacet>, Vec<[VertexId; 3]>, Vec<[usize; 3]>), PreserveError> {
     let on = vertices_on(r, f);
+    if on.len() >= KEPT_PLANE {
+        return kept_pieces(r, f, on_facet(r, f, on));
+    }
     if on.len() == 3 {
         let corners = r.constraints.facets[f].corners;
         return Ok(if r.has_face(corners) {
@@ -116,9 +138,8 @@ fn pieces(
         }
         *slot = i;
     }
-    let (mut faces, mut missing) = (Vec::new(), Vec::new());
     let (checked, known) = std::mem::take(&mut r.present[f]);
-    let mut found = HashSet::with_capacity(known.len());
+    let mut candidates = Vec::new();
     for c in dt2.finite_cells() {
         let tri = dt2.cell(c).map(|v| local[v.0 as usize]);
         if on[tri[0]].edges & on[tri[1]].edges & on[tri[2]].edges != 0 {
@@ -129,14 +150,84 @@ fn pieces(
         let mut key = face;
         key.sort_unstable();
         let kept = known.contains(&key) && key.iter().all(|v| r.touched[v.0 as usize] <= checked);
+        candidates.push((tri, face, kept));
+    }
+    let (mut faces, mut missing) = (Vec::new(), Vec::new());
+    let mut found = FxHashSet::with_capacity_and_hasher(known.len(), Default::default());
+    for (tri, face, kept) in candidates {
         if kept || r.has_face(face) {
             faces.push(face);
+            let mut key = face;
+            key.sort_unstable();
             found.insert(key);
         } else {
             missing.push(tri);
         }
     }
     r.present[f] = (r.epoch, found);
+    Ok((on, faces, missing))
+}
+
+/// [`pieces`] on the kept plane of facet `f`: the new vertices `on` it are inserted, and a
+/// piece whose vertices no insertion has touched since it was found to be a face still is one.
+#[allow(clippy::type_complexity)]
+fn kept_pieces(
+    r: &mut Recovery,
+    f: usize,
+    on: Vec<OnFacet>,
+) -> Result<(Vec<OnFacet>, Vec<[VertexId; 3]>, Vec<[usize; 3]>), PreserveError> {
+    let mut plane = r.planes[f].take().map_or_else(
+        || Plane {
+            dt: Delaunay2::new(),
+            vertices: Vec::new(),
+            known: FxHashSet::default(),
+            found: Vec::new(),
+        },
+        |kept| *kept,
+    );
+    let fresh: Vec<&OnFacet> = on
+        .iter()
+        .filter(|o| !plane.known.contains(&o.vertex))
+        .collect();
+    let planar: Vec<Point2> = fresh.iter().map(|o| o.at).collect();
+    for (o, outcome) in fresh.iter().zip(plane.dt.insert_points(&planar)?) {
+        let InsertOutcome::Inserted(v) = outcome else {
+            return Err(PreserveError::Coincident(f));
+        };
+        let slot = v.0 as usize;
+        if plane.vertices.len() <= slot {
+            plane.vertices.resize(slot + 1, (VertexId(u32::MAX), 0));
+        }
+        plane.vertices[slot] = (o.vertex, o.edges);
+        plane.known.insert(o.vertex);
+    }
+    let mut candidates = Vec::new();
+    let cells: Vec<CellId> = plane.dt.finite_cells().collect();
+    for c in cells {
+        let [a, b, d] = plane.dt.cell(c).map(|v| plane.vertices[v.0 as usize]);
+        if a.1 & b.1 & d.1 != 0 {
+            continue;
+        }
+        let face = [a.0, b.0, d.0];
+        let slot = c.0 as usize;
+        if plane.found.len() <= slot {
+            plane.found.resize(slot + 1, None);
+        }
+        let kept =
+            plane.found[slot].is_some_and(|t| face.iter().all(|v| r.touched[v.0 as usize] <= t));
+        candidates.push((slot, face, kept));
+    }
+    let (mut faces, mut missing) = (Vec::new(), Vec::new());
+    for (slot, face, kept) in candidates {
+        if kept || r.has_face(face) {
+            faces.push(face);
+            plane.found[slot] = Some(r.epoch);
+        } else {
+            missing.push(face.map(|v| on.iter().position(|o| o.vertex == v).unwrap_or(0)));
+            plane.found[slot] = None;
+        }
+    }
+    r.planes[f] = Some(Box::new(plane));
     Ok((on, faces, missing))
 }
 
@@ -286,20 +377,30 @@ impl Boundary {
     }
 }
 
+/// The sub-segments on the boundary of facet `f`. `on` starts with that boundary, side by side,
+/// each side from its first corner (see [`vertices_on`]): a sub-segment joins each of those
+/// vertices to the next, and the last to the first.
 fn boundary_segments(r: &Recovery, f: usize, on: &[OnFacet]) -> Vec<Boundary> {
-    let index: std::collections::HashMap<VertexId, Point2> =
-        on.iter().map(|o| (o.vertex, o.at)).collect();
-    let at = |v: VertexId| index.get(&v).copied().unwrap_or(Point2::ZERO);
-    let mut out = Vec::new();
-    for side in 0..3 {
-        let along: Vec<VertexId> = r.constraints.facet_edge(f, side).collect();
-        for w in along.windows(2) {
+    let facet = &r.constraints.facets[f];
+    let sides = facet.edges.map(|e| {
+        r.constraints.edges[e as usize]
+            .chain
+            .len()
+            .saturating_sub(1)
+    });
+    let count: usize = sides.iter().sum();
+    let mut out = Vec::with_capacity(count);
+    let mut i = 0;
+    for (side, &along) in sides.iter().enumerate() {
+        for _ in 0..along {
+            let (a, b) = (&on[i], &on[(i + 1) % count]);
             out.push(Boundary {
                 side,
-                edge: r.constraints.facets[f].edges[side] as usize,
-                vertices: [w[0], w[1]],
-                ends: [at(w[0]), at(w[1])],
+                edge: facet.edges[side] as usize,
+                vertices: [a.vertex, b.vertex],
+                ends: [a.at, b.at],
             });
+            i += 1;
         }
     }
     out

@@ -32,9 +32,10 @@ use crate::triangulation::{
     CellId, Delaunay3, InsertOutcome, InsertReport, Triangulation, TriangulationError, VertexId,
 };
 use constraints::Constraints;
-use facet::{FacetStep, facet_step};
+use facet::{FacetStep, Plane, facet_step};
+use rustc_hash::FxHashSet as HashSet;
 use std::cmp::Reverse;
-use std::collections::{BinaryHeap, HashSet};
+use std::collections::BinaryHeap;
 
 /// Options of [`preserve_surface`].
 #[derive(Clone, Debug)]
@@ -244,10 +245,15 @@ struct Recovery {
     epoch: u64,
     /// Per vertex, the last insertion that changed a cell around it.
     touched: Vec<u64>,
+    /// Per input edge, when a pass last began to check its chain (all of whose sub-segments were
+    /// edges by its end): a sub-segment whose ends no insertion has touched since is still one.
+    checked: Vec<Option<u64>>,
     /// Per input triangle, its pieces (vertices sorted) last found to be faces, and when: one
     /// whose vertices no insertion has touched since is still a face (see `stale`), so only the
     /// pieces near the last insertions are searched for in the triangulation again.
     present: Vec<(u64, HashSet<[VertexId; 3]>)>,
+    /// Per input triangle, its kept in-plane triangulation, once it has many vertices.
+    planes: Vec<Option<Box<Plane>>>,
 }
 
 impl Recovery {
@@ -305,7 +311,9 @@ impl Recovery {
             cursor: 0,
             epoch: 0,
             touched: vec![0; vertices.len()],
-            present: vec![(0, HashSet::new()); constraints_facets],
+            checked: vec![None; edges as usize],
+            present: vec![(0, HashSet::default()); constraints_facets],
+            planes: (0..constraints_facets).map(|_| None).collect(),
         })
     }
 
@@ -323,13 +331,17 @@ impl Recovery {
                 self.cursor = k + 1;
                 if k < edges {
                     let e = k as usize;
+                    let since = self.checked[e].replace(self.epoch);
                     let mut i = 0;
                     while i + 1 < self.constraints.edges[e].chain.len() {
                         let (u, v) = {
                             let chain = &self.constraints.edges[e].chain;
                             (chain[i].1, chain[i + 1].1)
                         };
-                        if self.has_edge(u, v) {
+                        let kept = since.is_some_and(|t| {
+                            self.touched[u.0 as usize] <= t && self.touched[v.0 as usize] <= t
+                        });
+                        if kept || self.has_edge(u, v) {
                             i += 1;
                         } else {
                             self.split(e, [u, v])?;
@@ -396,20 +408,13 @@ impl Recovery {
     }
 
     /// Whether `u` and `v` are joined by an edge of the triangulation.
-    fn has_edge(&mut self, u: VertexId, v: VertexId) -> bool {
-        self.dt.incident_cells(u, &mut self.incident);
-        let dt = &self.dt;
-        self.incident.iter().any(|&c| dt.cell(c).contains(&v))
+    fn has_edge(&self, u: VertexId, v: VertexId) -> bool {
+        self.dt.edge_cell(u, v).is_some()
     }
 
-    /// Whether `u`, `v`, `w` form a face of the triangulation.
-    fn has_face(&mut self, [u, v, w]: [VertexId; 3]) -> bool {
-        self.dt.incident_cells(u, &mut self.incident);
-        let dt = &self.dt;
-        self.incident.iter().any(|&c| {
-            let cell = dt.cell(c);
-            cell.contains(&v) && cell.contains(&w)
-        })
+    /// Whether `face` is a face of the triangulation.
+    fn has_face(&self, face: [VertexId; 3]) -> bool {
+        self.dt.face_cell(face).is_some()
     }
 
     /// Inserts a Steiner point near vertex `near`; `None` when it falls on an existing vertex.
@@ -459,7 +464,12 @@ impl Recovery {
             return Ok(());
         };
         let (from, to) = (edge.chain[i].1, edge.chain[i + 1].1);
-        let encroacher = self.encroacher(from, to);
+        // A piece at one end of its edge splits on a shell around that end, wherever encroached.
+        let encroacher = if (i == 0) == (i + 2 == edge.chain.len()) {
+            self.encroacher(from, to)
+        } else {
+            None
+        };
         let edge = &self.constraints.edges[e];
         let (t, p) =
             edge.split_point(i, encroacher, self.min_length)

@@ -21,7 +21,7 @@ use crate::refine::{
     triangle_circumcenter,
 };
 use crate::triangulation::{CellId, ConflictZone, Triangulation, VertexId};
-use std::collections::{HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 /// Most rounds; each refines every bad cell found at its start, so far fewer are needed.
 const MAX_ROUNDS: usize = 200;
@@ -61,7 +61,7 @@ pub(super) fn refine(
     let mut inserted = 0;
     // Cells left as they are because refining them would refine the surface too finely: not
     // tried again while they exist.
-    let mut kept: HashSet<[VertexId; 4]> = HashSet::new();
+    let mut kept: HashSet<[VertexId; 4]> = HashSet::default();
     for _ in 0..MAX_ROUNDS {
         if let Some(stop) = r.clock.stop() {
             return Ok((inserted, Some(stop)));
@@ -232,7 +232,7 @@ fn refinement_points(r: &Recovery, cell: CellId, vertices: &[VertexId; 4]) -> Ve
 
 /// Every sub-segment (its vertices sorted) with its input edge.
 fn sub_segments(r: &Recovery) -> HashMap<[VertexId; 2], usize> {
-    let mut out = HashMap::new();
+    let mut out = HashMap::default();
     for (e, edge) in r.constraints.edges.iter().enumerate() {
         for w in edge.chain.windows(2) {
             let (a, b) = (w[0].1, w[1].1);

@@ -9,7 +9,7 @@ use crate::oracle::{OUTSIDE, Oracle, PatchId, SubdomainId};
 use crate::refine::{cell_vertices, facet_vertices, is_flat};
 use crate::triangulation::{CellId, Delaunay3, Triangulation, VertexId};
 use crate::union_find::UnionFind;
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 pub(super) fn key(mut f: [VertexId; 3]) -> [VertexId; 3] {
     f.sort_unstable();
@@ -18,7 +18,7 @@ pub(super) fn key(mut f: [VertexId; 3]) -> [VertexId; 3] {
 
 /// Each piece of an input triangle (its vertices sorted) with the index of that triangle.
 pub(super) fn piece_facets(faces: &[Vec<[VertexId; 3]>]) -> HashMap<[VertexId; 3], usize> {
-    let mut facet_of = HashMap::new();
+    let mut facet_of = HashMap::default();
     for (f, pieces) in faces.iter().enumerate() {
         for &face in pieces {
             facet_of.insert(key(face), f);
@@ -49,7 +49,7 @@ pub(super) fn cell_subdomains(
     outside.sort_unstable();
     outside.dedup();
     // Per region, its largest cell.
-    let mut largest: HashMap<u32, (f64, CellId)> = HashMap::new();
+    let mut largest: HashMap<u32, (f64, CellId)> = HashMap::default();
     for c in dt.finite_cells() {
         let root = regions.find(c.0);
         if outside.binary_search(&root).is_ok() {

@@ -349,6 +349,95 @@ impl<K: ConflictKernel> Triangulation3<K> {
             .map(CellId)
     }
 
+    /// A cell with the edge `u v`, or `None` when `u v` is not an edge. The search walks through
+    /// the cells around `u` towards `v`, crossing only facets through `u` that separate a cell
+    /// from `v`: a few cells, where collecting `u`'s whole star would visit dozens, or thousands
+    /// around a vertex where constraints meet at small angles. The cones at `u` of the cells
+    /// around it tile the directions from `u`, and an edge from `u` is a ray on their
+    /// boundaries, so the walk either meets `v` or ends in a cell whose closed cone holds the
+    /// direction of `v` without it: then no edge `u v` exists. Walks that meet the outside of
+    /// the hull, or go on too long, fall back on the whole star.
+    pub fn edge_cell(&self, u: VertexId, v: VertexId) -> Option<CellId> {
+        /// Longest walk before the whole star is searched instead.
+        const MAX_STEPS: usize = 1024;
+        if u == v {
+            return None;
+        }
+        if u.0 == INFINITE || v.0 == INFINITE {
+            return self.edge_cell_in_star(u, v);
+        }
+        let mut c = *self.vertex_cell.get(u.0 as usize)?;
+        if c == NO_CELL || (v.0 as usize) >= self.points.len() {
+            return None;
+        }
+        let p = self.pt(v.0);
+        let mut prev = NO_CELL;
+        let mut rnd = XorShift::new(u64::from(u.0) << 32 ^ u64::from(v.0) | 1);
+        'walk: for _ in 0..MAX_STEPS {
+            let r = self.cells[c as usize];
+            if r.v.contains(&v.0) {
+                return Some(CellId(c));
+            }
+            if Self::is_infinite_record(&r) {
+                break;
+            }
+            let first = (rnd.next_u64() >> 62) as usize;
+            for k in 0..4 {
+                let i = (first + k) & 3;
+                let next = r.n[i] >> 2;
+                // Only facets through u (not the one opposite it) stay around u.
+                if r.v[i] == u.0 || next == prev {
+                    continue;
+                }
+                let mut t = r.v.map(|x| self.pt(x));
+                t[i] = p;
+                if self.filter.orient3d(t[0], t[1], t[2], t[3]) == Sign::Negative {
+                    prev = c;
+                    c = next;
+                    continue 'walk;
+                }
+            }
+            return None;
+        }
+        self.edge_cell_in_star(u, v)
+    }
+
+    /// [`Self::edge_cell`] by collecting the whole star of `u`.
+    fn edge_cell_in_star(&self, u: VertexId, v: VertexId) -> Option<CellId> {
+        let mut star = Vec::new();
+        self.incident_cells(u, &mut star);
+        star.into_iter()
+            .find(|&c| self.cells[c.0 as usize].v.contains(&v.0))
+    }
+
+    /// A cell with the triangle `u v w`, or `None` when it is not a face: [`Self::edge_cell`]
+    /// for `u v`, then a turn around that edge.
+    pub fn face_cell(&self, [u, v, w]: [VertexId; 3]) -> Option<CellId> {
+        let start = self.edge_cell(u, v)?.0;
+        let r = self.cells[start as usize];
+        // The cell's vertices off the edge: leave across the facet opposite `away`, keeping
+        // `kept`; the next cell's new vertex is opposite the facet entered.
+        let mut others = r.v.iter().copied().filter(|&x| x != u.0 && x != v.0);
+        let (mut away, mut kept) = (others.next()?, others.next()?);
+        let mut c = start;
+        // The cells around an edge form one cycle; the bound only guards a corrupt structure.
+        for _ in 0..self.cells.len() {
+            let r = self.cells[c as usize];
+            if r.v.contains(&w.0) {
+                return Some(CellId(c));
+            }
+            let i = r.v.iter().position(|&x| x == away)?;
+            let packed = r.n[i];
+            c = packed >> 2;
+            if c == start {
+                return None;
+            }
+            away = kept;
+            kept = self.cells[c as usize].v[(packed & 3) as usize];
+        }
+        None
+    }
+
     fn live(&self, c: u32) -> bool {
         (c as usize) < self.cells.len() && self.cells[c as usize].v[0] != FREE
     }
@@ -1016,8 +1105,9 @@ impl<K: ConflictKernel> Triangulation for Triangulation3<K> {
         let Some(start) = start else {
             return;
         };
-        let mut seen = rustc_hash::FxHashSet::default();
-        seen.insert(start);
+        // A star is a few dozen cells: scanning the list beats hashing until it grows large.
+        const SCAN: usize = 8;
+        let mut seen: Option<rustc_hash::FxHashSet<u32>> = None;
         out.push(CellId(start));
         let mut k = 0;
         while k < out.len() {
@@ -1025,8 +1115,20 @@ impl<K: ConflictKernel> Triangulation for Triangulation3<K> {
             k += 1;
             for (i, &nb) in r.n.iter().enumerate() {
                 // Only facets containing v (i.e. not opposite it) lead to cells around v.
-                if r.v[i] != v.0 && seen.insert(nb >> 2) {
-                    out.push(CellId(nb >> 2));
+                if r.v[i] == v.0 {
+                    continue;
+                }
+                let c = nb >> 2;
+                let new = match &mut seen {
+                    Some(set) => set.insert(c),
+                    None => !out.iter().any(|x| x.0 == c),
+                };
+                if !new {
+                    continue;
+                }
+                out.push(CellId(c));
+                if seen.is_none() && out.len() > SCAN {
+                    seen = Some(out.iter().map(|x| x.0).collect());
                 }
             }
         }
@@ -1050,6 +1152,84 @@ mod tests {
             ));
         }
         Delaunay3::from_points(&pts).unwrap()
+    }
+
+    /// A point set with thin clusters: a vertex among them has a star of hundreds of cells.
+    fn fan_of_close_segments() -> Delaunay3 {
+        let mut pts = vec![Point3::ZERO];
+        for k in 0..6u32 {
+            let angle = f64::from(k) * 0.02;
+            for j in 1..60u32 {
+                let r = f64::from(j) / 60.0;
+                pts.push(Point3::new(
+                    r * angle.cos(),
+                    r * angle.sin(),
+                    0.01 * f64::from(k),
+                ));
+            }
+        }
+        for i in 0..40u32 {
+            let t = f64::from(i);
+            pts.push(Point3::new(
+                (t * 0.37).sin(),
+                (t * 0.73).cos(),
+                (t * 0.11).sin(),
+            ));
+        }
+        Delaunay3::from_points(&pts).unwrap()
+    }
+
+    #[test]
+    fn edge_and_face_walks_agree_with_the_stars() {
+        // A jittered lattice, an exact one (cospherical and coplanar everywhere), and a fan.
+        let exact: Vec<Point3> = (0..64u32)
+            .map(|i| Point3::new(f64::from(i % 4), f64::from(i / 4 % 4), f64::from(i / 16)))
+            .collect();
+        for dt in [
+            lattice_with_jitter(),
+            Delaunay3::from_points(&exact).unwrap(),
+            fan_of_close_segments(),
+        ] {
+            let mut star = Vec::new();
+            let mut faces = 0;
+            for u in dt.vertices() {
+                dt.incident_cells(u, &mut star);
+                let around: std::collections::BTreeSet<VertexId> =
+                    star.iter().flat_map(|&c| dt.cell(c)).collect();
+                for v in dt.vertices() {
+                    let found = dt.edge_cell(u, v);
+                    assert_eq!(
+                        found.is_some(),
+                        u != v && around.contains(&v),
+                        "{u:?} {v:?}"
+                    );
+                    if let Some(c) = found {
+                        assert!(dt.cell(c).contains(&u) && dt.cell(c).contains(&v));
+                    }
+                }
+                // Every face through u is found; a triangle of u's neighbours is a face only
+                // when some cell holds it.
+                for &c in &star {
+                    let cell = dt.cell(c);
+                    let others: Vec<VertexId> = cell.into_iter().filter(|&x| x != u).collect();
+                    for (a, b) in [(0, 1), (1, 2), (0, 2)] {
+                        let face = [u, others[a], others[b]];
+                        let found = dt.face_cell(face).map(|c| dt.cell(c));
+                        assert!(found.is_some_and(|f| face.iter().all(|x| f.contains(x))));
+                        faces += 1;
+                    }
+                }
+                let near: Vec<VertexId> = around.iter().copied().filter(|&x| x != u).collect();
+                for w in near.windows(2) {
+                    let face = [u, w[0], w[1]];
+                    let held = star
+                        .iter()
+                        .any(|&c| face.iter().all(|x| dt.cell(c).contains(x)));
+                    assert_eq!(dt.face_cell(face).is_some(), held);
+                }
+            }
+            assert!(faces > 0);
+        }
     }
 
     #[test]
