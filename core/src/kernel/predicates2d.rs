@@ -181,9 +181,13 @@ fn sign(v: f64) -> Ordering {
 
 /// The total order on points used by the perturbation: lexicographic on (x, y). It depends only on
 /// coordinates, never on insertion order, so the perturbed triangulation is order independent.
-/// Collinear points are also sorted along their line by this order.
+/// Collinear points are also sorted along their line by this order, so -0 and +0 must compare
+/// equal as the predicates see them (adding +0 turns -0 into +0): otherwise points of a vertical
+/// line at x = -0 and x = +0 are sorted by sign before height.
 pub fn lex_cmp(a: DVec2, b: DVec2) -> Ordering {
-    a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y))
+    (a.x + 0.0)
+        .total_cmp(&(b.x + 0.0))
+        .then((a.y + 0.0).total_cmp(&(b.y + 0.0)))
 }
 
 /// In-circle with symbolic perturbation: never `Equal` for four distinct points of which

@@ -290,3 +290,31 @@ fn incident_cells_surround_each_vertex() {
         assert!(around.iter().all(|&c| t.cell(c).contains(&v)));
     }
 }
+
+#[test]
+fn a_vertical_line_at_signed_zeros_starts_a_delaunay_triangulation() {
+    // Points of the line x = 0 with both signs of zero, inserted first (while the triangulation
+    // is one-dimensional), then points off the line.
+    let line: Vec<DVec2> = (0..8)
+        .map(|i| {
+            let x = if i % 3 == 0 { 0.0 } else { -0.0 };
+            DVec2::new(x, f64::from(i) * 0.37 - f64::from(i * i) * 0.01)
+        })
+        .collect();
+    let off = [
+        DVec2::new(1.0, 0.2),
+        DVec2::new(0.5, 1.1),
+        DVec2::new(0.8, 2.4),
+        DVec2::new(0.4, 0.5),
+    ];
+    for k in 2..=line.len() {
+        let mut t = Delaunay2::new();
+        t.insert_points(&line[..k]).unwrap();
+        for &p in line[k..].iter().chain(&off) {
+            t.insert(p).unwrap();
+        }
+        t.check_validity().expect("valid triangulation");
+        let all: Vec<DVec2> = line.iter().chain(&off).copied().collect();
+        assert_empty_circles(&t, &all);
+    }
+}
