@@ -5,7 +5,7 @@
 use super::{PreserveError, Recovery};
 use crate::kernel::predicates2d::{circumcenter, dot_sign, orient2d};
 use crate::kernel::{Point2, Point3};
-use crate::triangulation::{CellId, Delaunay2, InsertOutcome, Triangulation, VertexId};
+use crate::triangulation::{Delaunay2, InsertOutcome, Triangulation, VertexId};
 use rustc_hash::FxHashSet;
 use std::cmp::Ordering;
 
@@ -138,8 +138,7 @@ fn pieces(
         }
         *slot = i;
     }
-    let (checked, known) = std::mem::take(&mut r.present[f]);
-    let mut candidates = Vec::new();
+    let (mut faces, mut missing) = (Vec::new(), Vec::new());
     for c in dt2.finite_cells() {
         let tri = dt2.cell(c).map(|v| local[v.0 as usize]);
         if on[tri[0]].edges & on[tri[1]].edges & on[tri[2]].edges != 0 {
@@ -147,24 +146,12 @@ fn pieces(
             continue;
         }
         let face = tri.map(|i| on[i].vertex);
-        let mut key = face;
-        key.sort_unstable();
-        let kept = known.contains(&key) && key.iter().all(|v| r.touched[v.0 as usize] <= checked);
-        candidates.push((tri, face, kept));
-    }
-    let (mut faces, mut missing) = (Vec::new(), Vec::new());
-    let mut found = FxHashSet::with_capacity_and_hasher(known.len(), Default::default());
-    for (tri, face, kept) in candidates {
-        if kept || r.has_face(face) {
+        if r.has_face(face) {
             faces.push(face);
-            let mut key = face;
-            key.sort_unstable();
-            found.insert(key);
         } else {
             missing.push(tri);
         }
     }
-    r.present[f] = (r.epoch, found);
     Ok((on, faces, missing))
 }
 
@@ -201,9 +188,8 @@ fn kept_pieces(
         plane.vertices[slot] = (o.vertex, o.edges);
         plane.known.insert(o.vertex);
     }
-    let mut candidates = Vec::new();
-    let cells: Vec<CellId> = plane.dt.finite_cells().collect();
-    for c in cells {
+    let (mut faces, mut missing) = (Vec::new(), Vec::new());
+    for c in plane.dt.finite_cells() {
         let [a, b, d] = plane.dt.cell(c).map(|v| plane.vertices[v.0 as usize]);
         if a.1 & b.1 & d.1 != 0 {
             continue;
@@ -215,10 +201,6 @@ fn kept_pieces(
         }
         let kept =
             plane.found[slot].is_some_and(|t| face.iter().all(|v| r.touched[v.0 as usize] <= t));
-        candidates.push((slot, face, kept));
-    }
-    let (mut faces, mut missing) = (Vec::new(), Vec::new());
-    for (slot, face, kept) in candidates {
         if kept || r.has_face(face) {
             faces.push(face);
             plane.found[slot] = Some(r.epoch);

@@ -33,7 +33,6 @@ use crate::triangulation::{
 };
 use constraints::Constraints;
 use facet::{FacetStep, Plane, facet_step};
-use rustc_hash::FxHashSet as HashSet;
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
@@ -241,17 +240,13 @@ struct Recovery {
     behind: Vec<u32>,
     /// Where the current pass is (0 between passes).
     cursor: u32,
-    /// Insertions so far: the clock of `touched` and `present`.
+    /// Insertions so far: the clock of `touched`, `checked` and the kept planes.
     epoch: u64,
     /// Per vertex, the last insertion that changed a cell around it.
     touched: Vec<u64>,
     /// Per input edge, when a pass last began to check its chain (all of whose sub-segments were
     /// edges by its end): a sub-segment whose ends no insertion has touched since is still one.
     checked: Vec<Option<u64>>,
-    /// Per input triangle, its pieces (vertices sorted) last found to be faces, and when: one
-    /// whose vertices no insertion has touched since is still a face (see `stale`), so only the
-    /// pieces near the last insertions are searched for in the triangulation again.
-    present: Vec<(u64, HashSet<[VertexId; 3]>)>,
     /// Per input triangle, its kept in-plane triangulation, once it has many vertices.
     planes: Vec<Option<Box<Plane>>>,
 }
@@ -312,7 +307,6 @@ impl Recovery {
             epoch: 0,
             touched: vec![0; vertices.len()],
             checked: vec![None; edges as usize],
-            present: vec![(0, HashSet::default()); constraints_facets],
             planes: (0..constraints_facets).map(|_| None).collect(),
         })
     }

@@ -1105,7 +1105,7 @@ impl<K: ConflictKernel> Triangulation for Triangulation3<K> {
         let Some(start) = start else {
             return;
         };
-        // A star is a few dozen cells: scanning the list beats hashing until it grows large.
+        // Scanning the first few cells found beats allocating a hash set for them.
         const SCAN: usize = 8;
         let mut seen: Option<rustc_hash::FxHashSet<u32>> = None;
         out.push(CellId(start));
