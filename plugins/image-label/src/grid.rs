@@ -13,6 +13,10 @@ pub(crate) const BLOCK: usize = 4;
 /// Block summary of a block whose voxels have several classes.
 pub(crate) const MIXED: u32 = u32::MAX;
 
+/// Largest reach recorded for a block (see [`ClassGrid::block`]), in blocks: 15 blocks
+/// is 60 voxels, longer than most segments a refinement asks about.
+const MAX_REACH: u8 = 16;
+
 /// Largest bias added to an interpolated indicator (see [`ClassGrid::class_at`]): class `c` of
 /// `n` gets `TIE_BIAS · c / n`, so that however many classes, a voxel's own class wins at its
 /// centre and interfaces move by a few hundredths of a voxel at most.
@@ -60,7 +64,8 @@ pub(crate) struct ClassGrid<C> {
     /// The bias per class rank (see [`TIE_BIAS`]).
     bias: f64,
     blocks: [usize; 3],
-    /// Per block: its only class, or [`MIXED`].
+    /// Per block: [`MIXED`], or its only class (below 2¹⁶) with its reach (see
+    /// [`ClassGrid::block`]) in the bits above: one load, one cache miss, gives both.
     summary: Vec<u32>,
 }
 
@@ -102,7 +107,19 @@ impl<C: Class> ClassGrid<C> {
             blocks,
             summary: Vec::new(),
         };
-        grid.summary = grid.summarise();
+        let summary = grid.summarise();
+        let reach = reaches(blocks, &summary);
+        grid.summary = summary
+            .iter()
+            .zip(reach)
+            .map(|(&s, r)| {
+                if s == MIXED {
+                    MIXED
+                } else {
+                    s | u32::from(r) << 16
+                }
+            })
+            .collect();
         grid
     }
 
@@ -269,9 +286,81 @@ impl<C: Class> ClassGrid<C> {
 
     /// The summary of block `b` (its class or [`MIXED`]).
     pub fn block_summary(&self, b: [usize; 3]) -> u32 {
-        let [bx, by, _] = self.blocks;
-        self.summary[b[0] + bx * (b[1] + by * b[2])]
+        self.block(b).0
     }
+
+    /// The summary of block `b` and its reach: every block within Chebyshev distance
+    /// `reach - 1` of `b` (in the grid) has `b`'s summary; 0 for a block of several classes.
+    /// Segment walks cross such a cube of blocks in one step.
+    pub fn block(&self, b: [usize; 3]) -> (u32, usize) {
+        let [bx, by, _] = self.blocks;
+        match self.summary[b[0] + bx * (b[1] + by * b[2])] {
+            MIXED => (MIXED, 0),
+            s => (s & 0xffff, (s >> 16) as usize),
+        }
+    }
+}
+
+/// The reach of every block (see [`ClassGrid::block`]), capped at [`MAX_REACH`].
+///
+/// A block whose 26 neighbours all share its class is *inner*; the others are *boundary*
+/// blocks. An inner block at Chebyshev distance `D` from the nearest boundary block has its class
+/// on every block within `D` (they are inner or neighbours of inner blocks, all chained to it),
+/// so its reach is `D + 1`; a boundary block's class is sure only on itself (reach 1, or 0 when
+/// mixed). The distance is the chessboard distance transform, one axis after the other:
+/// `d(x) = min over y of max(|y - x|)` splits into nested minima of `max(|offset|, ·)`.
+fn reaches(blocks: [usize; 3], summary: &[u32]) -> Vec<u8> {
+    let [bx, by, bz] = blocks;
+    let at = |i: usize, j: usize, k: usize| i + bx * (j + by * k);
+    let cap = MAX_REACH - 1;
+    // Distance 0 on boundary blocks, `cap` elsewhere.
+    let mut dist: Vec<u8> = (0..bx * by * bz)
+        .into_par_iter()
+        .with_min_len(1024)
+        .map(|n| {
+            let (i, j, k) = (n % bx, (n / bx) % by, n / (bx * by));
+            let s = summary[n];
+            let around = |v: usize, m: usize| v.saturating_sub(1)..=(v + 1).min(m - 1);
+            let inner = s != MIXED
+                && around(k, bz).all(|k2| {
+                    around(j, by).all(|j2| around(i, bx).all(|i2| summary[at(i2, j2, k2)] == s))
+                });
+            if inner { cap } else { 0 }
+        })
+        .collect();
+    // Along x: two sweeps per row give the exact distance to the nearest boundary block.
+    dist.par_chunks_mut(bx).for_each(|row| {
+        for i in 1..bx {
+            row[i] = row[i].min(row[i - 1].saturating_add(1));
+        }
+        for i in (0..bx.saturating_sub(1)).rev() {
+            row[i] = row[i].min(row[i + 1].saturating_add(1));
+        }
+    });
+    // Along y, then z: whole rows at a time, `min(max(|offset|, row at offset))`.
+    let spread = |dist: &[u8], stride: usize, count: usize| -> Vec<u8> {
+        let mut spread = dist.to_vec();
+        spread.par_chunks_mut(bx).enumerate().for_each(|(r, out)| {
+            let pos = (r * bx / stride) % count;
+            for offset in 1..=usize::from(cap).min(count) {
+                let o = offset as u8;
+                let others = [pos.checked_sub(offset), Some(pos + offset)];
+                for other in others.into_iter().flatten().filter(|&p| p < count) {
+                    let row = &dist[r * bx + other * stride - pos * stride..][..bx];
+                    for (d, &e) in out.iter_mut().zip(row) {
+                        *d = (*d).min(e.max(o));
+                    }
+                }
+            }
+        });
+        spread
+    };
+    let dist = spread(&dist, bx, by);
+    let dist = spread(&dist, bx * by, bz);
+    dist.iter()
+        .zip(summary)
+        .map(|(&d, &s)| if s == MIXED { 0 } else { d + 1 })
+        .collect()
 }
 
 /// Where voxel `(i, j, k)` is stored, given the bricks along x and y.
@@ -315,5 +404,63 @@ mod tests {
             }
             assert!(uniform > 100);
         }
+    }
+
+    /// On random images of blobs, every block's reach is exactly how far its class extends
+    /// (capped): the Chebyshev distance to the nearest block of another summary, found by
+    /// brute force.
+    #[test]
+    fn a_block_reach_is_the_distance_to_the_nearest_other_summary() {
+        let mut rng = delamesh_core::random::XorShift::new(5);
+        let dims = [97, 61, 45];
+        let mut classes = vec![0u8; dims[0] * dims[1] * dims[2]];
+        for _ in 0..6 {
+            let c = DVec3::new(
+                rng.next_f64() * 97.0,
+                rng.next_f64() * 61.0,
+                rng.next_f64() * 45.0,
+            );
+            let (r, class) = (2.0 + 14.0 * rng.next_f64(), 1 + rng.below(2) as u8);
+            for (v, slot) in classes.iter_mut().enumerate() {
+                let p = DVec3::new(
+                    (v % dims[0]) as f64,
+                    ((v / dims[0]) % dims[1]) as f64,
+                    (v / (dims[0] * dims[1])) as f64,
+                );
+                if (p - c).length() < r {
+                    *slot = class;
+                }
+            }
+        }
+        let g = ClassGrid::new(dims, classes, 3, Interpolation::Trilinear);
+        let [bx, by, bz] = g.blocks();
+        let (mut far, mut mixed) = (0, 0);
+        for k in 0..bz {
+            for j in 0..by {
+                for i in 0..bx {
+                    let s = g.block_summary([i, j, k]);
+                    let reach = g.block([i, j, k]).1;
+                    if s == MIXED {
+                        assert_eq!(reach, 0);
+                        mixed += 1;
+                        continue;
+                    }
+                    let mut nearest = usize::from(MAX_REACH);
+                    for k2 in 0..bz {
+                        for j2 in 0..by {
+                            for i2 in 0..bx {
+                                if g.block_summary([i2, j2, k2]) != s {
+                                    let d = i.abs_diff(i2).max(j.abs_diff(j2)).max(k.abs_diff(k2));
+                                    nearest = nearest.min(d);
+                                }
+                            }
+                        }
+                    }
+                    assert_eq!(reach, nearest, "block {:?}", [i, j, k]);
+                    far += usize::from(reach > 3);
+                }
+            }
+        }
+        assert!(far > 100 && mixed > 100, "{far} far, {mixed} mixed");
     }
 }

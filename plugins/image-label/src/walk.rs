@@ -7,7 +7,7 @@
 //! throughout, exactly. With nearest-voxel classes a cell is a voxel, and changes lie on its
 //! faces.
 
-use crate::grid::{Class, ClassGrid, Interpolation, MIXED};
+use crate::grid::{BLOCK, Class, ClassGrid, Interpolation, MIXED};
 use glam::DVec3;
 
 /// Distance between samples in cells with several classes, in voxels. Finer than a voxel so that
@@ -45,10 +45,12 @@ pub(crate) fn changes<C: Class>(grid: &ClassGrid<C>, a: DVec3, b: DVec3, out: &m
         .dims
         .map(|n| if nearest { n - 1 } else { n.saturating_sub(2) });
     let mut cells = Cells::new(a, d, enter, offset);
-    // Each iteration crosses a cell face (of at most ~ len + 1 along each axis); the cap only
-    // guards against rounding.
-    let max_iterations = 3 * (len as usize) + 16;
+    // Each iteration crosses a cell face (of at most ~ len + 1 along each axis) or jumps past
+    // at least one cell; the cap only guards against rounding.
+    let max_iterations = 6 * (len as usize) + 32;
     let mut t = enter;
+    // The last jump's end: jumps only go forward, so the walk always progresses.
+    let mut jumped = enter;
     for _ in 0..max_iterations {
         if t >= leave {
             break;
@@ -56,13 +58,23 @@ pub(crate) fn changes<C: Class>(grid: &ClassGrid<C>, a: DVec3, b: DVec3, out: &m
         let (cell, exit) = cells.next();
         let exit = exit.clamp(t, leave);
         let cell: [usize; 3] = std::array::from_fn(|k| cell[k].clamp(0, last[k] as i64) as usize);
-        if nearest {
-            let to = grid.voxel(cell[0], cell[1], cell[2]).index();
-            push(out, t, &mut class, to);
-        } else {
-            match grid.block_summary(grid.cell_block(cell)) {
-                MIXED => walk.through_cell(cell, (t, exit), &mut class, out),
-                s => push(out, t, &mut class, s),
+        let block = grid.cell_block(cell);
+        let (summary, reach) = grid.block(block);
+        match summary {
+            MIXED if nearest => {
+                let to = grid.voxel(cell[0], cell[1], cell[2]).index();
+                push(out, t, &mut class, to);
+            }
+            MIXED => walk.through_cell(cell, (t, exit), &mut class, out),
+            s => {
+                push(out, t, &mut class, s);
+                let far = walk.leave_cube(block, reach, offset);
+                if far > exit && far > jumped {
+                    t = far.min(leave);
+                    jumped = t;
+                    cells = Cells::new(a, d, t, offset);
+                    continue;
+                }
             }
         }
         t = exit;
@@ -93,6 +105,24 @@ struct Walk<'g, C> {
 }
 
 impl<C: Class> Walk<'_, C> {
+    /// Where the segment leaves the cube of blocks within `reach - 1` of `block` (whose cells'
+    /// lower corners are at `offset` + integers), which has one class throughout.
+    fn leave_cube(&self, block: [usize; 3], reach: usize, offset: f64) -> f64 {
+        let r = reach.saturating_sub(1);
+        let mut far = f64::INFINITY;
+        for k in 0..3 {
+            let (a, d) = (self.a[k], self.d[k]);
+            if d > 0.0 {
+                let upper = (BLOCK * (block[k] + r + 1)) as f64 - offset;
+                far = far.min((upper - a) / d);
+            } else if d < 0.0 {
+                let lower = (BLOCK * block[k].saturating_sub(r)) as f64 + offset;
+                far = far.min((lower - a) / d);
+            }
+        }
+        far
+    }
+
     /// The changes of class inside the trilinear cell `cell` between parameters `t0` and `t1`,
     /// starting from `class`: samples every [`STEP`] and bisection between samples that differ.
     fn through_cell(
@@ -253,85 +283,85 @@ mod tests {
     /// Random segments across random images of blobs (some a voxel thin): every change leaves
     /// the class the walk was in for another one, and between two consecutive changes (and after
     /// the last) `class_at` gives that class wherever it is sampled, an eighth of a voxel apart.
+    /// The larger image has long stretches of one class, which the walk crosses in jumps.
     #[test]
     fn changes_match_the_class_along_random_segments() {
         let mut rng = XorShift::new(17);
-        let dims = [23, 19, 14];
-        let n = dims[0] * dims[1] * dims[2];
-        let mut classes = vec![0u8; n];
-        for _ in 0..12 {
-            let c = DVec3::new(
-                rng.next_f64() * 23.0,
-                rng.next_f64() * 19.0,
-                rng.next_f64() * 14.0,
-            );
-            let (r, class) = (0.6 + 4.0 * rng.next_f64(), 1 + rng.below(3) as u8);
-            for (v, slot) in classes.iter_mut().enumerate() {
-                let p = DVec3::new(
-                    (v % dims[0]) as f64,
-                    ((v / dims[0]) % dims[1]) as f64,
-                    (v / (dims[0] * dims[1])) as f64,
-                );
-                if (p - c).length() < r {
-                    *slot = class;
+        for (dims, blobs, largest) in [([23, 19, 14], 12, 4.0), ([70, 58, 44], 9, 12.0)] {
+            let size = DVec3::from_array(dims.map(|n| n as f64));
+            let n = dims[0] * dims[1] * dims[2];
+            let mut classes = vec![0u8; n];
+            for _ in 0..blobs {
+                let c = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) * size;
+                let (r, class) = (0.6 + largest * rng.next_f64(), 1 + rng.below(3) as u8);
+                for (v, slot) in classes.iter_mut().enumerate() {
+                    let p = DVec3::new(
+                        (v % dims[0]) as f64,
+                        ((v / dims[0]) % dims[1]) as f64,
+                        (v / (dims[0] * dims[1])) as f64,
+                    );
+                    if (p - c).length() < r {
+                        *slot = class;
+                    }
                 }
             }
+            for interpolation in [Interpolation::Trilinear, Interpolation::Nearest] {
+                let g = ClassGrid::new(dims, classes.clone(), 4, interpolation);
+                check_random_segments(&g, size, &mut rng);
+            }
         }
-        for interpolation in [Interpolation::Trilinear, Interpolation::Nearest] {
-            let g = ClassGrid::new(dims, classes.clone(), 4, interpolation);
-            let mut found = Vec::new();
-            let (mut walks, mut seen) = (0, 0);
-            for _ in 0..400 {
-                // Ends inside and outside the image, some segments along grid lines.
-                let mut end = || {
-                    DVec3::new(
-                        rng.next_f64() * 27.0 - 2.0,
-                        rng.next_f64() * 23.0 - 2.0,
-                        rng.next_f64() * 18.0 - 2.0,
-                    )
-                };
-                let (mut a, mut b) = (end(), end());
-                if rng.below(4) == 0 {
-                    // In a plane of voxel centres.
-                    a.y = a.y.round();
-                    b.y = a.y;
-                }
-                if rng.below(4) == 0 {
-                    a = a.round();
-                }
-                found.clear();
-                changes(&g, a, b, &mut found);
-                walks += 1;
-                seen += found.len();
-                let len = (b - a).length();
-                let at = |t: f64| g.class_at(a + t * (b - a));
-                let mut class = at(0.0);
-                let mut last = 0.0;
-                let margin = 4.0 * TOLERANCE / len;
-                for change in &found {
-                    assert_eq!(change.from, class, "{a} {b} {found:?}");
-                    assert!(change.t >= last && change.t <= 1.0);
-                    assert_ne!(change.from, change.to);
-                    // Dense samples away from the changes have the running class.
-                    let steps = ((change.t - last) * len * 8.0) as usize;
-                    for k in 1..steps {
-                        let t = last + (change.t - last) * k as f64 / steps as f64;
-                        if t - last > margin && change.t - t > margin {
-                            assert_eq!(at(t), class, "{a} {b} at {t}: {found:?}");
-                        }
-                    }
-                    class = change.to;
-                    last = change.t;
-                }
-                let steps = ((1.0 - last) * len * 8.0) as usize;
-                for k in 1..=steps {
-                    let t = last + (1.0 - last) * k as f64 / steps as f64;
-                    if t - last > margin {
+    }
+
+    /// 400 random segments across `g` (of `size` voxels), checked as
+    /// [`changes_match_the_class_along_random_segments`] says.
+    fn check_random_segments(g: &ClassGrid<u8>, size: DVec3, rng: &mut XorShift) {
+        let mut found = Vec::new();
+        let (mut walks, mut seen) = (0, 0);
+        for _ in 0..400 {
+            // Ends inside and outside the image, some segments along grid lines.
+            let mut end =
+                || DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) * (size + 4.0) - 2.0;
+            let (mut a, mut b) = (end(), end());
+            if rng.below(4) == 0 {
+                // In a plane of voxel centres.
+                a.y = a.y.round();
+                b.y = a.y;
+            }
+            if rng.below(4) == 0 {
+                a = a.round();
+            }
+            found.clear();
+            changes(g, a, b, &mut found);
+            walks += 1;
+            seen += found.len();
+            let len = (b - a).length();
+            let at = |t: f64| g.class_at(a + t * (b - a));
+            let mut class = at(0.0);
+            let mut last = 0.0;
+            let margin = 4.0 * TOLERANCE / len;
+            for change in &found {
+                assert_eq!(change.from, class, "{a} {b} {found:?}");
+                assert!(change.t >= last && change.t <= 1.0);
+                assert_ne!(change.from, change.to);
+                // Dense samples away from the changes have the running class.
+                let steps = ((change.t - last) * len * 8.0) as usize;
+                for k in 1..steps {
+                    let t = last + (change.t - last) * k as f64 / steps as f64;
+                    if t - last > margin && change.t - t > margin {
                         assert_eq!(at(t), class, "{a} {b} at {t}: {found:?}");
                     }
                 }
+                class = change.to;
+                last = change.t;
             }
-            assert!(walks == 400 && seen > 200, "{seen} changes");
+            let steps = ((1.0 - last) * len * 8.0) as usize;
+            for k in 1..=steps {
+                let t = last + (1.0 - last) * k as f64 / steps as f64;
+                if t - last > margin {
+                    assert_eq!(at(t), class, "{a} {b} at {t}: {found:?}");
+                }
+            }
         }
+        assert!(walks == 400 && seen > 200, "{seen} changes");
     }
 }
