@@ -110,13 +110,13 @@ impl<C: Class> Walk<'_, C> {
     fn leave_cube(&self, block: [usize; 3], reach: usize, offset: f64) -> f64 {
         let r = reach.saturating_sub(1);
         let mut far = f64::INFINITY;
-        for k in 0..3 {
+        for (k, b) in block.into_iter().enumerate() {
             let (a, d) = (self.a[k], self.d[k]);
             if d > 0.0 {
-                let upper = (BLOCK * (block[k] + r + 1)) as f64 - offset;
+                let upper = (BLOCK * (b + r + 1)) as f64 - offset;
                 far = far.min((upper - a) / d);
             } else if d < 0.0 {
-                let lower = (BLOCK * block[k].saturating_sub(r)) as f64 + offset;
+                let lower = (BLOCK * b.saturating_sub(r)) as f64 + offset;
                 far = far.min((lower - a) / d);
             }
         }
