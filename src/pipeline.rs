@@ -5,7 +5,7 @@ use crate::domain::Domain;
 use crate::error::Error;
 use crate::plugins::load_domain;
 use crate::report::{InputSurface, Report, ReportInput, Times};
-use crate::settings::{FeatureSettings, MeshSettings};
+use crate::settings::MeshSettings;
 use crate::sizing::{Fields, grade};
 use delamesh_core::complex::MeshComplex;
 use delamesh_core::conform3::{PreserveError, PreserveOptions, preserve_surface};
@@ -21,7 +21,7 @@ use delamesh_core::refine::{
 use delamesh_formats::image::{Image, is_image_path, read_image};
 use delamesh_formats::{PolygonMesh, WriteOptions, read_polygons, read_surface, write_tet_mesh};
 use delamesh_image_label::ImageOptions;
-use delamesh_polyhedral::{refuse_defects, surface_defects};
+use delamesh_polyhedral::{PolyhedralOptions, PolyhedralOracle};
 use std::path::Path;
 use std::time::{Duration, Instant};
 
@@ -286,15 +286,17 @@ impl<'p> Mesher<'p> {
             problem,
         };
         weld_exact(&mut surface.positions, &mut surface.triangles);
-        let defects = surface_defects(&surface.positions, &surface.triangles);
-        if self.settings.strict {
-            refuse_defects(&defects).map_err(|e| unmeshable(format!("--preserve-surface: {e}")))?;
-        }
-        let smooth = FeatureSettings {
-            enabled: false,
-            ..FeatureSettings::default()
+        let strict = PolyhedralOptions {
+            strict: self.settings.strict,
         };
-        let domain = Domain::from_surface(&name, &surface, &smooth, defects.is_empty())?;
+        let (oracle, defects) = PolyhedralOracle::with_defects(
+            &surface.positions,
+            &surface.triangles,
+            Some(&surface.oracle_patches()),
+            &strict,
+        )
+        .map_err(|e| unmeshable(format!("--preserve-surface: {e}")))?;
+        let domain = Domain::Smooth(oracle);
         // A surface that does not bound a volume as given keeps the boundary of its
         // winding-number domain: its triangles cut where they cross, less the buried sheets.
         let kept = match domain.polyhedral() {

@@ -198,21 +198,11 @@ impl PolyhedralOracle {
         patches: Option<&[PatchId]>,
         options: &PolyhedralOptions,
     ) -> Result<Self, PolyhedralError> {
-        check_input(points, triangles, patches)?;
         if options.strict {
-            let geometry = geometry_of(points, triangles);
-            let tree = TriangleTree::new(&geometry);
-            refuse_defects(&surface_defects_in(triangles, &geometry, &tree))?;
-            return Self::build(
-                points,
-                triangles,
-                patches,
-                geometry,
-                tree,
-                Repairs::default(),
-                None,
-            );
+            return Self::with_defects(points, triangles, patches, options)
+                .map(|(oracle, _)| oracle);
         }
+        check_input(points, triangles, patches)?;
         let repaired = repair(points, triangles);
         if repaired.triangles.is_empty() {
             return Err(PolyhedralError::Empty);
@@ -244,6 +234,39 @@ impl PolyhedralOracle {
             repairs,
             winding,
         )
+    }
+
+    /// The oracle of the surface as given when it bounds a volume, else as
+    /// [`PolyhedralOracle::with_options`] makes it (repaired, or refused with `strict`); with
+    /// the defects the surface had as given. One search for self-intersections serves the
+    /// check and the oracle (`--preserve-surface` keeps a clean surface's triangles as they are).
+    pub fn with_defects(
+        points: &[DVec3],
+        triangles: &[[u32; 3]],
+        patches: Option<&[PatchId]>,
+        options: &PolyhedralOptions,
+    ) -> Result<(Self, SurfaceDefects), PolyhedralError> {
+        check_input(points, triangles, patches)?;
+        let geometry = geometry_of(points, triangles);
+        let tree = TriangleTree::new(&geometry);
+        let defects = surface_defects_in(triangles, &geometry, &tree);
+        if !defects.is_empty() {
+            if options.strict {
+                refuse_defects(&defects)?;
+            }
+            let oracle = Self::with_options(points, triangles, patches, options)?;
+            return Ok((oracle, defects));
+        }
+        let oracle = Self::build(
+            points,
+            triangles,
+            patches,
+            geometry,
+            tree,
+            Repairs::default(),
+            None,
+        )?;
+        Ok((oracle, defects))
     }
 
     fn build(

@@ -187,6 +187,33 @@ fn strict_rejects_surfaces_that_bound_no_volume() {
     ));
 }
 
+/// `with_defects` keeps a clean surface as given and reports nothing; a crossing surface is
+/// reported and repaired (its domain is where the winding number is positive), or refused with
+/// `strict`.
+#[test]
+fn with_defects_reports_what_the_surface_had_as_given() {
+    let lenient = PolyhedralOptions::default();
+    let (p, t) = cube(DVec3::ZERO, 1.0, false);
+    let (o, defects) = PolyhedralOracle::with_defects(&p, &t, None, &lenient).expect("cube");
+    assert!(defects.is_empty());
+    assert_eq!(o.repairs(), &Default::default());
+    assert!((o.domain_volume() - 1.0).abs() < 1e-12);
+    let (p2, t2) = merge(
+        cube(DVec3::ZERO, 1.0, false),
+        cube(DVec3::splat(0.5), 1.0, false),
+    );
+    let (o, defects) = PolyhedralOracle::with_defects(&p2, &t2, None, &lenient).expect("union");
+    assert!(defects.first_intersection.is_some());
+    assert!(o.repairs().crossing_triangles > 0);
+    assert_ne!(o.subdomain(DVec3::splat(1.25)), OUTSIDE);
+    assert_eq!(o.subdomain(DVec3::new(1.25, 0.25, 0.25)), OUTSIDE);
+    let strict = PolyhedralOptions { strict: true };
+    assert!(matches!(
+        PolyhedralOracle::with_defects(&p2, &t2, None, &strict),
+        Err(PolyhedralError::SelfIntersecting(..))
+    ));
+}
+
 #[test]
 fn boxes_sharing_a_face_are_two_subdomains_not_a_self_intersection() {
     // Each box keeps its own copy of the common face x = 1 (coincident triangles, opposite
