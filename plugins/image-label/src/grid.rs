@@ -371,8 +371,38 @@ fn brick_index([bx, by]: [usize; 2], i: usize, j: usize, k: usize) -> usize {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
+
+    /// An image of `dims` voxels, class 0 but for `count` balls at random, each of class 1 to
+    /// `classes` and of radius `radius.0 + radius.1 * t` (t uniform in [0, 1)), later ones over
+    /// earlier ones.
+    pub(crate) fn random_balls(
+        dims: [usize; 3],
+        count: usize,
+        radius: (f64, f64),
+        classes: u8,
+        rng: &mut delamesh_core::random::XorShift,
+    ) -> Vec<u8> {
+        let size = DVec3::from_array(dims.map(|n| n as f64));
+        let mut out = vec![0u8; dims[0] * dims[1] * dims[2]];
+        for _ in 0..count {
+            let c = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) * size;
+            let r = radius.0 + radius.1 * rng.next_f64();
+            let class = 1 + rng.below(usize::from(classes)) as u8;
+            for (v, slot) in out.iter_mut().enumerate() {
+                let p = DVec3::new(
+                    (v % dims[0]) as f64,
+                    ((v / dims[0]) % dims[1]) as f64,
+                    (v / (dims[0] * dims[1])) as f64,
+                );
+                if (p - c).length() < r {
+                    *slot = class;
+                }
+            }
+        }
+        out
+    }
 
     #[test]
     fn a_block_of_one_class_has_that_class_everywhere() {
@@ -413,25 +443,7 @@ mod tests {
     fn a_block_reach_is_the_distance_to_the_nearest_other_summary() {
         let mut rng = delamesh_core::random::XorShift::new(5);
         let dims = [97, 61, 45];
-        let mut classes = vec![0u8; dims[0] * dims[1] * dims[2]];
-        for _ in 0..6 {
-            let c = DVec3::new(
-                rng.next_f64() * 97.0,
-                rng.next_f64() * 61.0,
-                rng.next_f64() * 45.0,
-            );
-            let (r, class) = (2.0 + 14.0 * rng.next_f64(), 1 + rng.below(2) as u8);
-            for (v, slot) in classes.iter_mut().enumerate() {
-                let p = DVec3::new(
-                    (v % dims[0]) as f64,
-                    ((v / dims[0]) % dims[1]) as f64,
-                    (v / (dims[0] * dims[1])) as f64,
-                );
-                if (p - c).length() < r {
-                    *slot = class;
-                }
-            }
-        }
+        let classes = random_balls(dims, 6, (2.0, 14.0), 2, &mut rng);
         let g = ClassGrid::new(dims, classes, 3, Interpolation::Trilinear);
         let [bx, by, bz] = g.blocks();
         let (mut far, mut mixed) = (0, 0);

@@ -278,6 +278,7 @@ fn bisect(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::grid::tests::random_balls;
     use delamesh_core::random::XorShift;
 
     /// Random segments across random images of blobs (some a voxel thin): every change leaves
@@ -289,22 +290,7 @@ mod tests {
         let mut rng = XorShift::new(17);
         for (dims, blobs, largest) in [([23, 19, 14], 12, 4.0), ([70, 58, 44], 9, 12.0)] {
             let size = DVec3::from_array(dims.map(|n| n as f64));
-            let n = dims[0] * dims[1] * dims[2];
-            let mut classes = vec![0u8; n];
-            for _ in 0..blobs {
-                let c = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) * size;
-                let (r, class) = (0.6 + largest * rng.next_f64(), 1 + rng.below(3) as u8);
-                for (v, slot) in classes.iter_mut().enumerate() {
-                    let p = DVec3::new(
-                        (v % dims[0]) as f64,
-                        ((v / dims[0]) % dims[1]) as f64,
-                        (v / (dims[0] * dims[1])) as f64,
-                    );
-                    if (p - c).length() < r {
-                        *slot = class;
-                    }
-                }
-            }
+            let classes = random_balls(dims, blobs, (0.6, largest), 3, &mut rng);
             for interpolation in [Interpolation::Trilinear, Interpolation::Nearest] {
                 let g = ClassGrid::new(dims, classes.clone(), 4, interpolation);
                 check_random_segments(&g, size, &mut rng);
