@@ -300,28 +300,23 @@ impl Cavity {
             for i in 0..4 {
                 let n = r.dt.neighbor(c, i);
                 let mark = self.marks[n.0 as usize];
-                if mark == outside {
+                let in_cavity = mark == inside
+                    || (mark != outside && {
+                        let conflict = r.dt.is_in_conflict(n, p);
+                        self.marks[n.0 as usize] = if conflict { inside } else { outside };
+                        if conflict {
+                            self.stack.push(n);
+                        }
+                        conflict
+                    });
+                // Each face between two cavity cells is seen from both: keep it from the
+                // smaller. A face of the cavity's boundary is seen once, from inside.
+                if in_cavity && c.0 > n.0 {
                     continue;
                 }
-                if mark != inside {
-                    if !r.dt.is_in_conflict(n, p) {
-                        self.marks[n.0 as usize] = outside;
-                        let face = key(facet_vertices(&cell_vertices(&r.dt, c), i));
-                        if let Some(&f) = facet_of.get(&face) {
-                            if encroaches(r, p, face) {
-                                out.push((face, f));
-                            }
-                        }
-                        continue;
-                    }
-                    self.marks[n.0 as usize] = inside;
-                    self.stack.push(n);
-                }
-                // Each face between two cavity cells is seen from both: keep it from the
-                // smaller.
-                if c.0 < n.0 {
-                    let face = key(facet_vertices(&cell_vertices(&r.dt, c), i));
-                    if let Some(&f) = facet_of.get(&face) {
+                let face = key(facet_vertices(&cell_vertices(&r.dt, c), i));
+                if let Some(&f) = facet_of.get(&face) {
+                    if in_cavity || encroaches(r, p, face) {
                         out.push((face, f));
                     }
                 }
