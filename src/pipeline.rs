@@ -374,9 +374,25 @@ impl<'p> Mesher<'p> {
                 what: "surface",
             });
         }
-        let none = OptimizeOptions::none();
+        // The sliver steps are the flips: their moves and splits are inside, and perturbation
+        // would slide the input's vertices and peel its triangles. A stopped cell level leaves
+        // a partial mesh, which is not optimised (as in refinement).
+        let options = if preserved.stopped.is_some() {
+            OptimizeOptions::none()
+        } else {
+            let o = &settings.optimize;
+            OptimizeOptions {
+                perturb: false,
+                exude: false,
+                flip: o.flip || o.perturb || o.exude,
+                cancel: self.cancel.clone(),
+                ..o.clone()
+            }
+        };
+        let t = Instant::now();
         let (complex, optimization) =
-            optimize(preserved.complex, &[], domain.oracle(), &criteria, &none);
+            optimize(preserved.complex, &[], domain.oracle(), &criteria, &options);
+        times.optimization = t.elapsed();
         Ok(Meshed {
             complex,
             // The levels: Steiner points on input edges, inside triangles, inside the volume.

@@ -55,6 +55,47 @@ fn default_options_give_a_closed_quality_mesh_and_a_report() {
     }
 }
 
+/// `--flip` ends the optimisation with a flip step that keeps the boundary and the volume and
+/// does not lower the smallest dihedral angle; it removes slivers the sliver steps left.
+#[test]
+fn flips_keep_the_boundary_and_raise_the_smallest_angle() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let run = |extra: &[&str], name: &str| -> serde_json::Value {
+        let report = dir.path().join(format!("{name}.json"));
+        delamesh()
+            .args(["mesh", "-q"])
+            .arg(model("torus.off"))
+            .arg("-o")
+            .arg(dir.path().join(format!("{name}.vtu")))
+            .args(extra)
+            .arg("--report")
+            .arg(&report)
+            .assert()
+            .success();
+        serde_json::from_slice(&std::fs::read(&report).expect("report written")).expect("JSON")
+    };
+    let plain = run(&[], "plain");
+    let flipped = run(&["--flip"], "flipped");
+    let steps = flipped["optimization"]["steps"].as_array().expect("steps");
+    let last = steps.last().expect("a step");
+    assert_eq!(last["step"], "flip");
+    assert!(last["changes"].as_u64().expect("count") > 0);
+    for key in ["boundary_facets", "surface_vertices"] {
+        assert_eq!(flipped["counts"][key], plain["counts"][key], "{key}");
+    }
+    assert_eq!(flipped["boundary"]["closed"], true);
+    assert_eq!(flipped["boundary"]["manifold"], true);
+    assert_eq!(flipped["quality"]["inverted_tets"], 0);
+    let volume = |r: &serde_json::Value| r["approximation"]["volume_ratio"].as_f64();
+    let (a, b) = (
+        volume(&plain).expect("volume"),
+        volume(&flipped).expect("volume"),
+    );
+    assert!((a - b).abs() <= 1e-12 * a, "volume {b}, before {a}");
+    let smallest = |r: &serde_json::Value| r["quality"]["min_dihedral_deg"].as_f64();
+    assert!(smallest(&flipped) >= smallest(&plain));
+}
+
 #[test]
 fn every_output_format_is_written() {
     let dir = tempfile::tempdir().expect("temp dir");

@@ -12,15 +12,27 @@ use common::{Surface, cuboid, sphere};
 use delamesh::core::complex::VertexDimension;
 use delamesh::core::kernel::{Point3, Sign, insphere, orient3d};
 use delamesh::core::mesh::{PatchId, SurfaceMesh};
+use delamesh::core::optimize::{OptimizeOptions, Step};
 use delamesh::core::oracle::OUTSIDE;
 use delamesh::core::quality::enclosed_volume;
 use delamesh::{MeshSettings, Mesher};
 use glam::DVec3;
 use std::collections::{BTreeMap, HashMap};
 
+/// The surface kept with the default options: optimised, the boundary fixed.
 fn preserved(name: &str, surface: &Surface) -> delamesh::Meshed {
     let settings = MeshSettings::builder()
         .preserve_surface(true)
+        .build()
+        .expect("valid settings");
+    preserved_with(name, surface, settings)
+}
+
+/// The surface kept without optimisation: the conforming Delaunay mesh.
+fn preserved_delaunay(name: &str, surface: &Surface) -> delamesh::Meshed {
+    let settings = MeshSettings::builder()
+        .preserve_surface(true)
+        .optimize(OptimizeOptions::none())
         .build()
         .expect("valid settings");
     preserved_with(name, surface, settings)
@@ -85,7 +97,15 @@ fn assert_positive_not_flat(name: &str, c: &delamesh::core::complex::MeshComplex
 }
 
 /// Every property of a kept surface; `subdomain_volumes` maps each expected subdomain volume.
-fn check(name: &str, surface: &Surface, meshed: &delamesh::Meshed, subdomain_volumes: &[f64]) {
+/// A mesh left as recovery made it (`optimised` false) is locally Delaunay; an optimised one
+/// went through the flips, and its smallest dihedral angle did not drop.
+fn check(
+    name: &str,
+    surface: &Surface,
+    meshed: &delamesh::Meshed,
+    subdomain_volumes: &[f64],
+    optimised: bool,
+) {
     let c = &meshed.complex;
     let diagonal = {
         let (lo, hi) = surface.points.iter().fold(
@@ -94,7 +114,6 @@ fn check(name: &str, surface: &Surface, meshed: &delamesh::Meshed, subdomain_vol
         );
         (hi - lo).length()
     };
-    let tolerance = 1e-12 * diagonal;
     // Every input vertex is a mesh vertex.
     let index: HashMap<[u64; 3], usize> = c
         .points
@@ -120,6 +139,30 @@ fn check(name: &str, surface: &Surface, meshed: &delamesh::Meshed, subdomain_vol
             .collect()
     };
     assert_positive_not_flat(name, c);
+    let report = &meshed.optimization;
+    if optimised {
+        assert_eq!(
+            report.steps.last().map(|s| s.step),
+            Some(Step::Flip),
+            "{name}"
+        );
+        assert!(
+            report.after().min_dihedral_deg >= report.before.min_dihedral_deg,
+            "{name}: smallest angle {} after optimisation, {} before",
+            report.after().min_dihedral_deg,
+            report.before.min_dihedral_deg
+        );
+        check_facets(
+            name,
+            surface,
+            meshed,
+            subdomain_volumes,
+            diagonal,
+            &is_input,
+        );
+        return;
+    }
+    assert!(report.steps.is_empty(), "{name}: optimised");
     // Locally Delaunay: across every face shared by two tetrahedra, the far vertex is not
     // strictly inside the other's circumsphere.
     let mut faces: HashMap<[u32; 3], Vec<(usize, u32)>> = HashMap::new();
@@ -150,7 +193,28 @@ fn check(name: &str, surface: &Surface, meshed: &delamesh::Meshed, subdomain_vol
             );
         }
     }
-    // Boundary facets: each in its input triangle (its patch names it), areas adding up.
+    check_facets(
+        name,
+        surface,
+        meshed,
+        subdomain_volumes,
+        diagonal,
+        &is_input,
+    );
+}
+
+/// Boundary facets each in its input triangle (its patch names it), their areas adding up to
+/// the triangle's, and the volume of each subdomain.
+fn check_facets(
+    name: &str,
+    surface: &Surface,
+    meshed: &delamesh::Meshed,
+    subdomain_volumes: &[f64],
+    diagonal: f64,
+    is_input: &[bool],
+) {
+    let c = &meshed.complex;
+    let tolerance = 1e-12 * diagonal;
     let mut facet_area: BTreeMap<u32, f64> = BTreeMap::new();
     for (f, facet) in c.facets.iter().enumerate() {
         let patch = c.facet_patch[f].0;
@@ -194,10 +258,17 @@ fn check(name: &str, surface: &Surface, meshed: &delamesh::Meshed, subdomain_vol
     }
 }
 
+/// Checks the kept surface without and with optimisation.
 fn check_closed(name: &str, surface: &Surface) {
-    let meshed = preserved(name, surface);
     let volume = enclosed_volume(&surface.points, &surface.triangles);
-    check(name, surface, &meshed, &[volume]);
+    check(
+        name,
+        surface,
+        &preserved_delaunay(name, surface),
+        &[volume],
+        false,
+    );
+    check(name, surface, &preserved(name, surface), &[volume], true);
 }
 
 /// The prism over a counter-clockwise polygon `ring` triangulated by `caps`, from z = 0 to `h`.
@@ -277,15 +348,17 @@ fn cell_criteria_refine_the_volume_and_keep_the_triangles() {
         ("sphere", sphere(DVec3::new(0.1, 0.2, 0.3), 1.0, 2)),
         ("prism", prism(&ring, &[[0, 1, 2], [0, 2, 3]], 0.8)),
     ] {
+        // The criteria are refinement's: optimisation does not bound cell sizes.
         let settings = MeshSettings::builder()
             .preserve_surface(true)
             .cell_radius_edge_ratio(ratio)
             .cell_size(size)
+            .optimize(OptimizeOptions::none())
             .build()
             .expect("valid settings");
         let meshed = preserved_with(name, &surface, settings);
         let volume = enclosed_volume(&surface.points, &surface.triangles);
-        check(name, &surface, &meshed, &[volume]);
+        check(name, &surface, &meshed, &[volume], false);
         let c = &meshed.complex;
         let inside = |v: u32| c.vertex_dimension[v as usize] == VertexDimension::Volume;
         assert!(
@@ -325,7 +398,7 @@ fn nested_boxes_give_two_subdomains() {
     let inner = cuboid(DVec3::splat(0.3), DVec3::splat(0.6));
     let surface = outer.merge(inner);
     let meshed = preserved("nested", &surface);
-    check("nested", &surface, &meshed, &[1.0 - 0.027, 0.027]);
+    check("nested", &surface, &meshed, &[1.0 - 0.027, 0.027], true);
 }
 
 /// `csg_0900` is a part of `benches/csg_parts.py --seed 900`; `csg_11001` and `csg_11002`, of

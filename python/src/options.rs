@@ -60,6 +60,7 @@ pub const OPTIONS: &[Opt] = &[
     opt!(exude, |s, v| s.optimize.exude = flag(v)?),
     opt!(odt, |s, v| s.optimize.odt = flag(v)?),
     opt!(lloyd, |s, v| s.optimize.lloyd = flag(v)?),
+    opt!(flip, |s, v| s.optimize.flip = flag(v)?),
     opt!(optimize_time, |s, v| s.optimize.time_limit = Some(seconds(v)?)),
     opt!(sizing, |s, v| {
         s.sizing.field = Some(match crate::sizing::source(v)? {

@@ -25,6 +25,12 @@ pub struct OptimizeArgs {
     /// Lloyd smoothing of the interior vertices before the sliver steps.
     #[arg(long)]
     pub lloyd: bool,
+    /// After the sliver steps, remove the remaining slivers by edge removals, 2-3 flips,
+    /// interior vertex moves and interior edge splits (the mesh is then no longer Delaunay).
+    /// With --preserve-surface they replace perturbation and exudation (on unless --no-perturb
+    /// and --no-exude are both given).
+    #[arg(long)]
+    pub flip: bool,
     /// Bound the whole optimisation phase to this many seconds (the result then depends on
     /// the machine's speed).
     #[arg(long, value_name = "S")]
@@ -47,6 +53,7 @@ impl OptimizeArgs {
             odt: self.odt,
             perturb: !self.no_perturb,
             exude: !self.no_exude,
+            flip: self.flip,
             time_limit,
             ..OptimizeOptions::default()
         })

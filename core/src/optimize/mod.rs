@@ -13,6 +13,7 @@
 //! sequences); only a time limit can make two runs differ.
 
 mod exude;
+mod flip;
 mod perturb;
 mod smooth;
 mod state;
@@ -41,6 +42,9 @@ pub struct OptimizeOptions {
     pub perturb: bool,
     /// Sliver exudation.
     pub exude: bool,
+    /// Edge removals and 2-3 flips of the cells below the sliver bound, after the other steps
+    /// (see [`flip`]). The mesh is then no longer a regular triangulation.
+    pub flip: bool,
     /// Wall-time bound of the whole phase (`None`: the steps stop by themselves). A bound makes
     /// the result depend on the machine's speed.
     pub time_limit: Option<Duration>,
@@ -64,6 +68,7 @@ impl Default for OptimizeOptions {
             odt: false,
             perturb: true,
             exude: true,
+            flip: false,
             time_limit: None,
             sliver_bound_deg: 18.0,
             max_smoothing_sweeps: 20,
@@ -78,13 +83,14 @@ impl OptimizeOptions {
         OptimizeOptions {
             perturb: false,
             exude: false,
+            flip: false,
             ..OptimizeOptions::default()
         }
     }
 
     /// Whether any optimiser runs.
     pub fn any(&self) -> bool {
-        self.lloyd || self.odt || self.perturb || self.exude
+        self.lloyd || self.odt || self.perturb || self.exude || self.flip
     }
 }
 
@@ -99,6 +105,8 @@ pub enum Step {
     Perturb,
     /// Sliver exudation.
     Exude,
+    /// Edge removals and 2-3 flips.
+    Flip,
 }
 
 impl Step {
@@ -109,6 +117,7 @@ impl Step {
             Step::Odt => "odt",
             Step::Perturb => "perturb",
             Step::Exude => "exude",
+            Step::Flip => "flip",
         }
     }
 }
@@ -192,50 +201,71 @@ pub fn optimize(
     options: &OptimizeOptions,
 ) -> (MeshComplex, OptimizeReport) {
     let deadline = Deadline::new(options.time_limit, options.cancel.clone());
-    let angles: Vec<f64> = (0..complex.tets.len())
-        .map(|t| state::min_dihedral(&complex.tet_points(t)))
-        .collect();
     let mut report = OptimizeReport {
-        before: Quality::of(&angles),
+        before: Quality::of(&angles_of(&complex)),
         steps: Vec::new(),
         skipped: None,
     };
     if !options.any() || complex.tets.is_empty() {
         return (complex, report);
     }
-    let mut ws = match Workspace::new(&complex, weights, oracle, criteria) {
-        Ok(ws) => ws,
-        Err(e) => {
-            report.skipped = Some(e);
-            return (complex, report);
-        }
-    };
-    let steps = [
-        (Step::Lloyd, options.lloyd),
-        (Step::Odt, options.odt),
-        (Step::Perturb, options.perturb),
-        (Step::Exude, options.exude),
+    type Run = fn(&mut Workspace<'_>, &OptimizeOptions, &Deadline) -> (usize, usize);
+    let steps: [(Step, bool, Run); 4] = [
+        (Step::Lloyd, options.lloyd, |ws, o, d| {
+            smooth::smooth(ws, Smoother::Lloyd, o.max_smoothing_sweeps, d)
+        }),
+        (Step::Odt, options.odt, |ws, o, d| {
+            smooth::smooth(ws, Smoother::Odt, o.max_smoothing_sweeps, d)
+        }),
+        (Step::Perturb, options.perturb, |ws, o, d| {
+            (perturb::perturb(ws, o.sliver_bound_deg, d), 0)
+        }),
+        (Step::Exude, options.exude, |ws, o, d| {
+            (exude::exude(ws, o.sliver_bound_deg, d), 0)
+        }),
     ];
-    for (step, on) in steps {
-        if !on || deadline.passed() {
-            continue;
+    let mut complex = complex;
+    if steps.iter().any(|s| s.1) {
+        match Workspace::new(&complex, weights, oracle, criteria) {
+            Ok(mut ws) => {
+                for (step, on, run) in steps {
+                    if !on || deadline.passed() {
+                        continue;
+                    }
+                    let t = Instant::now();
+                    let (changes, sweeps) = run(&mut ws, options, &deadline);
+                    report.steps.push(StepReport {
+                        step,
+                        changes,
+                        sweeps,
+                        time: t.elapsed(),
+                        quality: Quality::of(&ws.min_dihedrals()),
+                    });
+                }
+                complex = ws.into_complex(complex);
+            }
+            Err(e) => report.skipped = Some(e),
         }
+    }
+    // Flips need no regular triangulation: they run on the complex, even one the workspace
+    // could not take over.
+    if options.flip && !deadline.passed() {
         let t = Instant::now();
-        let bound = options.sliver_bound_deg;
-        let sweeps = options.max_smoothing_sweeps;
-        let (changes, sweeps) = match step {
-            Step::Lloyd => smooth::smooth(&mut ws, Smoother::Lloyd, sweeps, &deadline),
-            Step::Odt => smooth::smooth(&mut ws, Smoother::Odt, sweeps, &deadline),
-            Step::Perturb => (perturb::perturb(&mut ws, bound, &deadline), 0),
-            Step::Exude => (exude::exude(&mut ws, bound, &deadline), 0),
-        };
+        let changes = flip::flip(&mut complex, options.sliver_bound_deg, &deadline);
         report.steps.push(StepReport {
-            step,
+            step: Step::Flip,
             changes,
-            sweeps,
+            sweeps: 0,
             time: t.elapsed(),
-            quality: Quality::of(&ws.min_dihedrals()),
+            quality: Quality::of(&angles_of(&complex)),
         });
     }
-    (ws.into_complex(complex), report)
+    (complex, report)
+}
+
+/// The smallest dihedral angle of each tetrahedron of `complex` (degrees).
+fn angles_of(complex: &MeshComplex) -> Vec<f64> {
+    (0..complex.tets.len())
+        .map(|t| state::min_dihedral(&complex.tet_points(t)))
+        .collect()
 }

@@ -2,7 +2,7 @@
 //! valid mesh of the ball, and the smallest dihedral angle improves.
 
 use super::state::{Workspace, min_dihedral};
-use super::{Deadline, OptimizeOptions, exude, optimize, perturb, smooth};
+use super::{Deadline, OptimizeOptions, exude, flip, optimize, perturb, smooth};
 use crate::complex::{MeshComplex, VertexDimension};
 use crate::oracle::UnitBall;
 use crate::quality::surface_topology;
@@ -209,4 +209,128 @@ fn a_sweep_stops_at_a_stuck_floor_only_when_asked() {
         });
         assert_eq!((kept, tried), (0, expected), "floor margin: {margin:?}");
     }
+}
+
+/// The cells of `c` tile the region they tiled before and keep its boundary facets: every cell
+/// positive (exact orientation), every face in one cell (then an outer boundary facet) or two,
+/// every boundary facet a face, each subdomain of the same volume as in `before`.
+fn assert_same_tiling(c: &MeshComplex, before: &MeshComplex) {
+    use crate::kernel::{Sign, orient3d};
+    use std::collections::{BTreeMap, HashMap, HashSet};
+    let sorted = |mut f: [u32; 3]| {
+        f.sort_unstable();
+        f
+    };
+    let mut faces: HashMap<[u32; 3], usize> = HashMap::new();
+    for (t, tet) in c.tets.iter().enumerate() {
+        let p = c.tet_points(t);
+        // Positive output cells are negative in Shewchuk's sign.
+        assert_eq!(orient3d(p[0], p[1], p[2], p[3]), Sign::Negative, "cell {t}");
+        for k in 0..4 {
+            let f = [0, 1, 2, 3].map(|i| tet[i]);
+            *faces
+                .entry(sorted([f[(k + 1) % 4], f[(k + 2) % 4], f[(k + 3) % 4]]))
+                .or_default() += 1;
+        }
+    }
+    let outer: HashSet<[u32; 3]> = before
+        .facets
+        .iter()
+        .zip(&before.facet_subdomains)
+        .filter(|(_, s)| s.contains(&crate::oracle::OUTSIDE))
+        .map(|(&f, _)| sorted(f))
+        .collect();
+    for (f, n) in &faces {
+        let want = if outer.contains(f) { 1 } else { 2 };
+        assert_eq!(*n, want, "face {f:?}");
+    }
+    for f in &before.facets {
+        assert!(faces.contains_key(&sorted(*f)), "facet {f:?} lost");
+    }
+    let volumes = |m: &MeshComplex| {
+        let mut v: BTreeMap<u32, f64> = BTreeMap::new();
+        for t in 0..m.tets.len() {
+            *v.entry(m.tet_subdomain[t].0).or_default() +=
+                crate::quality::tet_volume(&m.tet_points(t));
+        }
+        v
+    };
+    let (got, want) = (volumes(c), volumes(before));
+    assert_eq!(got.len(), want.len());
+    for ((s, g), w) in got.iter().zip(want.values()) {
+        assert!(
+            (g - w).abs() <= 1e-12 * w,
+            "subdomain {s}: volume {g}, before {w}"
+        );
+    }
+}
+
+/// The refined ball cut by the plane x = 0 into two subdomains, the faces between them
+/// interface facets.
+fn two_subdomains(mut c: MeshComplex) -> MeshComplex {
+    use crate::oracle::SubdomainId;
+    use std::collections::HashMap;
+    for t in 0..c.tets.len() {
+        let p = c.tet_points(t);
+        if (p[0] + p[1] + p[2] + p[3]).x < 0.0 {
+            c.tet_subdomain[t] = SubdomainId(2);
+        }
+    }
+    let mut faces: HashMap<[u32; 3], Vec<usize>> = HashMap::new();
+    for (t, tet) in c.tets.iter().enumerate() {
+        for k in 0..4 {
+            let mut f: Vec<u32> = (0..4).filter(|&i| i != k).map(|i| tet[i]).collect();
+            f.sort_unstable();
+            faces.entry([f[0], f[1], f[2]]).or_default().push(t);
+        }
+    }
+    let mut interface: Vec<([u32; 3], [SubdomainId; 2])> = faces
+        .into_iter()
+        .filter_map(|(f, ts)| match ts[..] {
+            [a, b] if c.tet_subdomain[a] != c.tet_subdomain[b] => {
+                Some((f, [c.tet_subdomain[a], c.tet_subdomain[b]]))
+            }
+            _ => None,
+        })
+        .collect();
+    interface.sort_unstable();
+    for (f, s) in interface {
+        c.facets.push(f);
+        c.facet_patch.push(crate::oracle::PatchId(9));
+        c.facet_subdomains.push(s);
+    }
+    for v in c.facets.iter().flatten() {
+        c.vertex_dimension[*v as usize] = VertexDimension::Surface;
+    }
+    c
+}
+
+fn below(c: &MeshComplex, deg: f64) -> usize {
+    (0..c.tets.len())
+        .filter(|&t| min_dihedral(&c.tet_points(t)) < deg)
+        .count()
+}
+
+#[test]
+fn flips_keep_the_tiling_and_its_boundary_and_remove_slivers() {
+    let mesh = two_subdomains(refined());
+    let mut c = mesh.clone();
+    let changes = flip::flip(&mut c, 18.0, &Deadline::default());
+    assert!(changes > 0);
+    assert_same_tiling(&c, &mesh);
+    assert_eq!(c.facets, mesh.facets);
+    // Only interior vertices move, and new ones come after the old.
+    for (i, p) in mesh.points.iter().enumerate() {
+        if mesh.vertex_dimension[i] != VertexDimension::Volume {
+            assert_eq!(c.points[i], *p, "boundary vertex {i} moved");
+        }
+    }
+    assert_eq!(c.points.len(), c.vertex_dimension.len());
+    assert!(smallest(&c) > smallest(&mesh));
+    assert!(
+        below(&c, 10.0) < below(&mesh, 10.0) / 2,
+        "{} slivers left of {}",
+        below(&c, 10.0),
+        below(&mesh, 10.0)
+    );
 }
