@@ -152,19 +152,12 @@ fn check(
             report.after().min_dihedral_deg,
             report.before.min_dihedral_deg
         );
-        check_facets(
-            name,
-            surface,
-            meshed,
-            subdomain_volumes,
-            diagonal,
-            &is_input,
-        );
-        return;
+    } else {
+        assert!(report.steps.is_empty(), "{name}: optimised");
     }
-    assert!(report.steps.is_empty(), "{name}: optimised");
-    // Locally Delaunay: across every face shared by two tetrahedra, the far vertex is not
-    // strictly inside the other's circumsphere.
+    // Every face in two tetrahedra at most; unless optimised, locally Delaunay: across every
+    // face shared by two tetrahedra, the far vertex is not strictly inside the other's
+    // circumsphere.
     let mut faces: HashMap<[u32; 3], Vec<(usize, u32)>> = HashMap::new();
     for (t, tet) in c.tets.iter().enumerate() {
         for i in 0..4 {
@@ -182,7 +175,9 @@ fn check(
             "{name}: face {face:?} in {} tets",
             sides.len()
         );
-        if let [(t, _), (_, apex)] = sides[..] {
+        if let [(t, _), (_, apex)] = sides[..]
+            && !optimised
+        {
             let p = c.tets[t].map(|v| c.points[v as usize]);
             let e = c.points[apex as usize];
             // Positive output tets are negative in Shewchuk's sign: inside is a negative insphere.
@@ -193,27 +188,7 @@ fn check(
             );
         }
     }
-    check_facets(
-        name,
-        surface,
-        meshed,
-        subdomain_volumes,
-        diagonal,
-        &is_input,
-    );
-}
-
-/// Boundary facets each in its input triangle (its patch names it), their areas adding up to
-/// the triangle's, and the volume of each subdomain.
-fn check_facets(
-    name: &str,
-    surface: &Surface,
-    meshed: &delamesh::Meshed,
-    subdomain_volumes: &[f64],
-    diagonal: f64,
-    is_input: &[bool],
-) {
-    let c = &meshed.complex;
+    // Boundary facets: each in its input triangle (its patch names it), areas adding up.
     let tolerance = 1e-12 * diagonal;
     let mut facet_area: BTreeMap<u32, f64> = BTreeMap::new();
     for (f, facet) in c.facets.iter().enumerate() {
