@@ -34,6 +34,10 @@ const SPLIT_BELOW: f64 = super::SLIVER_DEG;
 /// Vertices a run may insert: this many, plus one per hundred mesh vertices.
 const MAX_INSERTIONS_BASE: usize = 64;
 
+/// Vertices with more cells than this are not moved: a search over their star costs more than
+/// the few slivers it may mend.
+const MAX_MOVED_STAR: usize = 96;
+
 /// Steps of the pattern search that places a moved or inserted vertex.
 const MAX_SEARCH_STEPS: usize = 24;
 
@@ -119,6 +123,8 @@ struct Cells {
     /// changed.
     version: Vec<u64>,
     stuck_at: Vec<Option<u64>>,
+    /// For each vertex, its count when a search for a better position last failed.
+    unmovable_at: Vec<Option<u64>>,
     /// Boundary facets (sorted vertices) and their edges: never removed.
     fixed_faces: FxHashSet<[u32; 3]>,
     fixed_edges: FxHashSet<[u32; 2]>,
@@ -149,6 +155,7 @@ impl Cells {
             alive: Vec::with_capacity(complex.tets.len()),
             around: vec![Vec::new(); complex.points.len()],
             version: vec![0; complex.points.len()],
+            unmovable_at: vec![None; complex.points.len()],
             stuck_at: Vec::with_capacity(complex.tets.len()),
             fixed_faces: complex.facets.iter().map(|&f| sorted3(f)).collect(),
             fixed_edges: complex
@@ -247,6 +254,9 @@ impl Cells {
         if !self.movable[v as usize] {
             return None;
         }
+        if self.around[v as usize].len() > MAX_MOVED_STAR {
+            return None;
+        }
         let ids = self.around[v as usize].clone();
         let mut star: Vec<[u32; 4]> = ids.iter().map(|&c| self.tets[c as usize]).collect();
         let old = ids
@@ -302,10 +312,16 @@ impl Cells {
     /// The cells around interior edge `(a, b)` and the other vertices of the edge's ring in
     /// order around it, when the ring is closed, simple and of at most `max` cells.
     fn ring(&self, a: u32, b: u32, max: usize) -> Option<(Vec<u32>, Vec<u32>)> {
-        let ring_cells: Vec<u32> = self.around[a as usize]
+        // The cells around the end with fewer (a vertex may have thousands).
+        let fewer = if self.around[a as usize].len() <= self.around[b as usize].len() {
+            (a, b)
+        } else {
+            (b, a)
+        };
+        let ring_cells: Vec<u32> = self.around[fewer.0 as usize]
             .iter()
             .copied()
-            .filter(|&c| self.tets[c as usize].contains(&b))
+            .filter(|&c| self.tets[c as usize].contains(&fewer.1))
             .collect();
         let n = ring_cells.len();
         if !(3..=max).contains(&n) {
@@ -463,10 +479,14 @@ impl Cells {
         if self.fixed_faces.contains(&sorted3([x, y, z])) {
             return None;
         }
-        let u = self.around[x as usize].iter().copied().find(|&c| {
+        let fewest = [x, y, z]
+            .into_iter()
+            .min_by_key(|&v| self.around[v as usize].len())
+            .unwrap_or(x);
+        let u = self.around[fewest as usize].iter().copied().find(|&c| {
             c != t && {
                 let o = self.tets[c as usize];
-                o.contains(&y) && o.contains(&z)
+                o.contains(&x) && o.contains(&y) && o.contains(&z)
             }
         })?;
         let q = self.tets[u as usize]
@@ -493,32 +513,38 @@ impl Cells {
     }
 
     /// The best change that removes cell `t`, if one raises the smallest quality.
-    fn plan_for(&self, t: u32) -> Option<Plan> {
+    fn plan_for(&mut self, t: u32) -> Option<Plan> {
         let c = self.tets[t as usize];
-        let mut best: Option<Plan> = None;
         let edges = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
-        let plans = edges
+        let mut plans: Vec<Plan> = edges
             .iter()
             .filter_map(|&(i, j)| self.remove_edge(c[i], c[j]))
-            .chain((0..4).filter_map(|k| self.flip23(t, k)));
-        let relocations = c.iter().filter_map(|&v| self.relocate(v));
-        for plan in plans.chain(relocations) {
-            if best.as_ref().is_none_or(|b| plan.quality > b.quality) {
-                best = Some(plan);
+            .chain((0..4).filter_map(|k| self.flip23(t, k)))
+            .collect();
+        for v in c {
+            // A vertex whose search failed is searched again only once its star changed.
+            let at = self.version[v as usize];
+            if self.unmovable_at[v as usize] == Some(at) {
+                continue;
+            }
+            match self.relocate(v) {
+                Some(plan) => plans.push(plan),
+                None => self.unmovable_at[v as usize] = Some(at),
             }
         }
         // A new vertex only for a sliver proper that no flip or move helps.
-        if best.is_none() && self.quality[t as usize] < SPLIT_BELOW.to_radians().sin() {
-            for plan in edges
-                .iter()
-                .filter_map(|&(i, j)| self.split_edge(c[i], c[j]))
-            {
-                if best.as_ref().is_none_or(|b| plan.quality > b.quality) {
-                    best = Some(plan);
-                }
-            }
+        if plans.is_empty() && self.quality[t as usize] < SPLIT_BELOW.to_radians().sin() {
+            plans.extend(
+                edges
+                    .iter()
+                    .filter_map(|&(i, j)| self.split_edge(c[i], c[j])),
+            );
         }
-        best
+        // The first of the best, in the order above.
+        plans
+            .into_iter()
+            .rev()
+            .max_by(|x, y| x.quality.total_cmp(&y.quality))
     }
 
     fn apply(&mut self, plan: Plan) {
@@ -535,6 +561,7 @@ impl Cells {
                 self.movable.push(true);
                 self.around.push(Vec::new());
                 self.version.push(0);
+                self.unmovable_at.push(None);
                 self.insertions_left -= 1;
             }
         }
