@@ -49,6 +49,16 @@ const MAX_PASSES: usize = 8;
 /// rounding could undo another in the next pass.
 const MIN_GAIN: f64 = 1e-8;
 
+/// No change creates a cell below this quality (the sine of 0.001°, the angle below which the
+/// optimisers call a cell flat): replacing a flat cell by several nearly flat ones raises the
+/// smallest quality but leaves more cells a mesh user cannot use.
+const FLAT: f64 = 1.75e-5;
+
+/// Whether created cells of smallest quality `new` may replace cells of smallest quality `old`.
+fn gains(new: f64, old: f64) -> bool {
+    new > old + MIN_GAIN && new > FLAT
+}
+
 /// Orientation of the output's positive cells (the opposite of Shewchuk's sign; see
 /// [`crate::complex::signed_volume`]).
 const POSITIVE: Sign = Sign::Negative;
@@ -270,7 +280,7 @@ impl Cells {
             .map(|&c| self.quality[c as usize])
             .fold(f64::INFINITY, f64::min);
         let (at, q) = self.best_position(&mut star, v, self.points[v as usize]);
-        (q > old + MIN_GAIN).then_some(Plan {
+        gains(q, old).then_some(Plan {
             removed: ids,
             created: star,
             quality: q,
@@ -307,7 +317,7 @@ impl Cells {
             .map(|&c| self.quality[c as usize])
             .fold(f64::INFINITY, f64::min);
         let (at, q) = self.best_position(&mut star, NEW, start);
-        (q > old + MIN_GAIN).then_some(Plan {
+        gains(q, old).then_some(Plan {
             removed: ids,
             created: star,
             quality: q,
@@ -451,7 +461,7 @@ impl Cells {
                 }
             }
         }
-        if best[0][n - 1] <= old + MIN_GAIN {
+        if !gains(best[0][n - 1], old) {
             return None;
         }
         let mut created = Vec::with_capacity(2 * (n - 2));
@@ -510,7 +520,7 @@ impl Cells {
             .iter()
             .map(|&c| quality(&self.pts(c)))
             .fold(f64::INFINITY, f64::min);
-        (q > old + MIN_GAIN).then(|| Plan {
+        gains(q, old).then(|| Plan {
             removed: vec![t, u],
             created: created.to_vec(),
             quality: q,
