@@ -1,6 +1,7 @@
-//! Topological improvement: edge removal (which includes the 3-2 and 4-4 flips) and 2-3 flips
-//! on the tetrahedra of a finished mesh, worst cell first, each kept only when it raises the
-//! smallest dihedral angle of the cells it replaces.
+//! Sliver removal on the tetrahedra of a finished mesh, worst cell first: edge removal (which
+//! includes the 3-2 and 4-4 flips), 2-3 flips, moves of interior vertices and, for the slivers
+//! none of those mends, a new vertex on an interior edge; each change kept only when it raises
+//! the smallest dihedral sine of the cells it replaces.
 //!
 //! No vertex move or weight removes a flat cell whose four vertices lie on the boundary, such as
 //! one spanning two nearly coplanar boundary facets: its circumball is the diametral ball of

@@ -42,8 +42,9 @@ pub struct OptimizeOptions {
     pub perturb: bool,
     /// Sliver exudation.
     pub exude: bool,
-    /// Edge removals and 2-3 flips of the cells below the sliver bound, after the other steps
-    /// (see [`flip`]). The mesh is then no longer a regular triangulation.
+    /// Edge removals, 2-3 flips, interior vertex moves and interior edge splits of the cells
+    /// below the sliver bound, after the other steps (see [`flip`]); boundary facets are kept.
+    /// The mesh is then no longer a regular triangulation.
     pub flip: bool,
     /// Wall-time bound of the whole phase (`None`: the steps stop by themselves). A bound makes
     /// the result depend on the machine's speed.
@@ -105,7 +106,7 @@ pub enum Step {
     Perturb,
     /// Sliver exudation.
     Exude,
-    /// Edge removals and 2-3 flips.
+    /// Edge removals, 2-3 flips, interior vertex moves and edge splits.
     Flip,
 }
 
