@@ -55,6 +55,10 @@ const MIN_GAIN: f64 = 1e-8;
 /// smallest quality but leaves more cells a mesh user cannot use.
 const FLAT: f64 = 1.75e-5;
 
+/// A cell below this fraction of the largest cell's volume is flat for [`Cells::measure`]: a
+/// hundred times the fraction (1e-14) below which mesh checkers call a cell flat.
+const TINY: f64 = 1e-12;
+
 /// Whether created cells of smallest quality `new` may replace cells of smallest quality `old`.
 fn gains(new: f64, old: f64) -> bool {
     new > old + MIN_GAIN && new > FLAT
@@ -142,6 +146,10 @@ struct Cells {
     stuck_at: Vec<Option<u64>>,
     /// For each vertex, its count when a search for a better position last failed.
     unmovable_at: Vec<Option<u64>>,
+    /// Cells of this volume or less count as [`FLAT`] whatever their angles: checkers call a
+    /// cell flat below a fraction of the largest cell's volume (the mesh's scale), and a
+    /// change must not make one.
+    tiny: f64,
     /// Boundary facets (sorted vertices) and their edges: never removed.
     fixed_faces: FxHashSet<[u32; 3]>,
     fixed_edges: FxHashSet<[u32; 2]>,
@@ -174,6 +182,10 @@ impl Cells {
             version: vec![0; complex.points.len()],
             unmovable_at: vec![None; complex.points.len()],
             stuck_at: Vec::with_capacity(complex.tets.len()),
+            tiny: TINY
+                * (0..complex.tets.len())
+                    .map(|t| tet_volume(&complex.tet_points(t)))
+                    .fold(0.0, f64::max),
             fixed_faces: complex.facets.iter().map(|&f| sorted3(f)).collect(),
             fixed_edges: complex
                 .facets
@@ -193,6 +205,15 @@ impl Cells {
         cells
     }
 
+    /// [`quality`], and 0 for a cell of [`Cells::tiny`] volume.
+    fn measure(&self, p: &[Point3; 4]) -> f64 {
+        if tet_volume(p) <= self.tiny {
+            0.0
+        } else {
+            quality(p)
+        }
+    }
+
     fn pts(&self, t: [u32; 4]) -> [Point3; 4] {
         t.map(|v| self.points[v as usize])
     }
@@ -209,7 +230,7 @@ impl Cells {
     fn star_quality(&self, star: &mut [[u32; 4]], v: u32, at: Point3, floor: f64) -> Option<f64> {
         let mut worst = f64::INFINITY;
         for i in 0..star.len() {
-            let q = quality(&self.pts_with(star[i], v, at));
+            let q = self.measure(&self.pts_with(star[i], v, at));
             if q <= floor {
                 star.swap(0, i);
                 return None;
@@ -381,7 +402,7 @@ impl Cells {
 
     fn add(&mut self, t: [u32; 4], sub: SubdomainId) {
         let id = self.tets.len() as u32;
-        self.quality.push(quality(&self.pts(t)));
+        self.quality.push(self.measure(&self.pts(t)));
         self.tets.push(t);
         self.subdomain.push(sub);
         self.alive.push(true);
@@ -442,8 +463,8 @@ impl Cells {
             if self.orient(a, ri, rj, rk) != s || self.orient(b, ri, rj, rk) != s.flip() {
                 return -1.0;
             }
-            let qa = quality(&self.pts(self.oriented([a, ri, rj, rk]).unwrap_or([a; 4])));
-            let qb = quality(&self.pts(self.oriented([b, ri, rj, rk]).unwrap_or([b; 4])));
+            let qa = self.measure(&self.pts(self.oriented([a, ri, rj, rk]).unwrap_or([a; 4])));
+            let qb = self.measure(&self.pts(self.oriented([b, ri, rj, rk]).unwrap_or([b; 4])));
             qa.min(qb)
         };
         // best[i][j]: the best smallest quality over triangulations of the sub-polygon i..=j.
@@ -519,7 +540,7 @@ impl Cells {
             [[p, q, x, y], [p, q, y, z], [p, q, z, x]].map(|c| self.oriented(c).unwrap_or(c));
         let q = created
             .iter()
-            .map(|&c| quality(&self.pts(c)))
+            .map(|&c| self.measure(&self.pts(c)))
             .fold(f64::INFINITY, f64::min);
         gains(q, old).then(|| Plan {
             removed: vec![t, u],
