@@ -1,7 +1,7 @@
 //! Delaunay3 on random and degenerate point sets: validity (exact), brute-force empty spheres,
 //! uniqueness across insertion orders, reports and queries.
 
-use delamesh_core::kernel::{Point3, Sign, orient3d};
+use delamesh_core::kernel::{Point3, Sign, insphere, orient3d};
 use delamesh_core::triangulation::validity::check_delaunay3;
 use delamesh_core::triangulation::{
     CellId, ConflictZone, Delaunay3, InsertOutcome, InsertReport, Triangulation,
@@ -523,4 +523,40 @@ fn one_ulp_perturbations_of_a_degenerate_grid() {
         tet_set(&insert_one_by_one(&pts, &order), &pts),
         tet_set(&dt, &pts)
     );
+}
+
+#[test]
+fn conflict_queries_far_outside_the_points_box_are_exact() {
+    // Slivers in the unit cube have circumcentres far outside it, where error bounds sized for
+    // the unit cube do not hold: each answer must be the exact in-sphere sign.
+    let mut rng = StdRng::seed_from_u64(23);
+    let mut far = 0;
+    for _ in 0..4000 {
+        let mut pts: Vec<Point3> = (0..3)
+            .map(|_| Point3::new(rng.random(), rng.random(), 0.0))
+            .collect();
+        let (x, y): (f64, f64) = (rng.random(), rng.random());
+        pts.push(Point3::new(x, y, rng.random::<f64>() * 1e-9));
+        let Ok(dt) = Delaunay3::from_points(&pts) else {
+            continue;
+        };
+        let Some(cell) = dt.finite_cells().next() else {
+            continue;
+        };
+        let v = dt.cell(cell).map(|v| dt.point(v));
+        let center = dt.circumcenter(cell);
+        if center.abs().max_element() < 1e3 {
+            continue;
+        }
+        far += 1;
+        for p in [center, center * 0.999_999, center * 1.000_001] {
+            let exact = insphere(v[0], v[1], v[2], v[3], p);
+            assert_eq!(
+                dt.is_in_conflict(cell, p),
+                exact == Sign::Positive,
+                "cell {v:?}, query {p:?}"
+            );
+        }
+    }
+    assert!(far > 100, "only {far} far circumcentres");
 }

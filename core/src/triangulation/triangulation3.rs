@@ -219,7 +219,19 @@ impl Delaunay3 {
     /// the symbolic perturbation (for an infinite cell: strictly beyond its hull facet, or on its
     /// plane and inside its circle). `p` must not be a vertex of `c`.
     pub fn is_in_conflict(&self, c: CellId, p: Point3) -> bool {
-        self.in_conflict(c.0, p, 0.0)
+        self.query_conflict(c, p, 0.0)
+    }
+}
+
+impl<K: ConflictKernel> Triangulation3<K> {
+    /// [`Self::in_conflict`] for a point from outside, which need not be in the triangulation's
+    /// box: the static filter's bounds hold only inside the box of the points it was sized for,
+    /// so a query beyond it (the far circumcentre of a nearly flat cell) gets one grown to hold
+    /// it.
+    fn query_conflict(&self, c: CellId, p: Point3, w: f64) -> bool {
+        let mut filter = self.filter;
+        filter.include(p);
+        self.conflicts(&filter, self.cells[c.0 as usize].v, p, w)
     }
 }
 
@@ -789,23 +801,24 @@ impl<K: ConflictKernel> Triangulation3<K> {
     /// orthogonal sphere; with zero weights, strictly inside its perturbed circumsphere).
     #[inline]
     pub(crate) fn in_conflict(&self, c: u32, p: Point3, w: f64) -> bool {
-        self.conflicts(self.cells[c as usize].v, p, w)
+        self.conflicts(&self.filter, self.cells[c as usize].v, p, w)
     }
 
-    /// [`Self::in_conflict`] for the cell with vertices `v` (reads no cell).
+    /// [`Self::in_conflict`] for the cell with vertices `v` (reads no cell), under `filter`
+    /// (whose box must hold `p` and the cell's points).
     #[inline]
-    fn conflicts(&self, v: [u32; 4], p: Point3, w: f64) -> bool {
+    fn conflicts(&self, filter: &StaticFilter, v: [u32; 4], p: Point3, w: f64) -> bool {
         // The infinite vertex is the largest index: one comparison tells infinite cells apart.
         if v[0].max(v[1]).max(v[2].max(v[3])) == INFINITE {
-            return self.in_conflict_infinite(v, p, w);
+            return self.in_conflict_infinite(filter, v, p, w);
         }
         self.kernel
-            .in_conflict_finite(&self.filter, &self.points, v, WeightedPoint3::new(p, w))
+            .in_conflict_finite(filter, &self.points, v, WeightedPoint3::new(p, w))
     }
 
     /// [`Self::in_conflict`] for an infinite cell with vertices `v`.
     #[inline(never)]
-    fn in_conflict_infinite(&self, v: [u32; 4], p: Point3, w: f64) -> bool {
+    fn in_conflict_infinite(&self, filter: &StaticFilter, v: [u32; 4], p: Point3, w: f64) -> bool {
         let i = v.iter().position(|&w| w == INFINITE).unwrap_or(0);
         let mut t = [p; 4];
         let mut tri = [0u32; 3];
@@ -817,7 +830,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 k += 1;
             }
         }
-        let o = self.filter.orient3d(t[0], t[1], t[2], t[3]);
+        let o = filter.orient3d(t[0], t[1], t[2], t[3]);
         self.kernel
             .beyond_hull_facet(&self.points, tri, o, WeightedPoint3::new(p, w))
     }

@@ -207,7 +207,7 @@ impl<K: ConflictKernel> Part<'_, K> {
             |n| {
                 // SAFETY: a neighbour is this part's or mixed; only its vertices are read.
                 let v = unsafe { cells.vertices(n) };
-                let conflict = tri.conflicts(v, p, 0.0);
+                let conflict = tri.conflicts(&tri.filter, v, p, 0.0);
                 (!conflict || range.owns(v)).then_some(conflict)
             },
         );

@@ -63,7 +63,7 @@ impl Regular3 {
     /// distance to its perturbed orthogonal sphere; for an infinite cell, beyond its hull facet).
     /// `p` must not be the position of a vertex of `c` with the same weight.
     pub fn is_in_conflict_weighted(&self, c: CellId, p: Point3, w: f64) -> bool {
-        self.in_conflict(c.0, p, w)
+        self.query_conflict(c, p, w)
     }
 
     /// The weighted point of finite vertex `v`.
