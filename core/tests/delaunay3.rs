@@ -528,7 +528,8 @@ fn one_ulp_perturbations_of_a_degenerate_grid() {
 #[test]
 fn conflict_queries_far_outside_the_points_box_are_exact() {
     // Slivers in the unit cube have circumcentres far outside it, where error bounds sized for
-    // the unit cube do not hold: each answer must be the exact in-sphere sign.
+    // the unit cube do not hold: each answer, and each conflict zone, must follow the exact
+    // in-sphere sign.
     let mut rng = StdRng::seed_from_u64(23);
     let mut far = 0;
     for _ in 0..4000 {
@@ -549,13 +550,12 @@ fn conflict_queries_far_outside_the_points_box_are_exact() {
             continue;
         }
         far += 1;
+        let mut zone = ConflictZone::default();
         for p in [center, center * 0.999_999, center * 1.000_001] {
-            let exact = insphere(v[0], v[1], v[2], v[3], p);
-            assert_eq!(
-                dt.is_in_conflict(cell, p),
-                exact == Sign::Positive,
-                "cell {v:?}, query {p:?}"
-            );
+            let exact = insphere(v[0], v[1], v[2], v[3], p) == Sign::Positive;
+            assert_eq!(dt.is_in_conflict(cell, p), exact, "cell {v:?}, query {p:?}");
+            dt.conflict_zone(p, None, &mut zone);
+            assert_eq!(zone.cells.contains(&cell), exact, "zone of {p:?}");
         }
     }
     assert!(far > 100, "only {far} far circumcentres");

@@ -224,14 +224,18 @@ impl Delaunay3 {
 }
 
 impl<K: ConflictKernel> Triangulation3<K> {
-    /// [`Self::in_conflict`] for a point from outside, which need not be in the triangulation's
-    /// box: the static filter's bounds hold only inside the box of the points it was sized for,
-    /// so a query beyond it (the far circumcentre of a nearly flat cell) gets one grown to hold
-    /// it.
+    /// [`Self::in_conflict`] for a query point, which need not be in the triangulation's box:
+    /// the static filter's bounds hold only inside the box of the points it was sized for, so a
+    /// query beyond it (the far circumcentre of a nearly flat cell) gets one grown to hold it.
     fn query_conflict(&self, c: CellId, p: Point3, w: f64) -> bool {
+        self.conflicts(&self.query_filter(p), self.cells[c.0 as usize].v, p, w)
+    }
+
+    /// The static filter grown to hold the query point `p`.
+    fn query_filter(&self, p: Point3) -> StaticFilter {
         let mut filter = self.filter;
         filter.include(p);
-        self.conflicts(&filter, self.cells[c.0 as usize].v, p, w)
+        filter
     }
 }
 
@@ -721,6 +725,11 @@ impl<K: ConflictKernel> Triangulation3<K> {
     /// a deterministic visibility walk could cycle, and the per-point pseudo-random facet order
     /// (a stochastic walk) is what makes it terminate. Requires cells to exist.
     fn locate_cell(&self, p: Point3, hint: Option<u32>) -> u32 {
+        self.locate_cell_under(&self.filter, p, hint)
+    }
+
+    /// [`Self::locate_cell`] under `filter`, whose box must hold `p`.
+    fn locate_cell_under(&self, filter: &StaticFilter, p: Point3, hint: Option<u32>) -> u32 {
         let mut c = match hint {
             Some(h) if self.live(h) => h,
             _ if self.live(self.last) => self.last,
@@ -733,6 +742,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
             }
         }
         match self.walk(
+            filter,
             p,
             c,
             |c| self.cells[c as usize],
@@ -749,6 +759,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
     #[inline]
     fn walk(
         &self,
+        filter: &StaticFilter,
         p: Point3,
         mut c: u32,
         cell: impl Fn(u32) -> CellRecord,
@@ -780,7 +791,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
                 // unpredictably.
                 let mut t = [a, b, cc, d];
                 t[i] = p;
-                let side = self.filter.orient3d(t[0], t[1], t[2], t[3]);
+                let side = filter.orient3d(t[0], t[1], t[2], t[3]);
                 if side == Sign::Negative {
                     if stop(next) {
                         return Walk::Stopped {
@@ -839,6 +850,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
     /// (which must conflict with `q`).
     fn find_cavity<M: CavityMarks>(
         &self,
+        filter: &StaticFilter,
         q: WeightedPoint3,
         start: u32,
         marks: &mut M,
@@ -853,7 +865,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
             cavity,
             boundary,
             |c| self.cells[c as usize].n,
-            |n| Some(self.in_conflict(n, q.point, q.weight)),
+            |n| Some(self.conflicts(filter, self.cells[n as usize].v, q.point, q.weight)),
         );
     }
 
@@ -877,6 +889,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
         {
             let mut marks = ByteMarks::new(&mut s.mark, self.cells.len());
             self.find_cavity(
+                &self.filter,
                 WeightedPoint3::new(p, w),
                 start,
                 &mut marks,
@@ -1006,7 +1019,12 @@ impl<K: ConflictKernel> Triangulation for Triangulation3<K> {
         if self.lower.is_some() || !p.is_finite() {
             return None;
         }
-        Some(CellId(self.locate_cell(p, hint.map(|c| c.0))))
+        let filter = self.query_filter(p);
+        Some(CellId(self.locate_cell_under(
+            &filter,
+            p,
+            hint.map(|c| c.0),
+        )))
     }
 
     fn conflict_zone(&self, p: Point3, hint: Option<CellId>, out: &mut ConflictZone) {
@@ -1019,12 +1037,13 @@ impl<K: ConflictKernel> Triangulation for Triangulation3<K> {
             return;
         }
         // A weight-0 point is hidden when its own cell does not conflict with it.
-        if K::WEIGHTED && !self.in_conflict(start.0, p, 0.0) {
+        if K::WEIGHTED && !self.query_conflict(start, p, 0.0) {
             return;
         }
         let mut marks = HashMarks::default();
         let (mut stack, mut cavity, mut boundary) = (Vec::new(), Vec::new(), Vec::new());
         self.find_cavity(
+            &self.query_filter(p),
             WeightedPoint3::new(p, 0.0),
             start.0,
             &mut marks,

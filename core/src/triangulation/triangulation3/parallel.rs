@@ -180,6 +180,7 @@ impl<K: ConflictKernel> Part<'_, K> {
         // this part; what they step to is this part's or a mixed cell, of which they read the
         // vertices only.
         let c = match tri.walk(
+            &tri.filter,
             p,
             from,
             // SAFETY: the walk records only the cells it steps from, which are this part's.

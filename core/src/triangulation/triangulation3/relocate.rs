@@ -294,7 +294,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
     /// surface vertex moving in the plane of a planar patch lies in the plane of its facets)
     /// but on none of its vertices, none of which is on the hull.
     fn inside_a_cell(&self, p: Point3, v: VertexId) -> bool {
-        let c = self.locate_cell(p, self.vertex_cell(v).map(|c| c.0));
+        let c = self.locate_cell_under(&self.query_filter(p), p, self.vertex_cell(v).map(|c| c.0));
         let r = self.cells[c as usize];
         if Self::is_infinite_record(&r) {
             return false;
@@ -437,7 +437,15 @@ impl<K: ConflictKernel> Triangulation3<K> {
         }
         let (mut stack, mut cavity, mut boundary) = (Vec::new(), Vec::new(), Vec::new());
         let mut marks = HashMarks::default();
-        small.find_cavity(q, start, &mut marks, &mut stack, &mut cavity, &mut boundary);
+        small.find_cavity(
+            &small.filter,
+            q,
+            start,
+            &mut marks,
+            &mut stack,
+            &mut cavity,
+            &mut boundary,
+        );
         if boundary.len() != star_size {
             return None;
         }
