@@ -846,12 +846,11 @@ impl<K: ConflictKernel> Triangulation3<K> {
             .beyond_hull_facet(&self.points, tri, o, WeightedPoint3::new(p, w))
     }
 
-    /// Grows the conflict zone of the weighted point `q` (weight 0 for Delaunay) from `start`
-    /// (which must conflict with `q`).
+    /// Grows the conflict zone of the weighted point `q` (weight 0 for Delaunay), decided under
+    /// `filter`, from `start` (which must conflict with `q`).
     fn find_cavity<M: CavityMarks>(
         &self,
-        filter: &StaticFilter,
-        q: WeightedPoint3,
+        (filter, q): (&StaticFilter, WeightedPoint3),
         start: u32,
         marks: &mut M,
         stack: &mut Vec<u32>,
@@ -889,8 +888,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
         {
             let mut marks = ByteMarks::new(&mut s.mark, self.cells.len());
             self.find_cavity(
-                &self.filter,
-                WeightedPoint3::new(p, w),
+                (&self.filter, WeightedPoint3::new(p, w)),
                 start,
                 &mut marks,
                 &mut s.stack,
@@ -1043,8 +1041,7 @@ impl<K: ConflictKernel> Triangulation for Triangulation3<K> {
         let mut marks = HashMarks::default();
         let (mut stack, mut cavity, mut boundary) = (Vec::new(), Vec::new(), Vec::new());
         self.find_cavity(
-            &self.query_filter(p),
-            WeightedPoint3::new(p, 0.0),
+            (&self.query_filter(p), WeightedPoint3::new(p, 0.0)),
             start.0,
             &mut marks,
             &mut stack,

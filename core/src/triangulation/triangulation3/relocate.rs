@@ -438,8 +438,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
         let (mut stack, mut cavity, mut boundary) = (Vec::new(), Vec::new(), Vec::new());
         let mut marks = HashMarks::default();
         small.find_cavity(
-            &small.filter,
-            q,
+            (&small.filter, q),
             start,
             &mut marks,
             &mut stack,
