@@ -10,8 +10,8 @@ use crate::sizing::{Fields, grade};
 use delamesh_core::complex::MeshComplex;
 use delamesh_core::conform3::{PreserveError, PreserveOptions, preserve_surface};
 use delamesh_core::mesh::component_euler_characteristics;
-use delamesh_core::mesh::weld_exact;
 use delamesh_core::mesh::{SurfaceMesh, TetMesh};
+use delamesh_core::mesh::{flip_coplanar, weld_exact};
 use delamesh_core::optimize::{OptimizeOptions, OptimizeReport, optimize};
 use delamesh_core::oracle::Oracle;
 use delamesh_core::refine::criteria::{CellCriteria, MeshCriteria, Sizing};
@@ -33,6 +33,9 @@ use std::time::{Duration, Instant};
 const STEINER_BUDGET_PER_INPUT_VERTEX: usize = 100;
 /// See [`STEINER_BUDGET_PER_INPUT_VERTEX`].
 const RECOVERY_MIN_BUDGET: usize = 10_000;
+/// How far from planar (relative to the bounding-box diagonal) `--merge-coplanar` takes a region
+/// to be: TetGen's default tolerance, above the rounding of float32 exports.
+const COPLANAR_TOLERANCE: f64 = 1e-8;
 /// The times of a domain built from an input read in `read`, its oracle from `t` on.
 fn oracle_times(read: Duration, t: Instant) -> Times {
     Times {
@@ -309,7 +312,7 @@ impl<'p> Mesher<'p> {
         let mut times = oracle_times(read, t);
         let t = Instant::now();
         let mut warnings = Vec::new();
-        let (positions, triangles, patches) = match kept {
+        let (positions, mut triangles, patches) = match kept {
             Some(b) => {
                 if b.cut + b.dropped + b.separated > 0 {
                     warnings.push(format!(
@@ -328,6 +331,17 @@ impl<'p> Mesher<'p> {
             ),
         };
         let bbox = domain.oracle().bounding_box();
+        if self.settings.merge_coplanar {
+            let tolerance = COPLANAR_TOLERANCE * (bbox.max - bbox.min).length();
+            let done = flip_coplanar(&positions, &mut triangles, &patches, tolerance);
+            if done.moved > 0.0 {
+                warnings.push(format!(
+                    "--merge-coplanar: {} edges of planar regions flipped; the surface moved by \
+                     at most {:.3e} where regions are planar only to within the tolerance",
+                    done.flips, done.moved
+                ));
+            }
+        }
         let criteria = self.settings.criteria(&bbox);
         let settings = &self.settings;
         // Quality refinement only when a cell criterion is asked for: by default the surface's

@@ -70,6 +70,12 @@ pub struct MeshSettings {
     /// triangle a union of boundary facets (Steiner points on the input edges and triangles as
     /// needed, no re-sampling). The surface must be closed and not self-intersecting.
     pub preserve_surface: bool,
+    /// With `preserve_surface`: retriangulate each planar region of a patch (neighbouring
+    /// triangles coplanar to within 1e-8 of the bounding-box diagonal, TetGen's tolerance) by
+    /// Lawson flips first, as TetGen merges coplanar facets. The surface and its vertices are
+    /// kept (to that tolerance), its triangles are not: CAD and CSG parts triangulate planar
+    /// faces as fans of slivers that no mesh keeping them can avoid.
+    pub merge_coplanar: bool,
 }
 
 /// Options of segmented and gray-level 3D images (unused for surfaces and plugins).
@@ -197,7 +203,13 @@ impl MeshSettings {
     /// triangles only where a cell's centre asks it).
     fn validate_preserve_surface(&self) -> Result<(), SettingsError> {
         if !self.preserve_surface {
-            return Ok(());
+            return match self.merge_coplanar {
+                true => Err(SettingsError::new(
+                    "merge-coplanar",
+                    "retriangulates the planar regions of a kept surface: it needs --preserve-surface",
+                )),
+                false => Ok(()),
+            };
         }
         let conflicts = [
             ("edge-size", self.edge_size.is_some()),
@@ -394,6 +406,8 @@ impl MeshSettingsBuilder {
         fn subdivision(options: SubdivisionOptions) => subdivision = Some(options);
         /// See [`MeshSettings::preserve_surface`].
         fn preserve_surface(preserve: bool) => preserve_surface = preserve;
+        /// See [`MeshSettings::merge_coplanar`].
+        fn merge_coplanar(merge: bool) => merge_coplanar = merge;
         /// See [`MeshSettings::strict`].
         fn strict(strict: bool) => strict = strict;
     }

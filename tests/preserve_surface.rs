@@ -644,3 +644,95 @@ fn random_overlapping_boxes_keep_the_boundary_of_their_union() {
         );
     }
 }
+
+/// How many boundary facets have an angle below `degrees`.
+fn facets_below(c: &delamesh::core::complex::MeshComplex, degrees: f64) -> usize {
+    let smallest = |f: &[u32; 3]| {
+        let p = f.map(|v| c.points[v as usize]);
+        (0..3)
+            .map(|k| (p[(k + 1) % 3] - p[k]).angle_between(p[(k + 2) % 3] - p[k]))
+            .fold(f64::INFINITY, f64::min)
+            .to_degrees()
+    };
+    c.facets.iter().filter(|f| smallest(f) < degrees).count()
+}
+
+#[test]
+fn merged_coplanar_regions_keep_the_surface_and_raise_its_smallest_angle() {
+    for name in ["csg_0900", "csg_11001", "csg_11002", "csg_4739"] {
+        let read = delamesh::formats::read_surface(&test_data(&format!("csg/{name}.off")), None)
+            .expect("fixture reads")
+            .mesh;
+        let mesh = |merge: bool| {
+            let settings = MeshSettings::builder()
+                .preserve_surface(true)
+                .merge_coplanar(merge)
+                .optimize(OptimizeOptions::none())
+                .build()
+                .expect("valid settings");
+            Mesher::new(settings)
+                .mesh_surface(name, read.clone())
+                .unwrap_or_else(|e| panic!("{name}: {e}"))
+                .complex
+        };
+        let (kept, merged) = (mesh(false), mesh(true));
+        let (lo, hi) = read
+            .positions
+            .iter()
+            .fold((DVec3::MAX, DVec3::MIN), |(lo, hi), &p| {
+                (lo.min(p), hi.max(p))
+            });
+        let diagonal = (hi - lo).length();
+        // The same solid: its volume, its topology, every input vertex, and every boundary
+        // vertex on the input surface to within the merge tolerance.
+        let volume = enclosed_volume(&read.positions, &read.triangles);
+        let total = assert_positive_not_flat(name, &merged);
+        assert!(
+            (total - volume).abs() <= 1e-7 * volume,
+            "{name}: volume {total}, expected {volume}"
+        );
+        assert_eq!(
+            closed_oriented_euler(name, &merged),
+            closed_oriented_euler(name, &kept),
+            "{name}: Euler characteristic"
+        );
+        let output: std::collections::HashSet<[u64; 3]> = merged
+            .points
+            .iter()
+            .map(|p| p.to_array().map(f64::to_bits))
+            .collect();
+        assert!(
+            read.positions
+                .iter()
+                .all(|p| output.contains(&p.to_array().map(f64::to_bits))),
+            "{name}: an input vertex is missing"
+        );
+        for f in &merged.facets {
+            for &v in f {
+                let p = merged.points[v as usize];
+                let near = read
+                    .triangles
+                    .iter()
+                    .map(|t| {
+                        let tri = t.map(|v| read.positions[v as usize]);
+                        delamesh::polyhedral::closest_point_on_triangle(p, &tri).distance(p)
+                    })
+                    .fold(f64::MAX, f64::min);
+                assert!(
+                    near <= 2e-8 * diagonal,
+                    "{name}: facet vertex {p} off the input"
+                );
+            }
+        }
+        // The fans of slivers on planar faces are gone: fewer thin facets, and fewer facets.
+        let (before, after) = (facets_below(&kept, 5.0), facets_below(&merged, 5.0));
+        assert!(
+            after < before,
+            "{name}: facets below 5°: {before} -> {after}"
+        );
+        assert!(
+            merged.facets.len() < kept.facets.len(),
+            "{name}: more facets"
+        );
+    }
+}

@@ -4,9 +4,11 @@
 //! that is what every file format and the refinement engine exchange in bulk; the labels that carry
 //! meaning (patch, subdomain, curve) are newtypes so they cannot be mixed up.
 
+mod coplanar;
 mod topology;
 mod weld;
 
+pub use coplanar::{CoplanarFlips, flip_coplanar};
 pub use topology::{
     Topology, component_euler_characteristics, count_phrases, non_manifold_elements,
     surface_topology,

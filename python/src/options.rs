@@ -97,6 +97,7 @@ pub const OPTIONS: &[Opt] = &[
         None => return Err("needs subdivision=".into()),
     }),
     opt!(preserve_surface, |s, v| s.preserve_surface = flag(v)?),
+    opt!(merge_coplanar, |s, v| s.merge_coplanar = flag(v)?),
 ];
 
 fn path(v: &Bound<'_, PyAny>) -> Result<std::path::PathBuf, String> {

@@ -95,6 +95,12 @@ pub struct MeshArgs {
     /// With --cell-radius-edge-ratio / --cell-size the volume is then refined.
     #[arg(long)]
     pub preserve_surface: bool,
+    /// With --preserve-surface: first retriangulate each planar region of a patch (triangles
+    /// coplanar to within 1e-8 of the bounding-box diagonal) by Lawson flips, as TetGen does by
+    /// default (its -M turns that off). The surface and its vertices are kept, the input's
+    /// triangles are not: a fan of slivers on a planar face then costs no slivers in the volume.
+    #[arg(long, requires = "preserve_surface")]
+    pub merge_coplanar: bool,
     /// ASCII instead of binary for .vtu / .vtk.
     #[arg(long)]
     pub ascii: bool,
@@ -145,6 +151,7 @@ impl MeshArgs {
             optimize: self.optimize.options()?,
             sizing: self.sizing.settings()?,
             preserve_surface: self.preserve_surface,
+            merge_coplanar: self.merge_coplanar,
         })
     }
 }
