@@ -171,6 +171,12 @@ impl StaticFilter {
         }
     }
 
+    /// Whether the box holds `p`: the bounds then hold for predicates on it.
+    #[inline]
+    pub fn contains(&self, p: Point3) -> bool {
+        p.cmpge(self.lo).all() && p.cmple(self.hi).all()
+    }
+
     #[cold]
     fn grow(&mut self, p: Point3) {
         self.lo = self.lo.min(p);

@@ -34,6 +34,7 @@ use cavity::{ByteMarks, CavityMarks, CellWriter, HashMarks, NewCell, Scratch, gr
 pub use kernel::{ConflictKernel, Euclidean, Power};
 pub use regular::MAX_WEIGHT;
 pub use relocate::MoveReport;
+use std::borrow::Cow;
 use std::collections::HashMap;
 
 /// Index of the infinite vertex in cell records.
@@ -231,11 +232,14 @@ impl<K: ConflictKernel> Triangulation3<K> {
         self.conflicts(&self.query_filter(p), self.cells[c.0 as usize].v, p, w)
     }
 
-    /// The static filter grown to hold the query point `p`.
-    fn query_filter(&self, p: Point3) -> StaticFilter {
+    /// The static filter, grown to hold the query point `p` if it lies outside its box.
+    fn query_filter(&self, p: Point3) -> Cow<'_, StaticFilter> {
+        if self.filter.contains(p) {
+            return Cow::Borrowed(&self.filter);
+        }
         let mut filter = self.filter;
         filter.include(p);
-        filter
+        Cow::Owned(filter)
     }
 }
 
