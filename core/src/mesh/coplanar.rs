@@ -56,9 +56,15 @@ pub fn flip_coplanar(
     let mut done = CoplanarFlips::default();
     // Each directed edge `u → v` with its triangle; a closed, oriented surface has each twice.
     let mut edge: HashMap<(u32, u32), usize> = HashMap::default();
+    // Edges of more than two triangles, or of two that disagree on orientation: never flipped.
+    let mut uses: HashMap<(u32, u32), usize> = HashMap::default();
     for (t, f) in triangles.iter().enumerate() {
         for k in 0..3 {
-            edge.insert((f[k], f[(k + 1) % 3]), t);
+            let (u, v) = (f[k], f[(k + 1) % 3]);
+            *uses.entry((u.min(v), u.max(v))).or_default() += 1;
+            if edge.insert((u, v), t).is_some() {
+                *uses.entry((u.min(v), u.max(v))).or_default() += 2;
+            }
         }
     }
     let mut stack: Vec<(u32, u32)> = triangles
@@ -75,6 +81,9 @@ pub fn flip_coplanar(
         let (Some(&t1), Some(&t2)) = (edge.get(&(a, b)), edge.get(&(b, a))) else {
             continue;
         };
+        if uses.get(&(a, b)) != Some(&2) {
+            continue;
+        }
         if t1 == t2 || patches.get(t1) != patches.get(t2) {
             continue;
         }
@@ -91,6 +100,8 @@ pub fn flip_coplanar(
         triangles[t2] = [c, d, b];
         edge.remove(&(a, b));
         edge.remove(&(b, a));
+        uses.remove(&(a, b));
+        uses.insert((c.min(d), c.max(d)), 2);
         for (u, v, t) in [
             (c, a, t1),
             (a, d, t1),
@@ -262,6 +273,9 @@ mod tests {
         let done = flip_coplanar(&p, &mut t, &patches, 1e-5);
         assert_eq!(done.flips, 1);
         assert!(done.moved > 0.0 && done.moved <= 1e-5);
+        // A fin on the edge (three triangles) keeps it.
+        let mut t = vec![[0, 1, 2], [1, 0, 3], [0, 1, 3]];
+        assert_eq!(flip_coplanar(&p, &mut t, &[PatchId(1); 3], 1.0).flips, 0);
         // A pair of two patches, or folded back, never flips.
         let mut t = vec![[0, 1, 2], [1, 0, 3]];
         assert_eq!(
