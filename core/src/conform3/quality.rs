@@ -27,7 +27,7 @@ use crate::refine::{
     flat_cell_refinement_point, is_flat, is_flat_within, is_same_cell, shortest_edge,
     triangle_circumcenter,
 };
-use crate::triangulation::{CellId, Delaunay3, Triangulation, VertexId};
+use crate::triangulation::{CellId, Triangulation, VertexId};
 use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 use std::collections::BinaryHeap;
 
@@ -79,35 +79,23 @@ pub(super) fn refine(
         criteria,
         min_radius,
     };
-    let mut labels = Labels::default();
-    // The cells found bad that outlived their round (their centre asked for a split).
-    let mut survivors: Vec<Bad> = Vec::new();
     for _ in 0..MAX_ROUNDS {
         if let Some(stop) = r.clock.stop() {
             return Ok((inserted, Some(stop)));
         }
         let facet_of = piece_facets(faces);
-        // Only the cells that are new since the last round can have become bad: a cell's
-        // criteria and its neighbours' subdomains depend on its own vertices alone.
-        let fresh = labels.update(&r.dt, &facet_of, oracle);
-        let mut queue: BinaryHeap<Bad> = fresh
-            .into_iter()
-            .filter(|&c| !r.dt.is_infinite_cell(c))
-            .filter_map(|c| bounds.badness(r, c, &labels.subdomain, &facet_of))
-            .chain(
-                survivors
-                    .drain(..)
-                    .filter(|b| is_same_cell(&r.dt, b.cell, &b.vertices)),
-            )
-            .collect();
+        let mut subdomain = cell_subdomains(&r.dt, &facet_of, oracle);
+        let mut queue: BinaryHeap<Bad> =
+            r.dt.finite_cells()
+                .filter_map(|c| bounds.badness(r, c, &subdomain, &facet_of))
+                .collect();
         if queue.is_empty() {
             break;
         }
         let segment_of = sub_segments(r);
         let mut splits = Vec::new();
         let before = r.dt.num_vertices();
-        while let Some(bad) = queue.pop() {
-            let Bad { cell, vertices, .. } = bad;
+        while let Some(Bad { cell, vertices, .. }) = queue.pop() {
             if !is_same_cell(&r.dt, cell, &vertices) || kept.contains(&vertices) {
                 continue;
             }
@@ -131,7 +119,7 @@ pub(super) fn refine(
                 continue;
             };
             if destroyed.is_empty() {
-                let region = labels.subdomain[cell.0 as usize];
+                let region = subdomain[cell.0 as usize];
                 let v = match r.insert(center, vertices[0]) {
                     Err(PreserveError::Stopped(stop)) => return Ok((inserted, Some(stop))),
                     v => v?,
@@ -139,11 +127,12 @@ pub(super) fn refine(
                 if v.is_some() {
                     r.inside.extend(v);
                     inserted += 1;
+                    subdomain.resize(r.dt.cell_capacity(), OUTSIDE);
                     for &c in &r.report.created {
-                        labels.set(&r.dt, c, region);
+                        subdomain[c.0 as usize] = region;
                     }
                     for &c in &r.report.created {
-                        queue.extend(bounds.badness(r, c, &labels.subdomain, &facet_of));
+                        queue.extend(bounds.badness(r, c, &subdomain, &facet_of));
                     }
                 }
             } else {
@@ -153,14 +142,11 @@ pub(super) fn refine(
                     0.0
                 } else {
                     criteria.map_or(f64::INFINITY, |c| {
-                        c.size.at(center, labels.subdomain[cell.0 as usize].0)
+                        c.size.at(center, subdomain[cell.0 as usize].0)
                     })
                 };
                 match split_for(r, center, size, &destroyed, &segment_of) {
-                    Some(split) => {
-                        splits.push(split);
-                        survivors.push(bad);
-                    }
+                    Some(split) => splits.push(split),
                     None => {
                         kept.insert(vertices);
                     }
@@ -191,93 +177,6 @@ pub(super) fn refine(
         r.run(faces)?;
     }
     Ok((inserted, None))
-}
-
-/// The subdomain of every cell, kept from round to round. A cell that was there at the last
-/// update keeps its subdomain (the surface does not move, so neither does any cell's side of
-/// it); a new cell takes the subdomain of a neighbour across a face that is not a piece, and a
-/// region of new cells alone (none such in practice) has every cell labelled afresh.
-/// Relabelling every cell each round was a third of the cell level's time.
-#[derive(Default)]
-struct Labels {
-    subdomain: Vec<SubdomainId>,
-    /// Per cell slot, the vertices of the cell it was labelled for.
-    vertices: Vec<[VertexId; 4]>,
-}
-
-impl Labels {
-    /// Labels cell `c` (a live cell) with `subdomain`.
-    fn set(&mut self, dt: &Delaunay3, c: CellId, subdomain: SubdomainId) {
-        let i = c.0 as usize;
-        if self.subdomain.len() <= i {
-            self.subdomain.resize(dt.cell_capacity(), OUTSIDE);
-            self.vertices
-                .resize(dt.cell_capacity(), [VertexId(u32::MAX); 4]);
-        }
-        self.subdomain[i] = subdomain;
-        self.vertices[i] = cell_vertices(dt, c);
-    }
-
-    /// Labels the cells that are new since the last update and returns them.
-    fn update(
-        &mut self,
-        dt: &Delaunay3,
-        facet_of: &HashMap<[VertexId; 3], usize>,
-        oracle: &dyn Oracle,
-    ) -> Vec<CellId> {
-        self.subdomain.resize(dt.cell_capacity(), OUTSIDE);
-        self.vertices
-            .resize(dt.cell_capacity(), [VertexId(u32::MAX); 4]);
-        let fresh: Vec<CellId> = dt
-            .cells()
-            .filter(|&c| self.vertices[c.0 as usize] != cell_vertices(dt, c))
-            .collect();
-        let mut unknown: HashSet<CellId> = HashSet::default();
-        let mut stack = Vec::new();
-        for &c in &fresh {
-            if dt.is_infinite_cell(c) {
-                self.set(dt, c, OUTSIDE);
-                stack.push(c);
-            } else {
-                unknown.insert(c);
-            }
-        }
-        // Seeds: the new cells next to a labelled cell across a face that is not a piece.
-        let open = |c: CellId, i: usize| {
-            !facet_of.contains_key(&key(facet_vertices(&cell_vertices(dt, c), i)))
-        };
-        for &c in &fresh {
-            if !unknown.contains(&c) {
-                continue;
-            }
-            let seed = (0..4).find_map(|i| {
-                let n = dt.neighbor(c, i);
-                (!unknown.contains(&n) && open(c, i)).then(|| self.subdomain[n.0 as usize])
-            });
-            if let Some(s) = seed {
-                unknown.remove(&c);
-                self.set(dt, c, s);
-                stack.push(c);
-            }
-        }
-        while let Some(c) = stack.pop() {
-            for i in 0..4 {
-                let n = dt.neighbor(c, i);
-                if unknown.contains(&n) && open(c, i) {
-                    unknown.remove(&n);
-                    self.set(dt, n, self.subdomain[c.0 as usize]);
-                    stack.push(n);
-                }
-            }
-        }
-        if !unknown.is_empty() {
-            self.subdomain = cell_subdomains(dt, facet_of, oracle);
-            for c in dt.cells() {
-                self.vertices[c.0 as usize] = cell_vertices(dt, c);
-            }
-        }
-        fresh
-    }
 }
 
 /// A cell to refine: flat cells first, then the worst, ties by vertices (so the order is the
