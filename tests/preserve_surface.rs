@@ -405,28 +405,35 @@ fn check_kept_boundary(name: &str, surface: &Surface, on: &Surface, volume: f64,
         (total - volume).abs() <= 1e-9 * volume,
         "{name}: volume {total}, expected {volume}"
     );
-    for f in &c.facets {
-        for &v in f {
-            let p = c.points[v as usize];
-            let near = on
-                .triangles
-                .iter()
-                .map(|t| {
-                    let tri = t.map(|v| on.points[v as usize]);
-                    delamesh::polyhedral::closest_point_on_triangle(p, &tri).distance(p)
-                })
-                .fold(f64::MAX, f64::min);
-            assert!(
-                near <= 1e-9 * diagonal,
-                "{name}: facet vertex {p} off the input"
-            );
-        }
-    }
+    assert_facets_on(name, c, &on.points, &on.triangles, 1e-9 * diagonal);
     assert_eq!(
         closed_oriented_euler(name, c),
         euler,
         "{name}: Euler characteristic"
     );
+}
+
+/// Asserts that every boundary facet vertex lies within `tolerance` of the surface `triangles`.
+fn assert_facets_on(
+    name: &str,
+    c: &delamesh::core::complex::MeshComplex,
+    points: &[Point3],
+    triangles: &[[u32; 3]],
+    tolerance: f64,
+) {
+    for f in &c.facets {
+        for &v in f {
+            let p = c.points[v as usize];
+            let near = triangles
+                .iter()
+                .map(|t| {
+                    let tri = t.map(|v| points[v as usize]);
+                    delamesh::polyhedral::closest_point_on_triangle(p, &tri).distance(p)
+                })
+                .fold(f64::MAX, f64::min);
+            assert!(near <= tolerance, "{name}: facet vertex {p} off the input");
+        }
+    }
 }
 
 /// Asserts that the boundary facets form a closed, oriented 2-manifold (every edge in two
@@ -707,23 +714,13 @@ fn merged_coplanar_regions_keep_the_surface_and_raise_its_smallest_angle() {
                 .all(|p| output.contains(&p.to_array().map(f64::to_bits))),
             "{name}: an input vertex is missing"
         );
-        for f in &merged.facets {
-            for &v in f {
-                let p = merged.points[v as usize];
-                let near = read
-                    .triangles
-                    .iter()
-                    .map(|t| {
-                        let tri = t.map(|v| read.positions[v as usize]);
-                        delamesh::polyhedral::closest_point_on_triangle(p, &tri).distance(p)
-                    })
-                    .fold(f64::MAX, f64::min);
-                assert!(
-                    near <= 2e-8 * diagonal,
-                    "{name}: facet vertex {p} off the input"
-                );
-            }
-        }
+        assert_facets_on(
+            name,
+            &merged,
+            &read.positions,
+            &read.triangles,
+            2e-8 * diagonal,
+        );
         // The fans of slivers on planar faces are gone: fewer thin facets, and fewer facets.
         let (before, after) = (facets_below(&kept, 5.0), facets_below(&merged, 5.0));
         assert!(
