@@ -575,6 +575,9 @@ fn resampling_options_are_refused_with_preserve_surface() {
         stderr.contains("--preserve-surface") && stderr.contains("--facet-size"),
         "{stderr}"
     );
+    // And the library refuses the merge of coplanar triangles without a surface to keep.
+    let refused = MeshSettings::builder().merge_coplanar(true).build();
+    assert!(refused.is_err_and(|e| e.to_string().contains("--preserve-surface")));
 }
 
 #[test]

@@ -29,7 +29,7 @@ pub use engine::{
 pub(crate) use geometry::{
     CHECKER_FLAT_VOLUME, FLAT_CANDIDATES, cell_vertices, facet_vertices,
     flat_cell_refinement_point, is_flat, is_flat_within, is_same_cell, shortest_edge,
-    triangle_circumcenter,
+    triangle_circumcenter, triangle_min_angle_deg,
 };
 pub use manifold::Relabelling;
 pub use mesh3::{
