@@ -113,12 +113,14 @@ pub enum Error {
         problem: CriteriaError,
     },
     /// Refinement ended without a tetrahedron inside the domain.
-    #[error("{name}: the mesh has no tetrahedron inside the {what} (criteria too coarse?)")]
+    #[error("{name}: the mesh has no tetrahedron inside the {what}{}", empty_hint(*floor))]
     Empty {
         /// The domain: the input file, or the plugin.
         name: String,
         /// "surface" or "domain".
         what: &'static str,
+        /// The refinement floor (`--edge-min-size`), when refinement had one.
+        floor: Option<f64>,
     },
     /// A point of the set cannot be triangulated (not finite...).
     #[error("{name}: cannot triangulate")]
@@ -139,4 +141,16 @@ pub enum Error {
         /// How many distinct points there are.
         distinct: usize,
     },
+}
+
+/// Why a mesh can come out empty: parts (an image's specks, a thin plate) below the sizes the
+/// criteria refine to.
+fn empty_hint(floor: Option<f64>) -> String {
+    match floor {
+        Some(floor) => format!(
+            ": its parts are thinner than the criteria resolve (no surface ball below \
+             --edge-min-size {floor:.3e}); smaller --facet-size and --edge-min-size resolve them"
+        ),
+        None => " (criteria too coarse?)".to_string(),
+    }
 }

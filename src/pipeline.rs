@@ -386,6 +386,7 @@ impl<'p> Mesher<'p> {
             return Err(Error::Empty {
                 name,
                 what: "surface",
+                floor: None,
             });
         }
         // The sliver steps are the flips: their moves and splits are inside, and perturbation
@@ -572,7 +573,8 @@ impl<'p> Mesher<'p> {
         };
         if complex.tets.is_empty() {
             let what = if input.is_some() { "surface" } else { "domain" };
-            return Err(Error::Empty { name, what });
+            let floor = Some(options.criteria.refinement_floor(&oracle.bounding_box()));
+            return Err(Error::Empty { name, what, floor });
         }
         Ok(Meshed {
             complex,

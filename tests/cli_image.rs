@@ -228,9 +228,19 @@ fn bad_images_and_options_fail_with_one_line_and_no_output() {
         b"NRRD0004\ntype: uchar\ndimension: 3\nsizes: 2 2 2\nencoding: raw\n\n\0\0\0\0\0\0\0\0",
     )
     .expect("write");
-    let cases: [(&Path, &[&str], &str); 4] = [
+    // Specks of one voxel, 6 apart: real labels, all thinner than the default sizes resolve.
+    let specks = dir.path().join("specks.nrrd");
+    let mut bytes =
+        b"NRRD0004\ntype: uchar\ndimension: 3\nsizes: 20 20 20\nencoding: raw\n\n".to_vec();
+    bytes.extend((0..8000).map(|v: usize| {
+        let speck = [v % 20, v / 20 % 20, v / 400].iter().all(|&i| i % 6 == 1);
+        u8::from(speck)
+    }));
+    std::fs::write(&specks, bytes).expect("write");
+    let cases: [(&Path, &[&str], &str); 5] = [
         (&truncated, &[], "##}"),
         (&empty, &[], "nothing to mesh"),
+        (&specks, &[], "thinner than the criteria resolve"),
         (
             &good,
             &["--cell-size-per-label", "2=-1"],

@@ -55,6 +55,11 @@ const BEND_FRACTION: f64 = 0.6;
 const RUN_SLACK: f64 = 0.5;
 /// Rounds of shrink-and-repopulate before giving up.
 const MAX_ROUNDS: usize = 200;
+/// Distance, in radii, within which a corner ball's boundary on a piece counts as the bend
+/// there: the bend is a centre anyway, and two centres that close (on an image's border, a
+/// bend two voxels from a corner whose ball is two voxels wide, one ulp apart) leave cells
+/// flattened along the edge between them, which no refinement point can destroy.
+const ANCHOR_MERGE: f64 = 0.1;
 
 /// What a protecting ball's centre lies on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -676,10 +681,15 @@ fn place_on_piece(
         return Some(out);
     }
     let mut anchors: Vec<f64> = bends;
-    anchors.push(from);
-    anchors.push(to);
+    for s in [from, to] {
+        if !anchors
+            .iter()
+            .any(|&a| (a - s).abs() <= ANCHOR_MERGE * radius(s))
+        {
+            anchors.push(s);
+        }
+    }
     anchors.sort_by(f64::total_cmp);
-    anchors.dedup();
     let mut out = vec![anchors[0]];
     for w in anchors.windows(2) {
         let budget = budget.checked_sub(out.len())?;
@@ -1198,6 +1208,41 @@ mod tests {
             protect_polylines(&bad, &[], 0.1, 1e-4),
             Err(ProtectError::BadCurve { curve: CurveId(3) })
         );
+    }
+
+    /// An image border's curve (labels_7118 of `benches/random_label_images.py`) bends two
+    /// voxels from its corner, where the corner ball, at the two-voxel floor, ends: one centre
+    /// there, not two an ulp apart.
+    #[test]
+    fn a_bend_on_a_corner_balls_boundary_is_one_centre() {
+        let (a, b) = (
+            [37.3618, 37.1886, 11.93162489013672],
+            [37.3618, 37.1886, 16.88923010986328],
+        );
+        let curves = [
+            curve(
+                1,
+                &[
+                    a,
+                    [33.62562, 37.1886, 11.93162489013672],
+                    [30.804329780273438, 37.1886, 13.998701],
+                    b,
+                ],
+                false,
+            ),
+            curve(2, &[a, b], false),
+        ];
+        let corners = [Point3::from_array(a), Point3::from_array(b)];
+        let min_radius = 2.0 * 1.86809;
+        let p = protect_polylines(&curves, &corners, 3.12, min_radius).expect("protects");
+        for (i, x) in p.balls.iter().enumerate() {
+            for y in &p.balls[i + 1..] {
+                assert!(
+                    x.center.distance(y.center) > 0.1 * min_radius,
+                    "{x:?} {y:?}"
+                );
+            }
+        }
     }
 
     #[test]

@@ -51,7 +51,6 @@ pub(crate) fn initial_points<C: Class>(g: &ClassGrid<C>) -> Vec<(DVec3, u32, u32
     };
     let mut seen = vec![false; bx * by * bz];
     let mut points = Vec::new();
-    let mut found = Vec::new();
     for k in 0..bz {
         for j in 0..by {
             for i in 0..bx {
@@ -95,20 +94,86 @@ pub(crate) fn initial_points<C: Class>(g: &ClassGrid<C>) -> Vec<(DVec3, u32, u32
                         [0, 1, 2].map(|a| ((b[a] + 1) * BLOCK).min(g.dims[a] - 1) as f64),
                     );
                     let centre = 0.5 * (lo + hi);
+                    let before = points.len();
                     for (a, axis) in [DVec3::X, DVec3::Y, DVec3::Z].into_iter().enumerate() {
                         let reach = 0.5 * (hi[a] - lo[a]) + 1.5;
-                        let (from, to) = (centre - reach * axis, centre + reach * axis);
-                        found.clear();
-                        changes(g, from, to, &mut found);
-                        points.extend(
-                            found
-                                .iter()
-                                .map(|c| (from + c.t * (to - from), c.from, c.to)),
-                        );
+                        crossings(g, centre - reach * axis, centre + reach * axis, &mut points);
+                    }
+                    // Lines through the centre can miss every interface of the block (specks
+                    // of a voxel): then the segment between two neighbouring voxels of
+                    // different classes crosses one.
+                    if points.len() == before
+                        && let Some((p, q)) = differing_neighbours(g, *b)
+                    {
+                        crossings(g, p, q, &mut points);
                     }
                 }
             }
         }
     }
     points
+}
+
+/// Appends the class changes along `[from, to]` as initial points.
+fn crossings<C: Class>(g: &ClassGrid<C>, from: DVec3, to: DVec3, out: &mut Vec<(DVec3, u32, u32)>) {
+    let mut found = Vec::new();
+    changes(g, from, to, &mut found);
+    out.extend(
+        found
+            .iter()
+            .map(|c| (from + c.t * (to - from), c.from, c.to)),
+    );
+}
+
+/// The centres of the first two face-neighbouring voxels of block `b` (its cells' corners) with
+/// different classes: a voxel centre has its voxel's class under either interpolation.
+fn differing_neighbours<C: Class>(g: &ClassGrid<C>, b: [usize; 3]) -> Option<(DVec3, DVec3)> {
+    let top = [0, 1, 2].map(|a| ((b[a] + 1) * BLOCK).min(g.dims[a] - 1));
+    let range = |a: usize| b[a] * BLOCK..=top[a];
+    for k in range(2) {
+        for j in range(1) {
+            for i in range(0) {
+                let here = g.voxel(i, j, k).index();
+                for (a, n) in [[i + 1, j, k], [i, j + 1, k], [i, j, k + 1]]
+                    .into_iter()
+                    .enumerate()
+                {
+                    if n[a] <= top[a] && g.voxel(n[0], n[1], n[2]).index() != here {
+                        let centre = |v: [usize; 3]| DVec3::from_array(v.map(|x| x as f64));
+                        return Some((centre([i, j, k]), centre(n)));
+                    }
+                }
+            }
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Specks of one voxel in every other block, off the lines through the block centres: each
+    /// sampled block still gives points, on the interface of a speck it holds.
+    #[test]
+    fn blocks_of_specks_off_the_centre_lines_give_initial_points() {
+        let dims = [20, 20, 20];
+        let classes: Vec<u8> = (0..8000)
+            .map(|v: usize| {
+                let speck = [v % 20, v / 20 % 20, v / 400].iter().all(|&i| i % 6 == 1);
+                u8::from(speck)
+            })
+            .collect();
+        for interpolation in [Interpolation::Trilinear, Interpolation::Nearest] {
+            let g = ClassGrid::new(dims, classes.clone(), 2, interpolation);
+            let points = initial_points(&g);
+            assert!(!points.is_empty());
+            for (p, c0, c1) in points {
+                assert_eq!([c0.min(c1), c0.max(c1)], [0, 1]);
+                // On a speck's interface: within a voxel of a speck's centre.
+                let speck = p.to_array().map(|x| 6.0 * ((x - 1.0) / 6.0).round() + 1.0);
+                assert!(p.distance(DVec3::from_array(speck)) <= 1.0, "{p}");
+            }
+        }
+    }
 }
