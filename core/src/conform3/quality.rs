@@ -16,7 +16,7 @@
 //! fandisk at radius-edge 1.414 past 200 rounds and 57,000 vertices; the queue and the
 //! encroachment test end it in 56 rounds with 24,000.)
 
-use super::regions::{cell_subdomains, faces_to_move_across, key, piece_facets};
+use super::regions::{Pieces, cell_subdomains, faces_to_move_across, key};
 use super::{PreserveError, Recovery, facet};
 use crate::kernel::Point3;
 use crate::oracle::{OUTSIDE, Oracle, SubdomainId};
@@ -83,11 +83,11 @@ pub(super) fn refine(
         if let Some(stop) = r.clock.stop() {
             return Ok((inserted, Some(stop)));
         }
-        let facet_of = piece_facets(faces);
-        let mut subdomain = cell_subdomains(&r.dt, &facet_of, oracle);
+        let pieces = Pieces::new(faces);
+        let mut subdomain = cell_subdomains(&r.dt, &pieces, oracle);
         let mut queue: BinaryHeap<Bad> =
             r.dt.finite_cells()
-                .filter_map(|c| bounds.badness(r, c, &subdomain, &facet_of))
+                .filter_map(|c| bounds.badness(r, c, &subdomain, &pieces))
                 .collect();
         if queue.is_empty() {
             break;
@@ -103,7 +103,7 @@ pub(super) fn refine(
             // the pieces it would destroy.
             let mut chosen: Option<(Point3, Vec<Piece>)> = None;
             for center in refinement_points(r, cell, &vertices) {
-                let Some(destroyed) = cavity.destroyed_pieces(r, center, cell, &facet_of) else {
+                let Some(destroyed) = cavity.destroyed_pieces(r, center, cell, &pieces) else {
                     continue;
                 };
                 let keeps = destroyed.is_empty();
@@ -132,7 +132,7 @@ pub(super) fn refine(
                         subdomain[c.0 as usize] = region;
                     }
                     for &c in &r.report.created {
-                        queue.extend(bounds.badness(r, c, &subdomain, &facet_of));
+                        queue.extend(bounds.badness(r, c, &subdomain, &pieces));
                     }
                 }
             } else {
@@ -223,7 +223,7 @@ impl Bounds<'_> {
         r: &Recovery,
         c: CellId,
         subdomain: &[SubdomainId],
-        facet_of: &HashMap<[VertexId; 3], usize>,
+        pieces: &Pieces,
     ) -> Option<Bad> {
         if r.dt.is_infinite_cell(c) || subdomain[c.0 as usize] == OUTSIDE {
             return None;
@@ -236,7 +236,7 @@ impl Bounds<'_> {
         };
         let p = vertices.map(|v| r.dt.point(v));
         if is_flat(&p) {
-            let stays = faces_to_move_across(&r.dt, c, subdomain, facet_of).is_none();
+            let stays = faces_to_move_across(&r.dt, c, subdomain, pieces).is_none();
             let radius = flat_cell_refinement_point(&r.dt, &vertices, 0).map(|(_, r2)| r2.sqrt());
             let floor = if is_flat_within(&p, CHECKER_FLAT_VOLUME) {
                 FLAT_FLOOR * self.min_radius
@@ -284,7 +284,7 @@ impl Cavity {
         r: &Recovery,
         p: Point3,
         start: CellId,
-        facet_of: &HashMap<[VertexId; 3], usize>,
+        pieces: &Pieces,
     ) -> Option<Vec<Piece>> {
         if !r.dt.is_in_conflict(start, p) {
             return None;
@@ -314,8 +314,9 @@ impl Cavity {
                 if in_cavity && c.0 > n.0 {
                     continue;
                 }
-                let face = key(facet_vertices(&cell_vertices(&r.dt, c), i));
-                if let Some(&f) = facet_of.get(&face) {
+                let face = facet_vertices(&cell_vertices(&r.dt, c), i);
+                if let Some(f) = pieces.triangle_of(face) {
+                    let face = key(face);
                     if in_cavity || encroaches(r, p, face) {
                         out.push((face, f));
                     }

@@ -16,15 +16,48 @@ pub(super) fn key(mut f: [VertexId; 3]) -> [VertexId; 3] {
     f
 }
 
-/// Each piece of an input triangle (its vertices sorted) with the index of that triangle.
-pub(super) fn piece_facets(faces: &[Vec<[VertexId; 3]>]) -> HashMap<[VertexId; 3], usize> {
-    let mut facet_of = HashMap::default();
-    for (f, pieces) in faces.iter().enumerate() {
-        for &face in pieces {
-            facet_of.insert(key(face), f);
+/// The pieces of the input triangles, for face lookups: each piece (its vertices sorted) with the
+/// index of its triangle, and which vertices lie on a piece, so that the many faces with a
+/// vertex inside the volume are answered without hashing.
+pub(super) struct Pieces {
+    facet_of: HashMap<[VertexId; 3], usize>,
+    on_piece: Vec<bool>,
+}
+
+impl Pieces {
+    /// The pieces `faces` lists for each input triangle.
+    pub(super) fn new(faces: &[Vec<[VertexId; 3]>]) -> Self {
+        let mut pieces = Pieces {
+            facet_of: HashMap::default(),
+            on_piece: Vec::new(),
+        };
+        for (f, list) in faces.iter().enumerate() {
+            for &face in list {
+                pieces.insert(face, f);
+            }
         }
+        pieces
     }
-    facet_of
+
+    fn insert(&mut self, face: [VertexId; 3], f: usize) {
+        for v in face {
+            let i = v.0 as usize;
+            if self.on_piece.len() <= i {
+                self.on_piece.resize(i + 1, false);
+            }
+            self.on_piece[i] = true;
+        }
+        self.facet_of.insert(key(face), f);
+    }
+
+    /// The input triangle of which `face` (its vertices in any order) is a piece.
+    pub(super) fn triangle_of(&self, face: [VertexId; 3]) -> Option<usize> {
+        let on = |v: VertexId| self.on_piece.get(v.0 as usize).copied().unwrap_or(false);
+        if !face.into_iter().all(on) {
+            return None;
+        }
+        self.facet_of.get(&key(face)).copied()
+    }
 }
 
 /// The subdomain of every cell (indexed by cell id): cells joined across faces that are not
@@ -32,13 +65,13 @@ pub(super) fn piece_facets(faces: &[Vec<[VertexId; 3]>]) -> HashMap<[VertexId; 3
 /// subdomain the oracle gives its largest cell's centroid.
 pub(super) fn cell_subdomains(
     dt: &Delaunay3,
-    facet_of: &HashMap<[VertexId; 3], usize>,
+    pieces: &Pieces,
     oracle: &dyn Oracle,
 ) -> Vec<SubdomainId> {
     let mut regions = UnionFind::new(dt.cell_capacity());
     for (c, i) in dt.facets() {
         let face = facet_vertices(&cell_vertices(dt, c), i);
-        if !facet_of.contains_key(&key(face)) {
+        if pieces.triangle_of(face).is_none() {
             regions.union(c.0, dt.neighbor(c, i).0);
         }
     }
@@ -88,10 +121,11 @@ pub(super) fn complex(
     oracle: &dyn Oracle,
     inside: &[VertexId],
 ) -> MeshComplex {
-    let mut facet_of = piece_facets(faces);
-    let mut subdomain = cell_subdomains(dt, &facet_of, oracle);
-    move_flat_cells_across(dt, &mut subdomain, &mut facet_of);
-    let patch_of: HashMap<[VertexId; 3], PatchId> = facet_of
+    let mut pieces = Pieces::new(faces);
+    let mut subdomain = cell_subdomains(dt, &pieces, oracle);
+    move_flat_cells_across(dt, &mut subdomain, &mut pieces);
+    let patch_of: HashMap<[VertexId; 3], PatchId> = pieces
+        .facet_of
         .into_iter()
         .map(|(face, f)| (face, constraints.facets[f].patch))
         .collect();
@@ -110,7 +144,7 @@ pub(super) fn faces_to_move_across(
     dt: &Delaunay3,
     c: CellId,
     subdomain: &[SubdomainId],
-    facet_of: &HashMap<[VertexId; 3], usize>,
+    pieces: &Pieces,
 ) -> Option<[usize; 2]> {
     let own = subdomain[c.0 as usize];
     let across: Vec<(usize, SubdomainId)> = (0..4)
@@ -124,17 +158,13 @@ pub(super) fn faces_to_move_across(
         return None;
     }
     let cell = cell_vertices(dt, c);
-    let f = facet_of.get(&key(facet_vertices(&cell, i)))?;
-    (facet_of.get(&key(facet_vertices(&cell, j))) == Some(f)).then_some([i, j])
+    let f = pieces.triangle_of(facet_vertices(&cell, i))?;
+    (pieces.triangle_of(facet_vertices(&cell, j)) == Some(f)).then_some([i, j])
 }
 
 /// Moves outside the flat cells [`faces_to_move_across`] finds, giving their other two faces
 /// the input triangle. Stacked flat cells follow one another; each moves once.
-fn move_flat_cells_across(
-    dt: &Delaunay3,
-    subdomain: &mut [SubdomainId],
-    facet_of: &mut HashMap<[VertexId; 3], usize>,
-) {
+fn move_flat_cells_across(dt: &Delaunay3, subdomain: &mut [SubdomainId], pieces: &mut Pieces) {
     let mut flat: Vec<CellId> = dt
         .finite_cells()
         .filter(|&c| is_flat(&cell_vertices(dt, c).map(|v| dt.point(v))))
@@ -142,13 +172,13 @@ fn move_flat_cells_across(
     loop {
         let mut moved = false;
         flat.retain(|&c| {
-            let Some([i, j]) = faces_to_move_across(dt, c, subdomain, facet_of) else {
+            let Some([i, j]) = faces_to_move_across(dt, c, subdomain, pieces) else {
                 return true;
             };
             let cell = cell_vertices(dt, c);
-            if let Some(&f) = facet_of.get(&key(facet_vertices(&cell, i))) {
+            if let Some(f) = pieces.triangle_of(facet_vertices(&cell, i)) {
                 for k in (0..4).filter(|&k| k != i && k != j) {
-                    facet_of.insert(key(facet_vertices(&cell, k)), f);
+                    pieces.insert(facet_vertices(&cell, k), f);
                 }
             }
             subdomain[c.0 as usize] = OUTSIDE;
