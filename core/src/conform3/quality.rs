@@ -379,13 +379,13 @@ fn sub_segments(r: &Recovery) -> HashMap<[VertexId; 2], usize> {
 const SURFACE_RESOLUTION: f64 = 0.5;
 
 /// What to refine instead of inserting `center`, whose cavity holds the pieces `destroyed`: the
-/// longest sub-segment of theirs that `center` encroaches (lies in its diametral ball), else the
-/// largest piece whose diametral ball holds `center` (else the largest): the coarsest surface
-/// near `center` (taking the first in vertex order gave fandisk at radius-edge 1.414 40 % more
-/// vertices); `None` when that would refine the surface below [`SURFACE_RESOLUTION`] and below
-/// the cell size bound `size` at `center` (a sub-segment no longer than `size`, a piece of
-/// circumradius at most `size / 2`). A cell larger than the
-/// size bound never stops there: its circumball is empty, so a sub-segment (a piece) whose
+/// longest sub-segment of theirs that `center` encroaches (lies in its diametral ball), the
+/// coarsest edge near `center` (the first in vertex order gave fandisk at radius-edge 1.414 40 %
+/// more vertices), else the piece whose diametral ball holds `center` (or the first; the largest
+/// instead gave 30 % more on mpi_triang); `None` when that would refine the surface below
+/// [`SURFACE_RESOLUTION`] and below the cell size bound `size` at `center` (a sub-segment no
+/// longer than `size`, a piece of circumradius at most `size / 2`). A cell larger than the size
+/// bound never stops there: its circumball is empty, so a sub-segment (a piece) whose
 /// diametral ball holds its centre is longer than its circumradius (has a circumradius above
 /// half of it), and the size bound alone cannot split the surface below those lengths.
 fn split_for(
@@ -421,24 +421,12 @@ fn split_for(
         let c = triangle_circumcenter(p[0], p[1], p[2]);
         (c, p[0].distance(c))
     };
-    // The largest encroached piece, else the largest destroyed one.
-    let largest = |pieces: &mut dyn Iterator<Item = &Piece>| {
-        pieces.map(|&(face, f)| (circle(face), face, f)).fold(
-            None,
-            |best: Option<(f64, [VertexId; 3], usize)>, ((_, radius), face, f)| {
-                if best.is_none_or(|(r, ..)| radius > r) {
-                    Some((radius, face, f))
-                } else {
-                    best
-                }
-            },
-        )
-    };
-    let encroached = largest(&mut destroyed.iter().filter(|(face, _)| {
+    let encroached = destroyed.iter().find(|(face, _)| {
         let (c, radius) = circle(*face);
         center.distance(c) < radius
-    }));
-    let (radius, face, f) = encroached.or_else(|| largest(&mut destroyed.iter()))?;
+    });
+    let (face, f) = encroached.copied().unwrap_or(*destroyed.first()?);
+    let radius = circle(face).1;
     let corners = r.constraints.facets[f].corners.map(|v| r.dt.point(v));
     let longest = (0..3)
         .map(|k| corners[k].distance(corners[(k + 1) % 3]))
