@@ -148,8 +148,8 @@ pub enum Error {
 fn empty_hint(floor: Option<f64>) -> String {
     match floor {
         Some(floor) => format!(
-            ": its parts are thinner than the criteria resolve (no surface ball below \
-             --edge-min-size {floor:.3e}); smaller --facet-size and --edge-min-size resolve them"
+            ": its parts are thinner than the criteria resolve (nothing is refined below \
+             {floor:.3e}); smaller --facet-size and --edge-min-size resolve them"
         ),
         None => " (criteria too coarse?)".to_string(),
     }

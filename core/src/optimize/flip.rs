@@ -69,11 +69,11 @@ fn gains(new: f64, old: f64) -> bool {
 const POSITIVE: Sign = Sign::Negative;
 
 /// The quality a change must raise: the smallest sine of the six dihedral angles; 0 when the
-/// cell (of signed volume `volume`, which the caller has) is flat or inverted. It is the sine of the smallest dihedral angle unless an obtuse one
-/// is closer to 180°, and unlike an angle computed from face normals
-/// it stays small for a cell whose vertices are coplanar to within rounding, whose orientation
-/// may still be exactly positive (the sine is three times the volume times the edge length over
-/// twice the product of the two face areas).
+/// cell (of signed volume `volume`, which the caller has) is flat or inverted. It is the sine
+/// of the smallest dihedral angle unless an obtuse one is closer to 180°, and unlike an angle
+/// computed from face normals it stays small for a cell whose vertices are coplanar to within
+/// rounding, whose orientation may still be exactly positive (the sine is three times the
+/// volume times the edge length over twice the product of the two face areas).
 fn quality(p: &[Point3; 4], volume: f64) -> f64 {
     if volume.is_nan() || volume <= 0.0 {
         return 0.0;
