@@ -560,3 +560,24 @@ fn conflict_queries_far_outside_the_points_box_are_exact() {
     }
     assert!(far > 100, "only {far} far circumcentres");
 }
+
+/// Points far beyond the box of the triangulation, nearly in the plane of one of its facets:
+/// locating them decides orientations the box's static filter, sized for the points inserted
+/// so far, cannot (the cell level's far circumcentres of slivers are such points).
+#[test]
+fn far_points_nearly_in_a_facets_plane_keep_the_triangulation_valid() {
+    let mut rng = StdRng::seed_from_u64(11);
+    let mut dt = Delaunay3::new();
+    dt.insert_points(&uniform(500, 7)).expect("finite points");
+    let mut report = InsertReport::default();
+    for _ in 0..300 {
+        let cells: Vec<CellId> = dt.finite_cells().collect();
+        let c = cells[rng.random_range(0..cells.len())];
+        let [a, b, d] = [0, 1, 2].map(|i| dt.point(dt.cell(c)[i]));
+        let far = 10f64.powi(rng.random_range(3..14));
+        let p = a + (b - a) * rng.random_range(-far..far) + (d - a) * rng.random_range(-far..far);
+        dt.insert_reporting(p, Some(c), &mut report)
+            .expect("finite point");
+    }
+    assert_valid(&dt);
+}

@@ -729,7 +729,7 @@ impl<K: ConflictKernel> Triangulation3<K> {
     /// a deterministic visibility walk could cycle, and the per-point pseudo-random facet order
     /// (a stochastic walk) is what makes it terminate. Requires cells to exist.
     fn locate_cell(&self, p: Point3, hint: Option<u32>) -> u32 {
-        self.locate_cell_under(&self.filter, p, hint)
+        self.locate_cell_under(&self.query_filter(p), p, hint)
     }
 
     /// [`Self::locate_cell`] under `filter`, whose box must hold `p`.
