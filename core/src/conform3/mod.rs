@@ -219,6 +219,9 @@ struct Recovery {
     /// The time limit and cancel flag of the run.
     clock: Deadline,
     report: InsertReport,
+    /// When set, every cell an insertion creates is added (the cell level's log of the cells
+    /// whose subdomains and shapes it must look at again).
+    created: Option<Vec<CellId>>,
     incident: Vec<CellId>,
     edge_steiner: usize,
     facet_steiner: usize,
@@ -294,6 +297,7 @@ impl Recovery {
             inside: Vec::new(),
             clock,
             report: InsertReport::default(),
+            created: None,
             incident: Vec::new(),
             edge_steiner: 0,
             facet_steiner: 0,
@@ -428,6 +432,9 @@ impl Recovery {
                     self.members.resize(v.0 as usize + 1, Vec::new());
                 }
                 self.epoch += 1;
+                if let Some(log) = &mut self.created {
+                    log.extend_from_slice(&self.report.created);
+                }
                 if self.touched.len() <= v.0 as usize {
                     self.touched.resize(v.0 as usize + 1, self.epoch);
                 }

@@ -68,24 +68,74 @@ pub(super) fn cell_subdomains(
     pieces: &Pieces,
     oracle: &dyn Oracle,
 ) -> Vec<SubdomainId> {
-    let mut regions = UnionFind::new(dt.cell_capacity());
-    for (c, i) in dt.facets() {
-        let face = facet_vertices(&cell_vertices(dt, c), i);
-        if pieces.triangle_of(face).is_none() {
-            regions.union(c.0, dt.neighbor(c, i).0);
+    let cells: Vec<CellId> = dt.cells().collect();
+    let mut subdomain = Vec::new();
+    // With every cell to label, no region meets another cell.
+    label_cells(dt, pieces, oracle, &cells, &mut subdomain);
+    subdomain
+}
+
+/// Gives each of `cells` (live, in increasing order) its subdomain in `subdomain` (indexed by
+/// cell id; the other cells keep theirs): `cells` joined across faces that are not pieces form
+/// regions; one that meets another cell across such a face takes that cell's subdomain (the
+/// pieces separate subdomains, so an untouched cell's region still is its subdomain), one holding
+/// an infinite cell is outside, each other takes the subdomain the oracle gives its largest
+/// cell's centroid. Relabelling only the cells insertions created since the labels were right
+/// spares the cell level a pass over the whole mesh per round (a region keeps the subdomain it
+/// was given even when its largest cell is gone: only pockets of flat cells, for whose centroids
+/// the oracle's answer means little, could be given another). False, with `subdomain`
+/// unchanged, when a region meets cells of two subdomains: the new cells joined two regions
+/// (a pocket of flat cells between pieces, to which the oracle gave the outside, opened into
+/// the domain), whose cells all need labelling again.
+pub(super) fn label_cells(
+    dt: &Delaunay3,
+    pieces: &Pieces,
+    oracle: &dyn Oracle,
+    cells: &[CellId],
+    subdomain: &mut Vec<SubdomainId>,
+) -> bool {
+    subdomain.resize(dt.cell_capacity(), OUTSIDE);
+    let mut position = vec![u32::MAX; dt.cell_capacity()];
+    for (k, c) in cells.iter().enumerate() {
+        position[c.0 as usize] = k as u32;
+    }
+    let mut regions = UnionFind::new(cells.len());
+    // The subdomain a region meets across a face that is not a piece, by the region's first cell.
+    let mut met: Vec<(u32, SubdomainId)> = Vec::new();
+    for (k, &c) in cells.iter().enumerate() {
+        let cell = cell_vertices(dt, c);
+        for i in 0..4 {
+            let n = dt.neighbor(c, i);
+            let m = position[n.0 as usize];
+            if m != u32::MAX && m < k as u32 {
+                continue;
+            }
+            if pieces.triangle_of(facet_vertices(&cell, i)).is_some() {
+                continue;
+            }
+            if m == u32::MAX {
+                met.push((k as u32, subdomain[n.0 as usize]));
+            } else {
+                regions.union(k as u32, m);
+            }
         }
     }
-    let mut outside = Vec::new();
-    for c in dt.cells().filter(|&c| dt.is_infinite_cell(c)) {
-        outside.push(regions.find(c.0));
+    let mut label: HashMap<u32, SubdomainId> = HashMap::default();
+    for &(k, s) in &met {
+        if *label.entry(regions.find(k)).or_insert(s) != s {
+            return false;
+        }
     }
-    outside.sort_unstable();
-    outside.dedup();
-    // Per region, its largest cell.
+    for (k, &c) in cells.iter().enumerate() {
+        if dt.is_infinite_cell(c) {
+            label.insert(regions.find(k as u32), OUTSIDE);
+        }
+    }
+    // Per region left, its largest cell.
     let mut largest: HashMap<u32, (f64, CellId)> = HashMap::default();
-    for c in dt.finite_cells() {
-        let root = regions.find(c.0);
-        if outside.binary_search(&root).is_ok() {
+    for (k, &c) in cells.iter().enumerate() {
+        let root = regions.find(k as u32);
+        if label.contains_key(&root) {
             continue;
         }
         let p = cell_vertices(dt, c).map(|v| dt.point(v));
@@ -95,20 +145,18 @@ pub(super) fn cell_subdomains(
             *entry = (volume, c);
         }
     }
-    let subdomain_of_root: HashMap<u32, SubdomainId> = largest
-        .iter()
-        .map(|(&root, &(_, c))| {
-            let p = cell_vertices(dt, c).map(|v| dt.point(v));
-            let centroid = (p[0] + p[1] + p[2] + p[3]) * 0.25;
-            (root, oracle.subdomain(centroid))
-        })
-        .collect();
-    let mut subdomain = vec![OUTSIDE; dt.cell_capacity()];
-    for c in dt.finite_cells() {
-        let root = regions.find(c.0);
-        subdomain[c.0 as usize] = subdomain_of_root.get(&root).copied().unwrap_or(OUTSIDE);
+    for (root, (_, c)) in largest {
+        let p = cell_vertices(dt, c).map(|v| dt.point(v));
+        let centroid = (p[0] + p[1] + p[2] + p[3]) * 0.25;
+        label.insert(root, oracle.subdomain(centroid));
     }
-    subdomain
+    for (k, &c) in cells.iter().enumerate() {
+        subdomain[c.0 as usize] = label
+            .get(&regions.find(k as u32))
+            .copied()
+            .unwrap_or(OUTSIDE);
+    }
+    true
 }
 
 /// The interior cells of the recovered surface with their subdomains, and the faces between
