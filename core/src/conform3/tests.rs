@@ -147,3 +147,57 @@ fn the_vertex_cap_stops_recovery_with_what_is_missing() {
         other => panic!("{other:?}"),
     }
 }
+
+#[test]
+fn labelling_the_new_cells_agrees_with_labelling_every_cell() {
+    let cube = SurfaceMesh::cuboid(Point3::ZERO, Point3::ONE);
+    let patches = vec![PatchId(1); cube.triangles.len()];
+    let constraints = Constraints::new(&cube.positions, &cube.triangles, &patches).expect("valid");
+    let options = PreserveOptions::default();
+    let clock = Deadline::new(None, None);
+    let mut r = Recovery::new(&cube.positions, constraints, &options, clock).expect("recovery");
+    let mut faces = Vec::new();
+    r.run(&mut faces).expect("recovered");
+    let oracle = Everywhere(BOX);
+    let pieces = regions::Pieces::new(&faces);
+    let mut subdomain = regions::cell_subdomains(&r.dt, &pieces, &oracle);
+    // Points inside the cube and outside it, and splits of its edges (breaking pieces, which
+    // recovery restores), as the cell level's rounds insert them.
+    r.created = Some(Vec::new());
+    let near = VertexId(0);
+    for p in [
+        Point3::new(0.3, 0.4, 0.6),
+        Point3::new(1.7, 0.2, 0.5),
+        Point3::new(0.5, -0.6, 0.2),
+    ] {
+        r.insert(p, near).expect("inserted");
+    }
+    for e in [0, 3, 7] {
+        let chain = &r.constraints.edges[e].chain;
+        let pair = [chain[0].1, chain[1].1];
+        r.split(e, pair).expect("split");
+    }
+    r.run(&mut faces).expect("recovered again");
+    let mut created = r.created.take().expect("logged");
+    created.retain(|&c| r.dt.is_live(c));
+    created.sort_unstable();
+    created.dedup();
+    let pieces = regions::Pieces::new(&faces);
+    assert!(regions::label_cells(
+        &r.dt,
+        &pieces,
+        &oracle,
+        &created,
+        &mut subdomain
+    ));
+    let full = regions::cell_subdomains(&r.dt, &pieces, &oracle);
+    let inside = |labels: &[crate::oracle::SubdomainId]| {
+        r.dt.cells()
+            .filter(|c| labels[c.0 as usize] != crate::oracle::OUTSIDE)
+            .count()
+    };
+    assert!(inside(&full) > 0 && inside(&full) < r.dt.num_cells());
+    for c in r.dt.cells() {
+        assert_eq!(subdomain[c.0 as usize], full[c.0 as usize], "cell {c:?}");
+    }
+}
