@@ -605,6 +605,53 @@ fn the_cli_writes_the_kept_surface() {
     assert!((ratio - 1.0).abs() < 1e-12, "volume ratio {ratio}");
 }
 
+/// An L-shaped prism written with polygon faces: each cap a hexagon listed from a vertex its
+/// other vertices are not all visible from (a fan from there folds over the notch), the sides
+/// quads. Kept as written, it encloses the L's area times the height.
+#[test]
+fn non_convex_polygon_faces_are_kept() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let input = dir.path().join("l.off");
+    let ring = [
+        [2.0, 1.0],
+        [1.0, 1.0],
+        [1.0, 2.0],
+        [0.0, 2.0],
+        [0.0, 0.0],
+        [2.0, 0.0],
+    ];
+    let mut off = String::from("OFF\n12 8 0\n");
+    for z in [0.0, 1.0] {
+        for [x, y] in ring {
+            off += &format!("{x} {y} {z}\n");
+        }
+    }
+    // The ring turns clockwise seen from above: the bottom cap as listed faces down.
+    off += "6 0 1 2 3 4 5\n6 6 11 10 9 8 7\n";
+    for k in 0..6 {
+        let next = (k + 1) % 6;
+        off += &format!("4 {k} {} {} {next}\n", k + 6, next + 6);
+    }
+    std::fs::write(&input, off).expect("write input");
+    let out = dir.path().join("l.vtu");
+    let report = dir.path().join("report.json");
+    delamesh()
+        .args(["mesh", "-q", "--preserve-surface"])
+        .arg(&input)
+        .arg("-o")
+        .arg(&out)
+        .arg("--report")
+        .arg(&report)
+        .assert()
+        .success();
+    let r: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&report).expect("report written")).expect("JSON");
+    assert_eq!(r["boundary"]["closed"], true);
+    assert_eq!(r["boundary"]["euler_characteristic"], 2);
+    let volume = r["approximation"]["volume"].as_f64().expect("number");
+    assert!((volume - 3.0).abs() < 1e-12, "volume {volume}");
+}
+
 #[test]
 fn random_overlapping_boxes_keep_the_boundary_of_their_union() {
     use delamesh::core::random::XorShift;

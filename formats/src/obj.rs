@@ -1,16 +1,16 @@
 //! Wavefront OBJ through `tobj` (f64 build): groups / objects become patches, polygons are
-//! triangulated, negative (relative) indices resolved by tobj. tobj gives each group its own vertex
+//! triangulated as the other polygon formats' (`polygons::polygon_triangles`), negative (relative) indices resolved by tobj. tobj gives each group its own vertex
 //! array, so the caller welds the groups back together by exact position.
 
 use crate::error::{Problem, contain_panics};
-use crate::polygons::PolygonMesh;
+use crate::polygons::{PolygonMesh, polygon_triangles};
 use crate::text::Exact;
 use delamesh_core::mesh::{PatchId, SurfaceMesh};
 use glam::DVec3;
 use std::io::{Cursor, Write};
 
-/// The file's groups as tobj reads them, polygons triangulated or not, and the warnings.
-fn load(bytes: &[u8], triangulate: bool) -> Result<(Vec<tobj::Model>, Vec<String>), Problem> {
+/// The file's groups as tobj reads them, polygons as written, and the warnings.
+fn load(bytes: &[u8]) -> Result<(Vec<tobj::Model>, Vec<String>), Problem> {
     let text = crate::text::as_text(bytes)?;
     let (text, skipped) = faces_only(&text)?;
     let mut warnings = Vec::new();
@@ -20,7 +20,7 @@ fn load(bytes: &[u8], triangulate: bool) -> Result<(Vec<tobj::Model>, Vec<String
         ));
     }
     let options = tobj::LoadOptions {
-        triangulate,
+        triangulate: false,
         single_index: false,
         ignore_points: true,
         ignore_lines: true,
@@ -66,8 +66,6 @@ fn append_positions(positions: &mut Vec<DVec3>, mesh: &tobj::Mesh) -> (u32, usiz
 /// What an OBJ file is read into, group by group and face by face: a surface or a polygon
 /// (subdivision control) mesh, so that one loop serves both.
 pub(crate) trait ObjMesh: Default {
-    /// Whether tobj triangulates the polygons.
-    const TRIANGULATE: bool;
     /// The patch names and the positions, which each group extends.
     fn names_and_positions(&mut self) -> (&mut Vec<String>, &mut Vec<DVec3>);
     /// Adds a face of patch `patch`, its corners indexing the positions.
@@ -75,25 +73,18 @@ pub(crate) trait ObjMesh: Default {
 }
 
 impl ObjMesh for SurfaceMesh {
-    const TRIANGULATE: bool = true;
-
     fn names_and_positions(&mut self) -> (&mut Vec<String>, &mut Vec<DVec3>) {
         (&mut self.patch_names, &mut self.positions)
     }
 
     fn add_face(&mut self, patch: u32, face: &[u32]) -> Result<(), Problem> {
-        let &[a, b, c] = face else {
-            return Err(Problem::bad("face not triangulated"));
-        };
-        self.triangles.push([a, b, c]);
-        self.patches.push(PatchId(patch));
+        polygon_triangles(&self.positions, face, &mut self.triangles);
+        self.patches.resize(self.triangles.len(), PatchId(patch));
         Ok(())
     }
 }
 
 impl ObjMesh for PolygonMesh {
-    const TRIANGULATE: bool = false;
-
     fn names_and_positions(&mut self) -> (&mut Vec<String>, &mut Vec<DVec3>) {
         (&mut self.group_names, &mut self.positions)
     }
@@ -108,7 +99,7 @@ impl ObjMesh for PolygonMesh {
 /// The faces of the non-empty groups, each group a patch with its own vertex array appended,
 /// and the warnings. Groups are not welded.
 pub(crate) fn read<M: ObjMesh>(bytes: &[u8]) -> Result<(M, Vec<String>), Problem> {
-    let (models, warnings) = load(bytes, M::TRIANGULATE)?;
+    let (models, warnings) = load(bytes)?;
     let mut m = M::default();
     let mut corners = Vec::new();
     for model in &models {

@@ -22,8 +22,7 @@ pub struct PolygonMesh {
 }
 
 impl PolygonMesh {
-    /// Fan triangulation of every face (exact for the convex faces writers emit), groups as
-    /// patches.
+    /// Every face cut into triangles (see [`polygon_triangles`]), groups as patches.
     pub fn triangulated(&self) -> SurfaceMesh {
         let mut m = SurfaceMesh {
             positions: self.positions.clone(),
@@ -31,10 +30,8 @@ impl PolygonMesh {
             ..SurfaceMesh::default()
         };
         for (face, &group) in self.faces.iter().zip(&self.groups) {
-            for k in 1..face.len().saturating_sub(1) {
-                m.triangles.push([face[0], face[k], face[k + 1]]);
-                m.patches.push(group);
-            }
+            polygon_triangles(&self.positions, face, &mut m.triangles);
+            m.patches.resize(m.triangles.len(), group);
         }
         m
     }
@@ -78,6 +75,62 @@ impl PolygonMesh {
         }
         Ok(())
     }
+}
+
+/// Polygons with more vertices than this are cut as a fan: ear clipping takes time quadratic in
+/// the vertex count.
+const MAX_CLIPPED: usize = 1024;
+
+/// Appends the triangles of polygon `face` (its vertices in order) to `out`, turning as it
+/// turns. A convex polygon (every turn the same way about its Newell normal: what writers
+/// emit) is cut as a fan from its first vertex; a non-convex one (an L-shaped face, a dart),
+/// whose fan would fold triangles over one another, by ear clipping in the plane across its
+/// normal's largest coordinate.
+pub(crate) fn polygon_triangles(positions: &[DVec3], face: &[u32], out: &mut Vec<[u32; 3]>) {
+    let point = |v: u32| positions[v as usize];
+    let n = face.len();
+    let normal = (0..n).fold(DVec3::ZERO, |sum, k| {
+        sum + point(face[k]).cross(point(face[(k + 1) % n]))
+    });
+    let turn =
+        |a: u32, b: u32, c: u32| (point(b) - point(a)).cross(point(c) - point(b)).dot(normal);
+    let convex = (0..n).all(|k| turn(face[k], face[(k + 1) % n], face[(k + 2) % n]) >= 0.0);
+    if n == 3 || convex || n > MAX_CLIPPED || !normal.is_finite() {
+        out.extend((1..n.saturating_sub(1)).map(|k| [face[0], face[k], face[k + 1]]));
+        return;
+    }
+    // Coordinates in the plane across the normal's largest coordinate, oriented so that the
+    // polygon turns counter-clockwise.
+    let axis = normal.abs().max_position();
+    let (i, j) = ((axis + 1) % 3, (axis + 2) % 3);
+    let flip = normal[axis] < 0.0;
+    let flat = |v: u32| {
+        let p = point(v);
+        if flip { (p[j], p[i]) } else { (p[i], p[j]) }
+    };
+    let cross = |a: (f64, f64), b: (f64, f64), c: (f64, f64)| {
+        (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0)
+    };
+    let mut left: Vec<u32> = face.to_vec();
+    while left.len() > 3 {
+        let m = left.len();
+        let ear = (0..m).find(|&k| {
+            let (a, b, c) = (left[(k + m - 1) % m], left[k], left[(k + 1) % m]);
+            let (pa, pb, pc) = (flat(a), flat(b), flat(c));
+            cross(pa, pb, pc) > 0.0
+                && left.iter().all(|&v| {
+                    v == a || v == b || v == c || {
+                        let q = flat(v);
+                        cross(pa, pb, q) < 0.0 || cross(pb, pc, q) < 0.0 || cross(pc, pa, q) < 0.0
+                    }
+                })
+        });
+        // No ear where rounding or a self-crossing polygon leaves none: the rest as a fan.
+        let Some(k) = ear else { break };
+        out.push([left[(k + m - 1) % m], left[k], left[(k + 1) % m]]);
+        left.remove(k);
+    }
+    out.extend((1..left.len().saturating_sub(1)).map(|k| [left[0], left[k], left[k + 1]]));
 }
 
 /// Reads the polygons of an OBJ, OFF or PLY file as written (format from the extension unless
@@ -137,5 +190,58 @@ mod tests {
         let (m, _) = read_polygon_bytes(src.as_bytes(), Format::Off).unwrap();
         assert_eq!(m.faces, vec![vec![0, 1, 2, 3], vec![0, 1, 4]]);
         assert!(read_polygon_bytes(b"solid x\n", Format::Stl).is_err());
+    }
+
+    /// The triangles of a face cover it once: their area vectors sum to the polygon's, and each
+    /// turns as the polygon does (no triangle folded over another).
+    fn assert_covers(positions: &[DVec3], face: &[u32]) {
+        let mut triangles = Vec::new();
+        polygon_triangles(positions, face, &mut triangles);
+        assert_eq!(triangles.len(), face.len() - 2);
+        let p = |v: u32| positions[v as usize];
+        let n = face.len();
+        let area = (0..n).fold(DVec3::ZERO, |s, k| {
+            s + p(face[k]).cross(p(face[(k + 1) % n]))
+        });
+        let mut sum = DVec3::ZERO;
+        for [a, b, c] in triangles {
+            let t = (p(b) - p(a)).cross(p(c) - p(a));
+            assert!(t.dot(area) > 0.0, "triangle {a} {b} {c} folded");
+            sum += t;
+        }
+        assert!(
+            (sum - area).length() < 1e-12 * area.length(),
+            "{sum} against {area}"
+        );
+    }
+
+    #[test]
+    fn non_convex_faces_are_cut_by_ear_clipping_and_convex_ones_as_fans() {
+        // An L-shaped hexagon, a dart (its reflex vertex first, where a fan folds), both in a
+        // tilted plane and in both turning directions.
+        let tilt = |x: f64, y: f64| DVec3::new(x, y, 0.3 * x - 0.2 * y);
+        let l = [
+            (0.0, 0.0),
+            (2.0, 0.0),
+            (2.0, 1.0),
+            (1.0, 1.0),
+            (1.0, 2.0),
+            (0.0, 2.0),
+        ];
+        let dart = [(1.0, 0.8), (0.0, 2.0), (1.0, 0.0), (2.0, 2.0)];
+        for shape in [&l[..], &dart[..]] {
+            let positions: Vec<DVec3> = shape.iter().map(|&(x, y)| tilt(x, y)).collect();
+            let mut face: Vec<u32> = (0..shape.len() as u32).collect();
+            for _ in 0..face.len() {
+                face.rotate_left(1);
+                assert_covers(&positions, &face);
+                let reversed: Vec<u32> = face.iter().rev().copied().collect();
+                assert_covers(&positions, &reversed);
+            }
+        }
+        let square = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
+        let mut triangles = Vec::new();
+        polygon_triangles(&square, &[0, 1, 2, 3], &mut triangles);
+        assert_eq!(triangles, vec![[0, 1, 2], [0, 2, 3]]);
     }
 }
