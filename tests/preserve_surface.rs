@@ -580,25 +580,28 @@ fn resampling_options_are_refused_with_preserve_surface() {
     assert!(refused.is_err_and(|e| e.to_string().contains("--preserve-surface")));
 }
 
+/// `delamesh mesh INPUT --preserve-surface -o OUT`, which must succeed, and its report.
+fn kept_by_the_cli(input: &std::path::Path, out: &std::path::Path) -> serde_json::Value {
+    let report = out.with_extension("json");
+    delamesh()
+        .args(["mesh", "-q", "--preserve-surface"])
+        .arg(input)
+        .arg("-o")
+        .arg(out)
+        .arg("--report")
+        .arg(&report)
+        .assert()
+        .success();
+    serde_json::from_slice(&std::fs::read(&report).expect("report written")).expect("JSON")
+}
+
 #[test]
 fn the_cli_writes_the_kept_surface() {
     let dir = tempfile::tempdir().expect("temp dir");
     let input = dir.path().join("cube.off");
     let cube = cuboid(DVec3::ZERO, DVec3::ONE);
     std::fs::write(&input, cube.to_off()).expect("write input");
-    let out = dir.path().join("cube.mesh");
-    let report = dir.path().join("report.json");
-    delamesh()
-        .args(["mesh", "-q", "--preserve-surface"])
-        .arg(&input)
-        .arg("-o")
-        .arg(&out)
-        .arg("--report")
-        .arg(&report)
-        .assert()
-        .success();
-    let r: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(&report).expect("report written")).expect("JSON");
+    let r = kept_by_the_cli(&input, &dir.path().join("cube.mesh"));
     assert_eq!(r["boundary"]["closed"], true);
     assert_eq!(r["quality"]["inverted_tets"], 0);
     let ratio = r["approximation"]["volume_ratio"].as_f64().expect("number");
@@ -633,19 +636,7 @@ fn non_convex_polygon_faces_are_kept() {
         off += &format!("4 {k} {} {} {next}\n", k + 6, next + 6);
     }
     std::fs::write(&input, off).expect("write input");
-    let out = dir.path().join("l.vtu");
-    let report = dir.path().join("report.json");
-    delamesh()
-        .args(["mesh", "-q", "--preserve-surface"])
-        .arg(&input)
-        .arg("-o")
-        .arg(&out)
-        .arg("--report")
-        .arg(&report)
-        .assert()
-        .success();
-    let r: serde_json::Value =
-        serde_json::from_slice(&std::fs::read(&report).expect("report written")).expect("JSON");
+    let r = kept_by_the_cli(&input, &dir.path().join("l.vtu"));
     assert_eq!(r["boundary"]["closed"], true);
     assert_eq!(r["boundary"]["euler_characteristic"], 2);
     let volume = r["approximation"]["volume"].as_f64().expect("number");
