@@ -78,7 +78,7 @@ impl PolygonMesh {
 }
 
 /// Polygons with more vertices than this are cut as a fan: ear clipping takes time quadratic in
-/// the vertex count.
+/// the vertex count (cubic at worst).
 const MAX_CLIPPED: usize = 1024;
 
 /// Appends the triangles of polygon `face` (its vertices in order) to `out`, turning as it
@@ -112,9 +112,12 @@ pub(crate) fn polygon_triangles(positions: &[DVec3], face: &[u32], out: &mut Vec
         (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0)
     };
     let mut left: Vec<u32> = face.to_vec();
+    // The search for the next ear starts where the last one was cut: ears cluster, and a
+    // search from the start again would make clipping cubic in the vertex count.
+    let mut from = 0;
     while left.len() > 3 {
         let m = left.len();
-        let ear = (0..m).find(|&k| {
+        let ear = (0..m).map(|s| (from + s) % m).find(|&k| {
             let (a, b, c) = (left[(k + m - 1) % m], left[k], left[(k + 1) % m]);
             let (pa, pb, pc) = (flat(a), flat(b), flat(c));
             cross(pa, pb, pc) > 0.0
@@ -129,6 +132,7 @@ pub(crate) fn polygon_triangles(positions: &[DVec3], face: &[u32], out: &mut Vec
         let Some(k) = ear else { break };
         out.push([left[(k + m - 1) % m], left[k], left[(k + 1) % m]]);
         left.remove(k);
+        from = k.saturating_sub(1);
     }
     out.extend((1..left.len().saturating_sub(1)).map(|k| [left[0], left[k], left[k + 1]]));
 }
