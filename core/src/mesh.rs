@@ -281,6 +281,22 @@ fn check_indices<const N: usize>(
     }
 }
 
+/// Newell's normal of the polygon `face` (its corners in order, indexing `positions`): twice its
+/// area along its unit normal when it is planar, the normal of best fit when it is not, zero when
+/// its corners are all on one line. Its direction follows the polygon's turning.
+///
+/// ```
+/// use delamesh_core::mesh::newell_normal;
+/// use glam::DVec3;
+/// let square = [DVec3::ZERO, DVec3::X, DVec3::new(1.0, 1.0, 0.0), DVec3::Y];
+/// assert_eq!(newell_normal(&square, &[0, 1, 2, 3]), DVec3::new(0.0, 0.0, 2.0));
+/// ```
+pub fn newell_normal(positions: &[DVec3], face: &[u32]) -> DVec3 {
+    let n = face.len();
+    let p = |k: usize| positions[face[k % n] as usize];
+    (0..n).map(|k| p(k).cross(p(k + 1))).sum()
+}
+
 /// The first cell naming a vertex `>= count`, as `(cell, vertex)`: the bounds check every reader
 /// of indexed cells makes before it looks positions up.
 pub fn first_out_of_range<const N: usize>(

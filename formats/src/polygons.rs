@@ -4,8 +4,9 @@
 
 use crate::error::{Error, Problem};
 use crate::format::Format;
-use delamesh_core::mesh::{PatchId, SurfaceMesh, weld_exact_indices};
-use glam::DVec3;
+use delamesh_core::kernel::{Sign, orient2d};
+use delamesh_core::mesh::{PatchId, SurfaceMesh, newell_normal, weld_exact_indices};
+use glam::{DVec2, DVec3};
 use std::path::Path;
 
 /// Polygons of any size over shared vertices, each in a group.
@@ -89,9 +90,7 @@ const MAX_CLIPPED: usize = 1024;
 pub(crate) fn polygon_triangles(positions: &[DVec3], face: &[u32], out: &mut Vec<[u32; 3]>) {
     let point = |v: u32| positions[v as usize];
     let n = face.len();
-    let normal = (0..n).fold(DVec3::ZERO, |sum, k| {
-        sum + point(face[k]).cross(point(face[(k + 1) % n]))
-    });
+    let normal = newell_normal(positions, face);
     let turn =
         |a: u32, b: u32, c: u32| (point(b) - point(a)).cross(point(c) - point(b)).dot(normal);
     let convex = (0..n).all(|k| turn(face[k], face[(k + 1) % n], face[(k + 2) % n]) >= 0.0);
@@ -106,11 +105,13 @@ pub(crate) fn polygon_triangles(positions: &[DVec3], face: &[u32], out: &mut Vec
     let flip = normal[axis] < 0.0;
     let flat = |v: u32| {
         let p = point(v);
-        if flip { (p[j], p[i]) } else { (p[i], p[j]) }
+        if flip {
+            DVec2::new(p[j], p[i])
+        } else {
+            DVec2::new(p[i], p[j])
+        }
     };
-    let cross = |a: (f64, f64), b: (f64, f64), c: (f64, f64)| {
-        (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0)
-    };
+    let right = |a, b, c| orient2d(a, b, c) == Sign::Negative;
     let mut left: Vec<u32> = face.to_vec();
     // The search for the next ear starts where the last one was cut: ears cluster, and a
     // search from the start again would make clipping cubic in the vertex count.
@@ -120,11 +121,11 @@ pub(crate) fn polygon_triangles(positions: &[DVec3], face: &[u32], out: &mut Vec
         let ear = (0..m).map(|s| (from + s) % m).find(|&k| {
             let (a, b, c) = (left[(k + m - 1) % m], left[k], left[(k + 1) % m]);
             let (pa, pb, pc) = (flat(a), flat(b), flat(c));
-            cross(pa, pb, pc) > 0.0
+            orient2d(pa, pb, pc) == Sign::Positive
                 && left.iter().all(|&v| {
                     v == a || v == b || v == c || {
                         let q = flat(v);
-                        cross(pa, pb, q) < 0.0 || cross(pb, pc, q) < 0.0 || cross(pc, pa, q) < 0.0
+                        right(pa, pb, q) || right(pb, pc, q) || right(pc, pa, q)
                     }
                 })
         });
@@ -203,10 +204,7 @@ mod tests {
         polygon_triangles(positions, face, &mut triangles);
         assert_eq!(triangles.len(), face.len() - 2);
         let p = |v: u32| positions[v as usize];
-        let n = face.len();
-        let area = (0..n).fold(DVec3::ZERO, |s, k| {
-            s + p(face[k]).cross(p(face[(k + 1) % n]))
-        });
+        let area = newell_normal(positions, face);
         let mut sum = DVec3::ZERO;
         for [a, b, c] in triangles {
             let t = (p(b) - p(a)).cross(p(c) - p(a));

@@ -197,7 +197,7 @@ pub(super) fn refine(
 /// a flat cell moves outside depends on them) and the cells that `asked` for splits. No other
 /// cell changed its shape, its subdomain or its faces since it was last found good or kept; a
 /// pass over the whole mesh per round was a fifth of fandisk's refinement.
-fn round_cells(
+pub(super) fn round_cells(
     r: &Recovery,
     pieces: &Pieces,
     oracle: &dyn Oracle,

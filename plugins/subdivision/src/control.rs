@@ -3,6 +3,7 @@
 
 use crate::net::Net;
 use crate::{Scheme, SubdivisionError, SubdivisionOptions};
+use delamesh_core::mesh::newell_normal;
 use delamesh_formats::PolygonMesh;
 use delamesh_piecewise_smooth::{Polyline, SNAP_TOLERANCE};
 use glam::DVec3;
@@ -53,8 +54,7 @@ impl ControlMesh {
                 return Err(SubdivisionError::Degenerate { face: f });
             }
             // Newell's normal: zero for a face whose corners are all on one line.
-            let p = |k: usize| mesh.positions[face[k % n] as usize];
-            let normal: DVec3 = (0..n).map(|k| p(k).cross(p(k + 1))).sum();
+            let normal = newell_normal(&mesh.positions, face);
             if normal.length() <= 1e-12 * diagonal * diagonal {
                 return Err(SubdivisionError::Degenerate { face: f });
             }
@@ -114,13 +114,7 @@ fn bounding_diagonal(points: &[DVec3]) -> f64 {
 }
 
 fn face_normal(net: &Net, f: usize) -> DVec3 {
-    let face = net.face(f);
-    let n = face.len();
-    let p = |k: usize| net.points[face[k % n] as usize];
-    (0..n)
-        .map(|k| p(k).cross(p(k + 1)))
-        .sum::<DVec3>()
-        .normalize_or_zero()
+    newell_normal(&net.points, net.face(f)).normalize_or_zero()
 }
 
 fn non_manifold_edge(net: &Net, h: u32) -> SubdivisionError {
