@@ -8,7 +8,8 @@ use crate::kernel::Point3;
 const MAX_CELLS_PER_AXIS: usize = 64;
 /// A segment whose box covers more cells than this is listed apart, for every query.
 const MAX_CELLS_PER_SEGMENT: usize = 512;
-/// A query covering more cells than this gets every feature (visiting the cells would cost more).
+/// A query covering more cells than this, or than there are features, gets every feature
+/// (visiting the cells would cost more).
 const MAX_CELLS_PER_QUERY: usize = 4096;
 
 /// Curves (as polylines, by index) and corners (as points, by index) registered in the cells
@@ -152,7 +153,8 @@ impl FeatureGrid {
         let r = Point3::splat(radius);
         let range = self.cell_range(p - r, p + r);
         if !radius.is_finite()
-            || range.iter().map(|r| r.1 - r.0 + 1).product::<usize>() > MAX_CELLS_PER_QUERY
+            || range.iter().map(|r| r.1 - r.0 + 1).product::<usize>()
+                > MAX_CELLS_PER_QUERY.min(self.corners + self.curves)
         {
             let corners = (0..self.corners as u32).map(Item::Corner);
             return corners

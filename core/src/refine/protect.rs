@@ -299,6 +299,7 @@ pub fn protect(
     }
     let mut corner_limit = vec![f64::INFINITY; corners.len()];
     let grid = feature_grid(&pieces, &corners);
+    let mut placed = vec![None; pieces.len()];
     for _ in 0..MAX_ROUNDS {
         if limits.deadline.is_some_and(|d| Instant::now() > d) {
             return Err(ProtectError::TimeLimit);
@@ -308,7 +309,14 @@ pub fn protect(
             corners: &corners,
             grid: &grid,
         };
-        let protection = populate(&features, &corner_limit, edge_size, limits, onto_curve)?;
+        let protection = populate(
+            &features,
+            &corner_limit,
+            edge_size,
+            limits,
+            onto_curve,
+            &mut placed,
+        )?;
         let mut shrunk = false;
         for (ball, radius) in violations(&protection, &pieces) {
             // A ball already at the smallest radius stays as it is (CGAL's special balls).
@@ -504,14 +512,27 @@ fn piece_radius(
     r.min(FEATURE_FRACTION * distance_to_other_features(features, i, p, corner_radius, cap))
 }
 
+/// The interior balls a round placed on a piece, and what they were placed from: a piece's balls
+/// depend only on its own limits, the radii of its end corners and the ball budget left, so a
+/// later round whose inputs for the piece are the same reuses them (most rounds shrink a few
+/// balls on a few pieces, and placing is the cost of a round).
+#[derive(Clone)]
+struct PlacedPiece {
+    /// The number of the piece's limits (they only grow), its end corners' radii, the budget.
+    key: (usize, [f64; 2], usize),
+    /// Arc length, centre and radius of each interior ball.
+    balls: Vec<(f64, Point3, f64)>,
+}
+
 /// Balls for the current limits: corners first, then each piece's chain, centred on the curves
-/// (`onto_curve`).
+/// (`onto_curve`); `placed` keeps each piece's balls from round to round.
 fn populate(
     features: &Features<'_>,
     corner_limit: &[f64],
     edge_size: &Sizing,
     limits: &ProtectLimits,
     onto_curve: &OntoCurve<'_>,
+    placed: &mut [Option<PlacedPiece>],
 ) -> Result<Protection, ProtectError> {
     let Features {
         pieces, corners, ..
@@ -569,34 +590,33 @@ fn populate(
     };
     let mut params = Vec::with_capacity(pieces.len());
     for (i, piece) in pieces.iter().enumerate() {
-        let radius =
-            |s: f64| piece_radius(features, i, s, &corner_radius, edge_size).max(limits.min_radius);
-        let l = piece.line.length();
-        let (from, to) = match piece.ends {
-            Some([a, b]) => (
-                corner_radius[a].min(0.5 * l),
-                (l - corner_radius[b]).max(0.5 * l),
-            ),
-            None => (0.0, l),
-        };
         let budget = limits.max_balls.saturating_sub(protection.balls.len());
-        let positions =
-            place_on_piece(piece, from, to, &radius, budget).ok_or(ProtectError::TooManyBalls {
-                limit: limits.max_balls,
-            })?;
-        let mut chain = Vec::with_capacity(positions.len() + 2);
-        let mut chain_s = Vec::with_capacity(positions.len() + 2);
+        let end_radii = piece
+            .ends
+            .map_or([0.0; 2], |[a, b]| [corner_radius[a], corner_radius[b]]);
+        let key = (piece.limits.len(), end_radii, budget);
+        let balls = match &placed[i] {
+            Some(p) if p.key == key => &p.balls,
+            _ => {
+                let balls = place_balls(features, i, &corner_radius, edge_size, limits, budget)?
+                    .into_iter()
+                    .map(|(s, radius)| (s, onto_curve(piece.curve, piece.line.point_at(s)), radius))
+                    .collect();
+                &placed[i].insert(PlacedPiece { key, balls }).balls
+            }
+        };
+        let mut chain = Vec::with_capacity(balls.len() + 2);
+        let mut chain_s = Vec::with_capacity(balls.len() + 2);
         if let Some([a, _]) = piece.ends {
             chain.push(a);
             chain_s.push(0.0);
         }
-        let gaps = gaps_along(&positions, l, piece.ends.is_none());
-        for (&s, gap) in positions.iter().zip(gaps) {
+        for &(s, center, radius) in balls {
             chain.push(protection.balls.len());
             chain_s.push(s);
             protection.balls.push(ProtectingBall {
-                center: onto_curve(piece.curve, piece.line.point_at(s)),
-                radius: radius(s).min(GAP_FRACTION * gap).max(limits.min_radius),
+                center,
+                radius,
                 feature: Feature::Curve(piece.curve),
             });
         }
@@ -613,6 +633,42 @@ fn populate(
     }
     protection.chain_params = params;
     Ok(protection)
+}
+
+/// The interior balls of piece `i` for the current limits, as arc lengths and radii, within
+/// `budget` balls.
+fn place_balls(
+    features: &Features<'_>,
+    i: usize,
+    corner_radius: &[f64],
+    edge_size: &Sizing,
+    limits: &ProtectLimits,
+    budget: usize,
+) -> Result<Vec<(f64, f64)>, ProtectError> {
+    let piece = &features.pieces[i];
+    let radius =
+        |s: f64| piece_radius(features, i, s, corner_radius, edge_size).max(limits.min_radius);
+    let l = piece.line.length();
+    let (from, to) = match piece.ends {
+        Some([a, b]) => (
+            corner_radius[a].min(0.5 * l),
+            (l - corner_radius[b]).max(0.5 * l),
+        ),
+        None => (0.0, l),
+    };
+    let positions =
+        place_on_piece(piece, from, to, &radius, budget).ok_or(ProtectError::TooManyBalls {
+            limit: limits.max_balls,
+        })?;
+    let gaps = gaps_along(&positions, l, piece.ends.is_none());
+    Ok(positions
+        .iter()
+        .zip(gaps)
+        .map(|(&s, gap)| {
+            let r = radius(s).min(GAP_FRACTION * gap).max(limits.min_radius);
+            (s, r)
+        })
+        .collect())
 }
 
 /// For each ball of a chain (arc lengths `positions` on a piece of length `length`), the arc
