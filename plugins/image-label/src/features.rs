@@ -258,18 +258,19 @@ fn triple_lines<C: Class>(g: &ClassGrid<C>, graph: &mut Graph) {
         for jb in 0..by {
             for ib in 0..bx {
                 let b = [ib, jb, kb];
-                if g.block_summary(b) != MIXED {
+                // The cubes whose lower corner is in the block (each cube in one block) have
+                // their corners among the block's voxels: a block of two classes has none.
+                let range = |a: usize| b[a] * BLOCK..((b[a] + 1) * BLOCK).min(g.dims[a] - 1);
+                if g.block_summary(b) != MIXED || !three_classes(g, range) {
                     continue;
                 }
-                // The cubes whose lower corner is in the block (each cube in one block).
-                let range = |a: usize| b[a] * BLOCK..((b[a] + 1) * BLOCK).min(g.dims[a] - 1);
                 for k in range(2) {
                     for j in range(1) {
                         for i in range(0) {
                             let lower = [i, j, k];
-                            let corners: Vec<u32> = (0..8)
-                                .map(|n| class(g, add(lower, [n & 1, (n >> 1) & 1, n >> 2])))
-                                .collect();
+                            let corners: [u32; 8] = std::array::from_fn(|n| {
+                                class(g, add(lower, [n & 1, (n >> 1) & 1, n >> 2]))
+                            });
                             if distinct(&corners) < 3 {
                                 continue;
                             }
@@ -308,6 +309,37 @@ fn triple_lines<C: Class>(g: &ClassGrid<C>, graph: &mut Graph) {
             }
         }
     }
+}
+
+/// Whether the voxels of the box `range(0) × range(1) × range(2)` grown by one on each upper
+/// side have three classes or more.
+fn three_classes<C: Class>(
+    g: &ClassGrid<C>,
+    range: impl Fn(usize) -> std::ops::Range<usize>,
+) -> bool {
+    let grown = |a: usize| {
+        let r = range(a);
+        r.start..=r.end
+    };
+    let mut seen: [Option<u32>; 2] = [None; 2];
+    for k in grown(2) {
+        for j in grown(1) {
+            for i in grown(0) {
+                let c = Some(class(g, [i, j, k]));
+                if seen[0] == c || seen[1] == c {
+                    continue;
+                }
+                if seen[0].is_none() {
+                    seen[0] = c;
+                } else if seen[1].is_none() {
+                    seen[1] = c;
+                } else {
+                    return true;
+                }
+            }
+        }
+    }
+    false
 }
 
 /// The node where the class changes along the grid edge of `axis` from `lower`.

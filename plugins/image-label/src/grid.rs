@@ -125,18 +125,51 @@ impl<C: Class> ClassGrid<C> {
 
     fn summarise(&self) -> Vec<u32> {
         let [bx, by, bz] = self.blocks;
+        let bricks = self.brick_classes();
         (0..bx * by * bz)
             .into_par_iter()
             .with_min_len(64)
             .map(|b| {
                 let (i, j, k) = (b % bx, (b / bx) % by, b / (bx * by));
-                self.block_class([i, j, k])
+                self.block_class([i, j, k], &bricks)
             })
             .collect()
     }
 
-    /// The one class of the voxels `B b ..= B (b + 1)` of block `b`, or [`MIXED`].
-    fn block_class(&self, b: [usize; 3]) -> u32 {
+    /// Per brick: the one class of its stored voxels (padding included), or [`MIXED`]. One
+    /// class there is one class on the brick's image voxels.
+    fn brick_classes(&self) -> Vec<u32> {
+        self.classes
+            .par_chunks(BRICK.pow(3))
+            .with_min_len(64)
+            .map(|brick| {
+                let first = brick[0];
+                if brick.iter().all(|&c| c == first) {
+                    first.index()
+                } else {
+                    MIXED
+                }
+            })
+            .collect()
+    }
+
+    /// The one class of the voxels `B b ..= B (b + 1)` of block `b`, or [`MIXED`]; `bricks` are
+    /// the [`Self::brick_classes`]: when the (at most eight) bricks holding those voxels have one
+    /// class, so does the block.
+    fn block_class(&self, b: [usize; 3], bricks: &[u32]) -> u32 {
+        let [nx, ny] = self.bricks;
+        let nz = bricks.len() / (nx * ny);
+        let (x, y, z) = (
+            [b[0], (b[0] + 1).min(nx - 1)],
+            [b[1], (b[1] + 1).min(ny - 1)],
+            [b[2], (b[2] + 1).min(nz - 1)],
+        );
+        let own = bricks[x[0] + nx * (y[0] + ny * z[0])];
+        if own != MIXED
+            && (0..8).all(|n| bricks[x[n & 1] + nx * (y[(n >> 1) & 1] + ny * z[n >> 2])] == own)
+        {
+            return own;
+        }
         let range = |a: usize| {
             let lo = b[a] * BLOCK;
             lo..=(lo + BLOCK).min(self.dims[a] - 1)
@@ -212,9 +245,13 @@ impl<C: Class> ClassGrid<C> {
         }
     }
 
-    /// CGAL's labellized trilinear interpolation at `q` (in the domain box).
+    /// CGAL's labellized trilinear interpolation at `q` (in the domain box). A cell's eight
+    /// corners lie in its block's voxels, so a block of one class answers alone.
     fn trilinear(&self, q: DVec3) -> u32 {
         let cell = self.cell_of(q);
+        if let (class, 1..) = self.block(self.cell_block(cell)) {
+            return class;
+        }
         let f = q - DVec3::from_array(cell.map(|v| v as f64));
         self.pick(&self.cell_corners(cell), f)
     }
@@ -233,6 +270,13 @@ impl<C: Class> ClassGrid<C> {
     /// The classes of the eight voxels around the unit cell with lower corner `cell`, x fastest
     /// (on an axis of one voxel, both ends are that voxel).
     pub fn cell_corners(&self, cell: [usize; 3]) -> [C; 8] {
+        // Inside one brick the corners are at fixed offsets from the lower one.
+        if (0..3).all(|a| cell[a] % BRICK < BRICK - 1 && cell[a] + 1 < self.dims[a]) {
+            let lower = brick_index(self.bricks, cell[0], cell[1], cell[2]);
+            return std::array::from_fn(|n| {
+                self.classes[lower + (n & 1) + BRICK * ((n >> 1) & 1) + BRICK * BRICK * (n >> 2)]
+            });
+        }
         let up = |a: usize| (cell[a] + 1).min(self.dims[a] - 1);
         let (x, y, z) = ([cell[0], up(0)], [cell[1], up(1)], [cell[2], up(2)]);
         std::array::from_fn(|n| self.voxel(x[n & 1], y[(n >> 1) & 1], z[n >> 2]))

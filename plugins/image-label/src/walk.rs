@@ -70,7 +70,10 @@ pub(crate) fn changes<C: Class>(grid: &ClassGrid<C>, a: DVec3, b: DVec3, out: &m
                 push(out, t, &mut class, s);
                 let far = walk.leave_cube(block, reach, offset);
                 if far > exit && far > jumped {
-                    t = far.min(leave);
+                    if far >= leave {
+                        break;
+                    }
+                    t = far;
                     jumped = t;
                     cells = Cells::new(a, d, t, offset);
                     continue;
