@@ -226,6 +226,12 @@ fn class<C: Class>(g: &ClassGrid<C>, v: [usize; 3]) -> u32 {
 fn face_junction<C: Class>(g: &ClassGrid<C>, axis: usize, lower: [usize; 3]) -> DVec3 {
     let (u, v) = (point(unit((axis + 1) % 3)), point(unit((axis + 2) % 3)));
     let (mut origin, mut size) = (point(lower), 1.0);
+    // Every sample is on the face, so one cell's corners give its class (`class_at` there: on
+    // the face's far edges only the face's own corners weigh, from either cell).
+    let cell = g.cell_of(origin);
+    let corners = g.cell_corners(cell);
+    let base = point(cell);
+    let class_at = |q: DVec3| g.pick(&corners, (q - base).clamp(DVec3::ZERO, DVec3::ONE));
     for _ in 0..JUNCTION_DEPTH {
         let half = 0.5 * size;
         let quarter = [(0.0, 0.0), (half, 0.0), (half, half), (0.0, half)]
@@ -239,7 +245,7 @@ fn face_junction<C: Class>(g: &ClassGrid<C>, axis: usize, lower: [usize; 3]) -> 
                     o + half * v,
                     o + 0.5 * half * (u + v),
                 ]
-                .map(|q| g.class_at(q));
+                .map(class_at);
                 distinct(&samples) >= 3
             });
         match quarter {

@@ -34,7 +34,7 @@ pub enum Interpolation {
 }
 
 /// A voxel class stored compactly: one byte for up to 256 labels, two beyond.
-pub(crate) trait Class: Copy + Eq + Send + Sync + 'static {
+pub(crate) trait Class: Copy + Default + Eq + Send + Sync + 'static {
     fn index(self) -> u32;
 }
 

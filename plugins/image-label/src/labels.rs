@@ -5,6 +5,10 @@ use crate::ImageLabelError;
 use crate::grid::{Class, ClassGrid, Interpolation};
 use delamesh_core::oracle::{OUTSIDE, SubdomainId};
 use delamesh_formats::image::{Image, Voxels};
+use rayon::prelude::*;
+
+/// Voxels per parallel task of the passes over a whole image.
+const CHUNK: usize = 1 << 20;
 
 /// Most labels an image may have: class pairs number the interface patches, which must fit a
 /// `u32` (65 535 labels give about 2.1 × 10⁹ pairs).
@@ -61,25 +65,45 @@ pub(crate) struct Classified {
 /// its dimensions: outside it every voxel is background, so the class of every point is the same
 /// (the domain box of the interpolation shrinks, but only by background). The whole image when
 /// there is nothing but background.
-fn crop_box<T: Copy + PartialEq>(
+fn crop_box<T: Copy + PartialEq + Sync>(
     dims: [usize; 3],
     values: &[T],
     background: T,
 ) -> ([usize; 3], [usize; 3]) {
     let [nx, ny, _] = dims;
-    let (mut lo, mut hi) = ([usize::MAX; 3], [0usize; 3]);
-    for (row, values) in values.chunks_exact(nx.max(1)).enumerate() {
-        let Some(first) = values.iter().position(|&c| c != background) else {
-            continue;
-        };
-        let last = values
-            .iter()
-            .rposition(|&c| c != background)
-            .unwrap_or(first);
-        let (j, k) = (row % ny, row / ny);
-        lo = [lo[0].min(first), lo[1].min(j), lo[2].min(k)];
-        hi = [hi[0].max(last), hi[1].max(j), hi[2].max(k)];
-    }
+    let nx = nx.max(1);
+    let rows_per_task = (CHUNK / nx).max(1);
+    let empty = ([usize::MAX; 3], [0usize; 3]);
+    // Rows in parallel tasks; the box of several is the min and max of theirs, in any order.
+    let (lo, hi) = values
+        .par_chunks(rows_per_task * nx)
+        .enumerate()
+        .map(|(task, rows)| {
+            let (mut lo, mut hi) = empty;
+            for (r, values) in rows.chunks_exact(nx).enumerate() {
+                let Some(first) = values.iter().position(|&c| c != background) else {
+                    continue;
+                };
+                let last = values
+                    .iter()
+                    .rposition(|&c| c != background)
+                    .unwrap_or(first);
+                let row = task * rows_per_task + r;
+                let (j, k) = (row % ny, row / ny);
+                lo = [lo[0].min(first), lo[1].min(j), lo[2].min(k)];
+                hi = [hi[0].max(last), hi[1].max(j), hi[2].max(k)];
+            }
+            (lo, hi)
+        })
+        .reduce(
+            || empty,
+            |(a, b), (c, d)| {
+                (
+                    std::array::from_fn(|i| a[i].min(c[i])),
+                    std::array::from_fn(|i| b[i].max(d[i])),
+                )
+            },
+        );
     if lo[0] == usize::MAX {
         return ([0; 3], dims);
     }
@@ -91,27 +115,37 @@ fn crop_box<T: Copy + PartialEq>(
 /// A cropped grid: the image voxel of its voxel `(0, 0, 0)`, its dimensions, its values.
 type Cropped<T> = ([usize; 3], [usize; 3], Vec<T>);
 
-/// The values of the box at `lo` of dimensions `size`, mapped by `map`, x fastest.
-fn extract<T: Copy, U>(
+/// The values of the box at `lo` of dimensions `size`, mapped by `map`, x fastest (a slice of
+/// the box per parallel task).
+fn extract<T: Copy + Sync, U: Copy + Default + Send>(
     dims: [usize; 3],
     values: &[T],
     (lo, size): ([usize; 3], [usize; 3]),
-    map: impl Fn(T) -> U,
+    map: impl Fn(T) -> U + Sync,
 ) -> Vec<U> {
     let [nx, ny, _] = dims;
-    let mut out = Vec::with_capacity(size[0] * size[1] * size[2]);
-    for k in lo[2]..lo[2] + size[2] {
-        for j in lo[1]..lo[1] + size[1] {
-            let row = nx * (j + ny * k) + lo[0];
-            out.extend(values[row..row + size[0]].iter().map(|&v| map(v)));
-        }
-    }
+    let mut out = vec![U::default(); size[0] * size[1] * size[2]];
+    out.par_chunks_mut((size[0] * size[1]).max(1))
+        .enumerate()
+        .for_each(|(dk, slice)| {
+            let k = lo[2] + dk;
+            for (dj, row_out) in slice.chunks_exact_mut(size[0].max(1)).enumerate() {
+                let row = nx * (lo[1] + dj + ny * k) + lo[0];
+                for (o, &v) in row_out.iter_mut().zip(&values[row..row + size[0]]) {
+                    *o = map(v);
+                }
+            }
+        });
     out
 }
 
 /// The classes of the box of non-background voxels (see [`crop_box`]), its offset and its
 /// dimensions.
-fn crop<T: Copy + PartialEq>(dims: [usize; 3], classes: Vec<T>, background: T) -> Cropped<T> {
+fn crop<T: Copy + PartialEq + Sync + Send + Default>(
+    dims: [usize; 3],
+    classes: Vec<T>,
+    background: T,
+) -> Cropped<T> {
     let (lo, size) = crop_box(dims, &classes, background);
     if size == dims {
         return ([0; 3], dims, classes);
@@ -135,8 +169,8 @@ pub(crate) fn classify_labels(
     };
     // The distinct labels, sorted: direct histograms for bytes and shorts, a sort otherwise.
     let mut present: Vec<u32> = match &image.voxels {
-        Voxels::U8(v) => histogram(v.iter().map(|&x| usize::from(x)), 256),
-        Voxels::U16(v) => histogram(v.iter().map(|&x| usize::from(x)), 65_536),
+        Voxels::U8(v) => histogram(v, 256),
+        Voxels::U16(v) => histogram(v, 65_536),
         _ => {
             let mut all = (0..n).map(label_of).collect::<Result<Vec<u32>, _>>()?;
             all.sort_unstable();
@@ -179,7 +213,7 @@ pub(crate) fn classify_labels(
         count: usize,
         interpolation: Interpolation,
     ) -> Result<(Field, [usize; 3]), ImageLabelError> {
-        fn raw<V: Copy + PartialEq + TryFrom<u32>, T: Copy>(
+        fn raw<V: Copy + PartialEq + Sync + TryFrom<u32>, T: Copy + Default + Send + Sync>(
             dims: [usize; 3],
             v: &[V],
             background: u32,
@@ -251,11 +285,23 @@ pub(crate) fn classify_isovalue(
 }
 
 /// The labels present among `values` (each below `size`), sorted.
-fn histogram(values: impl Iterator<Item = usize>, size: usize) -> Vec<u32> {
-    let mut seen = vec![false; size];
-    for v in values {
-        seen[v] = true;
-    }
+fn histogram<T: Copy + Into<usize> + Sync>(values: &[T], size: usize) -> Vec<u32> {
+    let seen = values
+        .par_chunks(CHUNK)
+        .map(|chunk| {
+            let mut seen = vec![false; size];
+            for &v in chunk {
+                seen[v.into()] = true;
+            }
+            seen
+        })
+        .reduce(
+            || vec![false; size],
+            |mut a, b| {
+                a.iter_mut().zip(b).for_each(|(x, y)| *x |= y);
+                a
+            },
+        );
     (0..size as u32).filter(|&l| seen[l as usize]).collect()
 }
 
