@@ -12,7 +12,7 @@ use delamesh_core::conform3::{PreserveError, PreserveOptions, preserve_surface};
 use delamesh_core::mesh::component_euler_characteristics;
 use delamesh_core::mesh::{SurfaceMesh, TetMesh};
 use delamesh_core::mesh::{flip_coplanar, weld_exact};
-use delamesh_core::optimize::{OptimizeOptions, OptimizeReport, optimize};
+use delamesh_core::optimize::{Flips, OptimizeOptions, OptimizeReport, optimize};
 use delamesh_core::oracle::Oracle;
 use delamesh_core::refine::criteria::{CellCriteria, MeshCriteria, Sizing};
 use delamesh_core::refine::{
@@ -399,7 +399,11 @@ impl<'p> Mesher<'p> {
             OptimizeOptions {
                 perturb: false,
                 exude: false,
-                flip: o.flip || o.perturb || o.exude,
+                flip: match o.flip {
+                    Flips::All => Flips::All,
+                    Flips::Slivers if o.perturb || o.exude => Flips::All,
+                    _ => Flips::Off,
+                },
                 cancel: self.cancel.clone(),
                 ..o.clone()
             }

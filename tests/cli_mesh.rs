@@ -55,8 +55,9 @@ fn default_options_give_a_closed_quality_mesh_and_a_report() {
     }
 }
 
-/// `--flip` ends the optimisation with a flip step that keeps the boundary and the volume and
-/// does not lower the smallest dihedral angle; it removes slivers the sliver steps left.
+/// By default the optimisation ends with a flip step on the slivers the sliver steps leave,
+/// `--flip` extends it to every cell below the sliver bound and `--no-flip` leaves it out;
+/// flips keep the boundary and the volume and do not lower the smallest dihedral angle.
 #[test]
 fn flips_keep_the_boundary_and_raise_the_smallest_angle() {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -74,26 +75,45 @@ fn flips_keep_the_boundary_and_raise_the_smallest_angle() {
             .success();
         serde_json::from_slice(&std::fs::read(&report).expect("report written")).expect("JSON")
     };
-    let plain = run(&[], "plain");
-    let flipped = run(&["--flip"], "flipped");
-    let steps = flipped["optimization"]["steps"].as_array().expect("steps");
-    let last = steps.last().expect("a step");
-    assert_eq!(last["step"], "flip");
-    assert!(last["changes"].as_u64().expect("count") > 0);
-    for key in ["boundary_facets", "surface_vertices"] {
-        assert_eq!(flipped["counts"][key], plain["counts"][key], "{key}");
-    }
-    assert_eq!(flipped["boundary"]["closed"], true);
-    assert_eq!(flipped["boundary"]["manifold"], true);
-    assert_eq!(flipped["quality"]["inverted_tets"], 0);
-    let volume = |r: &serde_json::Value| r["approximation"]["volume_ratio"].as_f64();
-    let (a, b) = (
-        volume(&plain).expect("volume"),
-        volume(&flipped).expect("volume"),
-    );
-    assert!((a - b).abs() <= 1e-12 * a, "volume {b}, before {a}");
+    let last_step = |r: &serde_json::Value| {
+        let steps = r["optimization"]["steps"].as_array().expect("steps");
+        steps.last().expect("a step").clone()
+    };
+    let plain = run(&["--no-flip"], "plain");
+    assert_eq!(last_step(&plain)["step"], "exude");
     let smallest = |r: &serde_json::Value| r["quality"]["min_dihedral_deg"].as_f64();
-    assert!(smallest(&flipped) >= smallest(&plain));
+    let volume = |r: &serde_json::Value| r["approximation"]["volume_ratio"].as_f64();
+    for (extra, name) in [(&[][..], "default"), (&["--flip"][..], "flipped")] {
+        let flipped = run(extra, name);
+        let last = last_step(&flipped);
+        assert_eq!(last["step"], "flip", "{name}");
+        if name == "flipped" {
+            assert!(last["changes"].as_u64().expect("count") > 0);
+        }
+        for key in ["boundary_facets", "surface_vertices"] {
+            assert_eq!(
+                flipped["counts"][key], plain["counts"][key],
+                "{name}: {key}"
+            );
+        }
+        assert_eq!(flipped["boundary"]["closed"], true);
+        assert_eq!(flipped["boundary"]["manifold"], true);
+        assert_eq!(flipped["quality"]["inverted_tets"], 0);
+        let (a, b) = (
+            volume(&plain).expect("volume"),
+            volume(&flipped).expect("volume"),
+        );
+        assert!((a - b).abs() <= 1e-12 * a, "{name}: volume {b}, before {a}");
+        assert!(smallest(&flipped) >= smallest(&plain), "{name}");
+    }
+    delamesh()
+        .args(["mesh", "-q"])
+        .arg(model("torus.off"))
+        .arg("-o")
+        .arg(dir.path().join("both.vtu"))
+        .args(["--flip", "--no-flip"])
+        .assert()
+        .code(2);
 }
 
 #[test]

@@ -3,6 +3,7 @@
 //! line checks them (the settings' own validation, with the flag named in the message).
 
 use crate::Error;
+use delamesh::core::optimize::Flips;
 use delamesh::image_label::Interpolation;
 use delamesh::subdivision::Scheme;
 use delamesh::{MeshSettings, SizeSource};
@@ -60,7 +61,8 @@ pub const OPTIONS: &[Opt] = &[
     opt!(exude, |s, v| s.optimize.exude = flag(v)?),
     opt!(odt, |s, v| s.optimize.odt = flag(v)?),
     opt!(lloyd, |s, v| s.optimize.lloyd = flag(v)?),
-    opt!(flip, |s, v| s.optimize.flip = flag(v)?),
+    opt!(flip, |s, v| s.optimize.flip = if flag(v)? { Flips::All } else { Flips::Slivers }),
+    opt!(no_flip, |s, v| if flag(v)? { s.optimize.flip = Flips::Off }),
     opt!(optimize_time, |s, v| s.optimize.time_limit = Some(seconds(v)?)),
     opt!(sizing, |s, v| {
         s.sizing.field = Some(match crate::sizing::source(v)? {

@@ -3,7 +3,7 @@
 
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use delamesh_core::optimize::{OptimizeOptions, OptimizeReport};
+use delamesh_core::optimize::{Flips, OptimizeOptions, OptimizeReport};
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -25,12 +25,17 @@ pub struct OptimizeArgs {
     /// Lloyd smoothing of the interior vertices before the sliver steps.
     #[arg(long)]
     pub lloyd: bool,
-    /// After the sliver steps, remove the remaining slivers by edge removals, 2-3 flips,
-    /// interior vertex moves and interior edge splits (the mesh is then no longer Delaunay).
+    /// After the sliver steps, replace every tet below the sliver bound (18°), not only the
+    /// slivers they leave (below 12°, the default), by edge removals, 2-3 flips, interior
+    /// vertex moves and interior edge splits (the mesh is then no longer Delaunay there).
     /// With --preserve-surface they replace perturbation and exudation (on unless --no-perturb
     /// and --no-exude are both given).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "no_flip")]
     pub flip: bool,
+    /// No flips after the sliver steps: the mesh stays the regular triangulation they leave,
+    /// slivers included.
+    #[arg(long)]
+    pub no_flip: bool,
     /// Bound the whole optimisation phase to this many seconds (the result then depends on
     /// the machine's speed).
     #[arg(long, value_name = "S")]
@@ -53,7 +58,11 @@ impl OptimizeArgs {
             odt: self.odt,
             perturb: !self.no_perturb,
             exude: !self.no_exude,
-            flip: self.flip,
+            flip: match (self.flip, self.no_flip) {
+                (true, _) => Flips::All,
+                (_, true) => Flips::Off,
+                _ => Flips::Slivers,
+            },
             time_limit,
             ..OptimizeOptions::default()
         })

@@ -2,7 +2,9 @@
 //! valid mesh of the ball, and the smallest dihedral angle improves.
 
 use super::state::{Workspace, min_dihedral};
-use super::{Deadline, OptimizeOptions, exude, flip, optimize, perturb, smooth};
+use super::{
+    Deadline, Flips, OptimizeOptions, STUCK_FLIP_DEG, exude, flip, optimize, perturb, smooth,
+};
 use crate::complex::{MeshComplex, VertexDimension};
 use crate::oracle::UnitBall;
 use crate::quality::surface_topology;
@@ -333,4 +335,65 @@ fn flips_keep_the_tiling_and_its_boundary_and_remove_slivers() {
         below(&c, 10.0),
         below(&mesh, 10.0)
     );
+}
+
+#[test]
+fn the_default_flips_follow_perturbation_and_exudation_and_keep_what_they_leave_above_the_bound() {
+    let mesh = refined();
+    let c = criteria();
+    let off = OptimizeOptions {
+        flip: Flips::Off,
+        ..OptimizeOptions::default()
+    };
+    let (regular, _) = optimize(mesh.clone(), &[], &UnitBall, &c, &off);
+    let (flipped, report) = optimize(
+        mesh.clone(),
+        &[],
+        &UnitBall,
+        &c,
+        &OptimizeOptions::default(),
+    );
+    let names: Vec<&str> = report.steps.iter().map(|s| s.step.name()).collect();
+    assert_eq!(names, ["perturb", "exude", "flip"]);
+    // The flips work on the mesh the other steps leave: same tiling and boundary, no smaller
+    // angle, no more cells below the bound, and the cells above it kept (the image plugin's
+    // tests show them mending slivers the other steps cannot).
+    assert_same_tiling(&flipped, &regular);
+    assert_eq!(flipped.facets, regular.facets);
+    assert!(smallest(&flipped) >= smallest(&regular));
+    assert!(below(&flipped, STUCK_FLIP_DEG) <= below(&regular, STUCK_FLIP_DEG));
+    let cells = |m: &MeshComplex| -> std::collections::HashSet<[u32; 4]> {
+        (0..m.tets.len())
+            .filter(|&t| min_dihedral(&m.tet_points(t)) >= STUCK_FLIP_DEG)
+            .map(|t| {
+                let mut v = m.tets[t];
+                v.sort_unstable();
+                v
+            })
+            .collect()
+    };
+    let (kept, before) = (cells(&flipped), cells(&regular));
+    assert!(
+        kept.intersection(&before).count() * 10 >= before.len() * 9,
+        "{} of {} good cells kept",
+        kept.intersection(&before).count(),
+        before.len()
+    );
+    // Without perturbation and exudation there is nothing for them to finish; `Flips::All`
+    // still runs.
+    let none = OptimizeOptions {
+        perturb: false,
+        exude: false,
+        ..OptimizeOptions::default()
+    };
+    let (same, report) = optimize(mesh.clone(), &[], &UnitBall, &c, &none);
+    assert!(report.steps.is_empty());
+    assert_eq!(same, mesh);
+    let all = OptimizeOptions {
+        flip: Flips::All,
+        ..none
+    };
+    let (_, report) = optimize(mesh, &[], &UnitBall, &c, &all);
+    let names: Vec<&str> = report.steps.iter().map(|s| s.step.name()).collect();
+    assert_eq!(names, ["flip"]);
 }

@@ -749,3 +749,51 @@ fn random_label_images_give_no_cluster_of_vertices_nor_flat_tets() {
     }
     assert!(meshed >= 16, "{meshed} images meshed");
 }
+
+#[test]
+fn the_default_flips_mend_slivers_between_feature_curves() {
+    // A ball of label 1 cut by a slab of label 2 and a wedge of label 3: triple lines and
+    // corners where they meet, with slivers between their protected vertices that
+    // perturbation and exudation leave (3.9° here).
+    let label = |p: DVec3| {
+        let q = p - DVec3::splat(10.0);
+        match () {
+            _ if q.length() > 8.3 => 0,
+            _ if q.z.abs() < 1.7 + 0.2 * q.x => 2,
+            _ if q.x > 0.6 * q.y.abs() => 3,
+            _ => 1,
+        }
+    };
+    let img = image([21, 21, 21], DVec3::ONE, label);
+    let oracle = ImageLabelOracle::new(&img, &ImageOptions::default()).expect("valid image");
+    let run = |flip| {
+        let options = MeshOptions {
+            optimize: delamesh_core::optimize::OptimizeOptions {
+                flip,
+                ..Default::default()
+            },
+            ..MeshOptions::new(criteria(2.5, 0.4))
+        };
+        mesh_domain(&oracle, &options, &mut |_| {}).expect("meshing succeeds")
+    };
+    use delamesh_core::optimize::{Flips, STUCK_FLIP_DEG};
+    let (regular, flipped) = (run(Flips::Off), run(Flips::Slivers));
+    let smallest = |c: &MeshComplex| {
+        (0..c.tets.len())
+            .flat_map(|t| quality::dihedral_angles_deg(&c.tet_points(t)))
+            .fold(180.0, f64::min)
+    };
+    let (before, after) = (smallest(&regular.complex), smallest(&flipped.complex));
+    assert!(before < STUCK_FLIP_DEG, "no sliver left to mend: {before}°");
+    assert!(after > before, "{before}° -> {after}°");
+    let report = flipped.optimization.steps.last().expect("a flip step");
+    assert_eq!(report.step.name(), "flip");
+    // The flips keep every label's region: its facets, and its volume to rounding.
+    assert_eq!(flipped.complex.facets, regular.complex.facets);
+    for ((l, a), b) in volumes(&flipped.complex)
+        .iter()
+        .zip(volumes(&regular.complex).values())
+    {
+        assert!((a - b).abs() <= 1e-9 * b, "label {l}: {a} vs {b}");
+    }
+}
