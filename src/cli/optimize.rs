@@ -26,7 +26,7 @@ pub struct OptimizeArgs {
     #[arg(long)]
     pub lloyd: bool,
     /// After the sliver steps, replace every tet below the sliver bound (18°), not only the
-    /// slivers they leave (below 12°, the default), by edge removals, 2-3 flips, interior
+    /// slivers they leave (below 16°, the default), by edge removals, 2-3 flips, interior
     /// vertex moves and interior edge splits (the mesh is then no longer Delaunay there).
     /// With --preserve-surface they replace perturbation and exudation (on unless --no-perturb
     /// and --no-exude are both given).
