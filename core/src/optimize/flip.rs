@@ -14,11 +14,13 @@
 //! Each change is validated with exact orientation tests: the new cells fill the region of the
 //! old ones with positive volume.
 
+use super::state::size_excess;
 use crate::complex::{MeshComplex, VertexDimension};
 use crate::kernel::{Point3, Sign, orient3d};
 use crate::oracle::SubdomainId;
 use crate::quality::tet_volume;
 use crate::refine::Deadline;
+use crate::refine::criteria::Sizing;
 use rustc_hash::FxHashSet;
 
 /// The largest ring of cells around an edge that edge removal re-triangulates: the search over
@@ -152,6 +154,8 @@ struct Cells {
     /// Boundary facets (sorted vertices) and their edges: never removed.
     fixed_faces: FxHashSet<[u32; 3]>,
     fixed_edges: FxHashSet<[u32; 2]>,
+    /// The cell-size criterion, which no change may break further (see [`Cells::sizes_kept`]).
+    cell_size: Sizing,
 }
 
 fn sorted3(mut f: [u32; 3]) -> [u32; 3] {
@@ -164,7 +168,7 @@ fn sorted2(a: u32, b: u32) -> [u32; 2] {
 }
 
 impl Cells {
-    fn new(complex: &MeshComplex) -> Self {
+    fn new(complex: &MeshComplex, cell_size: &Sizing) -> Self {
         let mut cells = Cells {
             points: complex.points.clone(),
             movable: complex
@@ -197,11 +201,32 @@ impl Cells {
                     ]
                 })
                 .collect(),
+            cell_size: cell_size.clone(),
         };
         for (&t, &sub) in complex.tets.iter().zip(&complex.tet_subdomain) {
             cells.add(t, sub);
         }
         cells
+    }
+
+    /// Whether no cell `plan` creates is larger, for the cell-size criterion, than that allows
+    /// or than the largest cell it removes (the rule of the workspace's moves): a flip can
+    /// join small cells into one whose circumball is far larger.
+    fn sizes_kept(&self, plan: &Plan) -> bool {
+        let sub = self.subdomain[plan.removed[0] as usize];
+        let bound = plan
+            .removed
+            .iter()
+            .map(|&c| size_excess(&self.cell_size, &self.pts(self.tets[c as usize]), sub))
+            .fold(1.0, f64::max);
+        plan.created.iter().all(|&c| {
+            let p = match plan.vertex {
+                Vertex::Keep => self.pts(c),
+                Vertex::Move(v, at) => self.pts_with(c, v, at),
+                Vertex::Insert(at) => self.pts_with(c, NEW, at),
+            };
+            size_excess(&self.cell_size, &p, sub) <= bound
+        })
     }
 
     /// [`quality`], and 0 for a cell of [`Cells::tiny`] volume.
@@ -559,6 +584,7 @@ impl Cells {
             .iter()
             .filter_map(|&(i, j)| self.remove_edge(c[i], c[j]))
             .chain((0..4).filter_map(|k| self.flip23(t, k)))
+            .filter(|p| self.sizes_kept(p))
             .collect();
         // A flip that leaves no cell below the bound ends the search: the vertex searches,
         // most of the step's time, are for the cells no flip mends.
@@ -570,7 +596,8 @@ impl Cells {
                 continue;
             }
             match self.relocate(v) {
-                Some(plan) => plans.push(plan),
+                Some(plan) if self.sizes_kept(&plan) => plans.push(plan),
+                Some(_) => {}
                 None => self.unmovable_at[v as usize] = Some(at),
             }
         }
@@ -579,7 +606,8 @@ impl Cells {
             plans.extend(
                 edges
                     .iter()
-                    .filter_map(|&(i, j)| self.split_edge(c[i], c[j])),
+                    .filter_map(|&(i, j)| self.split_edge(c[i], c[j]))
+                    .filter(|p| self.sizes_kept(p)),
             );
         }
         // The first of the best, in the order above.
@@ -625,10 +653,16 @@ impl Cells {
 /// worst first, by the change that raises the smallest quality of the cells it replaces the
 /// most: an edge removal, a 2-3 flip or an interior vertex move, or else a split of an interior
 /// edge. Stops when a pass changes nothing, after [`MAX_PASSES`] passes or at the deadline.
-/// Boundary facets and the edges on them are kept. Returns the number of changes.
-pub(super) fn flip(complex: &mut MeshComplex, bound: f64, deadline: &Deadline) -> usize {
+/// Boundary facets and the edges on them are kept, and no cell grows past `cell_size` (see
+/// [`Cells::sizes_kept`]). Returns the number of changes.
+pub(super) fn flip(
+    complex: &mut MeshComplex,
+    bound: f64,
+    cell_size: &Sizing,
+    deadline: &Deadline,
+) -> usize {
     let bound = bound.to_radians().sin();
-    let mut cells = Cells::new(complex);
+    let mut cells = Cells::new(complex, cell_size);
     let mut changes = 0;
     for _ in 0..MAX_PASSES {
         let mut bad: Vec<(f64, u32)> = (0..cells.tets.len())

@@ -288,7 +288,7 @@ pub fn optimize(
         && !deadline.passed()
     {
         let t = Instant::now();
-        let changes = flip::flip(&mut complex, bound, &deadline);
+        let changes = flip::flip(&mut complex, bound, &criteria.cell.size, &deadline);
         report.steps.push(StepReport {
             step: Step::Flip,
             changes,

@@ -664,20 +664,9 @@ impl<'o> Workspace<'o> {
         })
     }
 
-    /// Circumradius of tetrahedron `p` of subdomain `sub` over the cell size at its centroid
-    /// (0 without a bound): a sliver's circumcentre may lie far outside the domain, where a
-    /// sizing field is not defined.
+    /// [`size_excess`] under this workspace's cell size.
     fn size_excess(&self, p: &[Point3; 4], sub: SubdomainId) -> f64 {
-        let Some(center) = crate::quality::tet_circumcenter(p) else {
-            return f64::INFINITY;
-        };
-        let centroid = (p[0] + p[1] + p[2] + p[3]) * 0.25;
-        let size = self.cell_size.at(centroid, sub.0);
-        if size > 0.0 && size.is_finite() {
-            center.distance(p[0]) / size
-        } else {
-            0.0
-        }
+        size_excess(&self.cell_size, p, sub)
     }
 
     /// Labels the created cells by crossing facets from the cells around them. Returns the
@@ -1060,5 +1049,25 @@ impl<'o> Workspace<'o> {
             }
         }
         complex
+    }
+}
+
+/// Circumradius of tetrahedron `p` of subdomain `sub` over the cell size at its circumcentre,
+/// as refinement measures it, or at its centroid where the size there is not a positive number
+/// (a sliver's circumcentre may lie far outside the domain, where a sizing field is not
+/// defined); 0 without a bound.
+pub(super) fn size_excess(cell_size: &Sizing, p: &[Point3; 4], sub: SubdomainId) -> f64 {
+    let Some(center) = crate::quality::tet_circumcenter(p) else {
+        return f64::INFINITY;
+    };
+    let defined = |s: f64| s > 0.0 && s.is_finite();
+    let mut size = cell_size.at(center, sub.0);
+    if !defined(size) {
+        size = cell_size.at((p[0] + p[1] + p[2] + p[3]) * 0.25, sub.0);
+    }
+    if defined(size) {
+        center.distance(p[0]) / size
+    } else {
+        0.0
     }
 }

@@ -317,7 +317,7 @@ fn below(c: &MeshComplex, deg: f64) -> usize {
 fn flips_keep_the_tiling_and_its_boundary_and_remove_slivers() {
     let mesh = two_subdomains(refined());
     let mut c = mesh.clone();
-    let changes = flip::flip(&mut c, 18.0, &Deadline::default());
+    let changes = flip::flip(&mut c, 18.0, &criteria().cell.size, &Deadline::default());
     assert!(changes > 0);
     assert_same_tiling(&c, &mesh);
     assert_eq!(c.facets, mesh.facets);
