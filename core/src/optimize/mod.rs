@@ -125,8 +125,8 @@ pub enum Flips {
 /// The flip step after perturbation and exudation works on the cells below this (degrees):
 /// the slivers they left (below [`SLIVER_DEG`]) and the cells up to 6° above, whose
 /// replacement can free a sliver that no change of its own mends. On liver.inr.gz with CGAL's
-/// criteria, bounds of 10°, 12° and 14° stopped at 10.1°, 10.2° and 10.2°, 16° at 11.2°
-/// (CGAL's optimisers: 10.2° to 10.5°) in 3 % of the run; 18° takes twice as long for no more.
+/// criteria a bound of 12° left six cells below 10°, 16° one (at 9.2°, which no change mends
+/// within the cell size) in 0.04 s of a 0.6 s run; 20° did no better in twice the time.
 pub const STUCK_FLIP_DEG: f64 = 16.0;
 
 /// An optimisation step.
